@@ -1,0 +1,54 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds the workspace with its tests, runs every test (unit tests, rostests,
+# sanitizer builds, formatting and launch-file checks) and ends with the line 'N passed, N failed'.
+set -uo pipefail
+src="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+export PATH="/usr/bin:$PATH"
+export JOBS="${JOBS:-2}"
+cd "$src"
+"$src/scripts/install_deps.sh" || { echo "0 passed, 1 failed"; exit 1; }
+checks=()
+
+echo "== build"
+"$src/scripts/build.sh" --tests || { echo "0 passed, 1 failed"; exit 1; }
+rm -rf "$src/.ws/build/test_results"
+
+echo "== unit tests and rostests"
+# shellcheck disable=SC1091
+source "$src/.ws/devel/setup.bash"
+export ROS_HOME="$src/.ws/ros_home" ROS_LOG_DIR="$src/.ws/ros_home/log"
+make -C "$src/.ws/build" -j1 run_tests 2>&1 | tee "$src/.ws/run_tests.log" | grep -E "^\[ *(RUN|OK|FAILED|PASSED) |^-- run_tests|FAILURE|Error" || true
+
+echo "== sanitizers (ASan + UBSan)"
+mapfile -t san < <(grep -v '^\s*#' "$src/scripts/sanitize_packages.txt" | sed '/^\s*$/d')
+if [ ${#san[@]} -gt 0 ]; then
+  rm -rf "$src/.ws/build_sanitize/test_results"
+  if "$src/scripts/build.sh" --sanitize "${san[@]}" >"$src/.ws/sanitize_build.log" 2>&1; then
+    for p in "${san[@]}"; do
+      ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+        make -C "$src/.ws/build_sanitize" -j1 "run_tests_${p}_gtest" >>"$src/.ws/sanitize_tests.log" 2>&1
+    done
+    checks+=("sanitizer_build=0")
+  else
+    tail -30 "$src/.ws/sanitize_build.log"; checks+=("sanitizer_build=1")
+  fi
+fi
+
+echo "== clang-format"
+mapfile -t sources < <(git ls-files '*.cpp' '*.h' '*.hpp' '*.cc')
+if [ ${#sources[@]} -gt 0 ]; then
+  clang-format --dry-run -Werror "${sources[@]}" >"$src/.ws/format.log" 2>&1; rc=$?
+  [ $rc -eq 0 ] || head -20 "$src/.ws/format.log"
+  checks+=("clang_format=$rc")
+fi
+
+echo "== launch file check"
+for f in $(git ls-files '*.launch'); do
+  out=$(roslaunch --nodes "$f" 2>&1 >/dev/null); rc=$?
+  [ $rc -eq 0 ] || echo "$f: $out"
+  checks+=("roslaunch_check:$f=$rc")
+done
+
+echo "== results"
+/usr/bin/python3 "$src/scripts/count_results.py" "$src/.ws/build/test_results" \
+  "$src/.ws/build_sanitize/test_results" "${checks[@]}"

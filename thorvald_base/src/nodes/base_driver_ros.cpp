@@ -1,0 +1,400 @@
+#include "base_driver_ros.h"
+
+#include <sensor_msgs/BatteryState.h>
+
+#include <cmath>
+#include <limits>
+
+#include "param_tree.h"
+#include "thorvald_base/simulated_drive.h"
+
+namespace thorvald_base {
+namespace {
+
+template <typename T>
+T param(const ros::NodeHandle& nh, const std::string& key, const T& fallback) {
+  T value;
+  nh.param<T>(key, value, fallback);
+  return value;
+}
+
+/// Reads the robot file that `rosparam load` put into the robot's namespace.
+RobotConfig robotConfigFromParams(const ros::NodeHandle& nh) {
+  XmlRpc::XmlRpcValue root(XmlRpc::XmlRpcValue::TypeStruct);
+  for (const char* group : {"base_calculator", "motor_drives", "batteries", "pipes", "corners", "beams", "casters",
+                            "passive_wheels", "io"}) {
+    XmlRpc::XmlRpcValue value;
+    if (nh.getParam(group, value)) root[group] = value;
+  }
+  const std::string source = "robot file in namespace '" + nh.getNamespace() + "'";
+  if (!root.hasMember("motor_drives")) {
+    throw ConfigError(source, "motor_drives",
+                      "not found on the parameter server: load the robot file into this namespace first "
+                      "(rosparam load <robot.yaml> " + nh.getNamespace() + ")");
+  }
+  return parseRobotConfig(toYaml(root), source);
+}
+
+boost::array<double, 36> covariance6(const Eigen::Matrix3d& c) {
+  // (x, y, yaw) of the planar estimate into (x, y, z, roll, pitch, yaw); unobserved axes get a large variance.
+  boost::array<double, 36> out{};
+  const int idx[3] = {0, 1, 5};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) out[idx[i] * 6 + idx[j]] = c(i, j);
+  for (int k : {2, 3, 4}) out[k * 6 + k] = 1e6;
+  return out;
+}
+
+}  // namespace
+
+BaseDriverRos::BaseDriverRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), pnh_(pnh), diagnostics_(nh, pnh) {
+  RobotConfig config = robotConfigFromParams(nh_);
+  for (const auto& w : config.warnings) ROS_WARN_STREAM(w);
+
+  tf_prefix_ = param<std::string>(pnh_, "tf_prefix", "");
+  if (tf_prefix_.empty()) {
+    std::string key;
+    if (nh_.searchParam("tf_prefix", key)) nh_.getParam(key, tf_prefix_);
+  }
+  while (!tf_prefix_.empty() && tf_prefix_.front() == '/') tf_prefix_.erase(0, 1);
+  simple_sim_ = param(pnh_, "simple_sim", true);
+  enable_odom_tf_ = param(pnh_, "enable_odom_tf", true);
+  relay_max_per_cycle_ = param(pnh_, "relay_max_frames_per_cycle", 20);
+  const double rate = param(pnh_, "rate", 50.0);
+  if (!(rate > 0.0 && rate <= 1000.0)) throw ConfigError("base_driver", "~rate", "must be in (0, 1000] Hz");
+
+  BaseDriverOptions options;
+  options.cmd_vel_timeout_s = param(pnh_, "cmd_vel_timeout", 0.5);
+  options.calculator.estimator = param<std::string>(pnh_, "odometry_estimator", "least_squares");
+  options.calculator.seed = static_cast<unsigned>(param(pnh_, "estimator_seed", 1));
+
+  calculator_loader_ =
+      std::make_unique<pluginlib::ClassLoader<BaseCalculator>>("thorvald_base", "thorvald_base::BaseCalculator");
+  std::unique_ptr<BaseCalculator> calculator;
+  try {
+    calculator.reset(calculator_loader_->createUnmanagedInstance(config.base_calculator));
+  } catch (const pluginlib::PluginlibException& e) {
+    throw ConfigError(config.source, "base_calculator",
+                      "cannot load kinematics plugin '" + config.base_calculator + "': " + e.what());
+  }
+
+  std::vector<std::unique_ptr<MotorDrive>> drives;
+  std::vector<std::unique_ptr<Battery>> batteries;
+  if (simple_sim_) {
+    SimulatedDriveOptions sim;
+    sim.speed_noise_radps = param(pnh_, "sim_speed_noise", 0.0);
+    sim.steering_noise_rad = param(pnh_, "sim_steering_noise", 0.0);
+    const int seed = param(pnh_, "sim_seed", 1);
+    for (const auto& d : config.drives) {
+      sim.seed = static_cast<unsigned>(seed + d.index);
+      drives.push_back(std::make_unique<SimulatedDrive>(d, sim));
+    }
+  } else {
+    const std::string plugin = param<std::string>(pnh_, "hardware_plugin", "thorvald_can_devices/CanBaseHardware");
+    hardware_loader_ =
+        std::make_unique<pluginlib::ClassLoader<BaseHardware>>("thorvald_base", "thorvald_base::BaseHardware");
+    try {
+      hardware_ = hardware_loader_->createSharedInstance(plugin);
+    } catch (const pluginlib::PluginlibException& e) {
+      throw std::runtime_error("cannot load hardware plugin '" + plugin + "' (~hardware_plugin): " + e.what());
+    }
+    hardware_->initialize(config, param<std::string>(pnh_, "can_interface_type", "socketcan"),
+                          param<std::string>(pnh_, "can_interface_name", "can0"));
+    drives = hardware_->takeDrives();
+    batteries = hardware_->takeBatteries();
+  }
+  driver_ = std::make_unique<BaseDriver>(config, std::move(calculator), std::move(drives), std::move(batteries),
+                                         options);
+
+  for (const auto& d : driver_->config().drives) {
+    if (d.steered()) joint_names_.push_back(frame("steering" + std::to_string(d.index)));
+    joint_names_.push_back(frame("wheel" + std::to_string(d.index)));
+  }
+  odom_pub_ = nh_.advertise<nav_msgs::Odometry>("odometry/base_raw", 10);
+  joint_pub_ = nh_.advertise<sensor_msgs::JointState>("joint_states", 10);
+  state_pub_ = nh_.advertise<BaseState>("base_state", 10);
+  for (const auto& b : driver_->batteryDevices()) {
+    battery_pubs_.push_back(nh_.advertise<sensor_msgs::BatteryState>("battery/" + b->name(), 1));
+  }
+  cmd_sub_ = nh_.subscribe("twist_mux/cmd_vel", 1, &BaseDriverRos::onCommand, this);
+  if (hardware_) {
+    relay_pub_ = nh_.advertise<CANFrame>("can_frames_device_r", 100);
+    relay_sub_ = nh_.subscribe("can_frames_device_t", 100, &BaseDriverRos::onRelayFrame, this);
+    services_.push_back(pnh_.advertiseService("mute_relay", &BaseDriverRos::onMuteRelay, this));
+  }
+  services_.push_back(pnh_.advertiseService("set_drive_params", &BaseDriverRos::onSetDriveParams, this));
+  services_.push_back(pnh_.advertiseService("reset_base_odom", &BaseDriverRos::onResetOdom, this));
+  services_.push_back(pnh_.advertiseService("home_steering", &BaseDriverRos::onHomeSteering, this));
+  services_.push_back(pnh_.advertiseService("safety_stop", &BaseDriverRos::onSafetyStop, this));
+  services_.push_back(pnh_.advertiseService("clear_drive_stop", &BaseDriverRos::onClearDriveStop, this));
+
+  diagnostics_.setHardwareID(simple_sim_ ? "simulated base" : "CAN base");
+  diagnostics_.add("base", this, &BaseDriverRos::diagnoseBase);
+  diagnostics_.add("drives", this, &BaseDriverRos::diagnoseDrives);
+  if (!driver_->batteryDevices().empty()) diagnostics_.add("batteries", this, &BaseDriverRos::diagnoseBatteries);
+  timer_ = nh_.createTimer(ros::Duration(1.0 / rate), &BaseDriverRos::onTimer, this);
+  ROS_INFO_STREAM("base_driver: " << driver_->config().drives.size() << " drives, model "
+                                  << driver_->calculator().name() << ", odometry " << options.calculator.estimator
+                                  << ", " << (simple_sim_ ? "simulation" : "hardware") << " at " << rate << " Hz");
+}
+
+std::string BaseDriverRos::frame(const std::string& name) const {
+  return tf_prefix_.empty() ? name : tf_prefix_ + "/" + name;
+}
+
+void BaseDriverRos::onCommand(const geometry_msgs::Twist& msg) {
+  const Twist2D cmd{msg.linear.x, msg.linear.y, msg.angular.z};
+  if (!driver_->setCommand(cmd, ros::Time::now().toSec())) {
+    ROS_WARN_THROTTLE(1.0, "base_driver: rejected a non-finite command (%lu so far); the base keeps the last valid one",
+                      driver_->rejectedCommands());
+  }
+}
+
+void BaseDriverRos::onTimer(const ros::TimerEvent&) {
+  const ros::Time now = ros::Time::now();
+  if (!last_cycle_.isZero() && now > last_cycle_) {
+    cycle_rate_hz_ = 0.9 * cycle_rate_hz_ + 0.1 / (now - last_cycle_).toSec();
+  }
+  last_cycle_ = now;
+  const bool was_stopped = driver_->driveStop();
+  if (hardware_) hardware_->poll(now.toSec());
+  driver_->update(now.toSec());
+  if (driver_->driveStop() && !was_stopped) {
+    ROS_ERROR_STREAM("base_driver: propulsion stopped: " << driver_->driveStopText()
+                                                         << "; call ~clear_drive_stop once the drive is back");
+  }
+  if (hardware_) relayFromBus();
+  relay_sent_this_cycle_ = 0;
+  publish(now);
+  diagnostics_.update();
+}
+
+void BaseDriverRos::publish(const ros::Time& now) {
+  const auto& odom = driver_->odometry();
+  const auto& vel = driver_->velocity();
+  nav_msgs::Odometry o;
+  o.header.stamp = now;
+  o.header.frame_id = frame("odom");
+  o.child_frame_id = frame("base_link");
+  o.pose.pose.position.x = odom.pose().x;
+  o.pose.pose.position.y = odom.pose().y;
+  o.pose.pose.orientation.z = std::sin(0.5 * odom.pose().yaw);
+  o.pose.pose.orientation.w = std::cos(0.5 * odom.pose().yaw);
+  o.pose.covariance = covariance6(odom.covariance());
+  o.twist.twist.linear.x = vel.twist.vx;
+  o.twist.twist.linear.y = vel.twist.vy;
+  o.twist.twist.angular.z = vel.twist.wz;
+  o.twist.covariance = covariance6(vel.covariance);
+  odom_pub_.publish(o);
+  if (enable_odom_tf_) {
+    geometry_msgs::TransformStamped t;
+    t.header = o.header;
+    t.child_frame_id = o.child_frame_id;
+    t.transform.translation.x = o.pose.pose.position.x;
+    t.transform.translation.y = o.pose.pose.position.y;
+    t.transform.rotation = o.pose.pose.orientation;
+    tf_broadcaster_.sendTransform(t);
+  }
+
+  sensor_msgs::JointState js;
+  js.header.stamp = now;
+  js.name = joint_names_;
+  BaseState state;
+  state.header.stamp = now;
+  state.mode = simple_sim_ ? "simulation" : "hardware";
+  state.base_calculator = driver_->calculator().name();
+  state.safety_stop = driver_->safetyStop();
+  state.drive_stop = driver_->driveStop();
+  state.command_timed_out = driver_->stopReason() == StopReason::kCommandTimeout;
+  const auto& drives = driver_->config().drives;
+  for (size_t i = 0; i < drives.size(); ++i) {
+    const auto& fb = driver_->feedback()[i];
+    const auto& st = driver_->driveStatus()[i];
+    const auto& cmd = driver_->commands()[i];
+    if (drives[i].steered()) {
+      js.position.push_back(fb.steering_rad);
+      js.velocity.push_back(fb.steering_speed_radps);
+    }
+    js.position.push_back(fb.wheel_position_rad);
+    js.velocity.push_back(fb.wheel_speed_radps);
+    DriveState ds;
+    ds.index = drives[i].index;
+    ds.node = drives[i].node;
+    ds.type = static_cast<uint8_t>(drives[i].type);
+    ds.wheel_speed_cmd = cmd.wheel_speed_radps;
+    ds.wheel_speed = fb.wheel_speed_radps;
+    ds.wheel_position = fb.wheel_position_rad;
+    ds.linear_speed = fb.wheel_speed_radps * drives[i].r_wheel;
+    ds.steering_cmd = cmd.steering_rad;
+    ds.steering = fb.steering_rad;
+    ds.steering_limit = drives[i].steered() ? drives[i].str_lim : 0.0;
+    ds.r_wheel = drives[i].r_wheel;
+    ds.online = st.online;
+    ds.fault = st.fault;
+    ds.status = st.text;
+    state.drives.push_back(ds);
+  }
+  joint_pub_.publish(js);
+  state_pub_.publish(state);
+
+  const auto readings = driver_->batteries();
+  for (size_t i = 0; i < readings.size() && i < battery_pubs_.size(); ++i) {
+    const auto& r = readings[i];
+    sensor_msgs::BatteryState b;
+    b.header.stamp = now;
+    b.voltage = r.voltage_v;
+    b.current = r.current_a;
+    b.charge = std::numeric_limits<float>::quiet_NaN();
+    b.capacity = std::numeric_limits<float>::quiet_NaN();
+    b.design_capacity = std::numeric_limits<float>::quiet_NaN();
+    b.percentage = r.charge_pct / 100.0;
+    b.power_supply_status = r.current_a > 0.05 ? sensor_msgs::BatteryState::POWER_SUPPLY_STATUS_CHARGING
+                                               : sensor_msgs::BatteryState::POWER_SUPPLY_STATUS_DISCHARGING;
+    b.power_supply_health = r.alarms ? sensor_msgs::BatteryState::POWER_SUPPLY_HEALTH_UNSPEC_FAILURE
+                                     : sensor_msgs::BatteryState::POWER_SUPPLY_HEALTH_GOOD;
+    b.power_supply_technology = sensor_msgs::BatteryState::POWER_SUPPLY_TECHNOLOGY_LION;
+    b.present = r.present && r.online;
+    b.location = driver_->batteryDevices()[i]->name();
+    for (double t : r.temperatures_c) b.cell_temperature.push_back(t);
+    battery_pubs_[i].publish(b);
+  }
+}
+
+void BaseDriverRos::relayFromBus() {
+  for (const auto& f : hardware_->takeRelayFrames()) {
+    CANFrame msg;
+    msg.id = f.id;
+    msg.length = f.length;
+    for (size_t i = 0; i < 8; ++i) msg.data[i] = f.data[i];
+    relay_pub_.publish(msg);
+    ++relay_received_;
+  }
+}
+
+void BaseDriverRos::onRelayFrame(const CANFrame& msg) {
+  if (relay_muted_) {
+    ++relay_dropped_;
+    return;
+  }
+  if (relay_sent_this_cycle_ >= relay_max_per_cycle_) {
+    ++relay_dropped_;
+    ROS_WARN_THROTTLE(1.0, "base_driver: relay limited to %d frames per cycle; frames dropped", relay_max_per_cycle_);
+    return;
+  }
+  CanFrameData f;
+  f.id = msg.id;
+  f.length = msg.length;
+  for (size_t i = 0; i < 8; ++i) f.data[i] = msg.data[i];
+  std::string why;
+  if (!hardware_->sendRelayFrame(f, &why)) {
+    ++relay_refused_;
+    ROS_WARN_THROTTLE(1.0, "base_driver: relay refused frame 0x%03X: %s", msg.id, why.c_str());
+    return;
+  }
+  ++relay_sent_;
+  ++relay_sent_this_cycle_;
+}
+
+bool BaseDriverRos::onSetDriveParams(SetDriveParams::Request& req, SetDriveParams::Response& res) {
+  std::vector<DriveParamChange> changes;
+  for (const auto& p : req.params) changes.push_back({p.drive, p.key, p.value});
+  res.success = driver_->setDriveParams(changes, &res.message);
+  if (res.success) {
+    ROS_INFO_STREAM("base_driver: set_drive_params: " << res.message);
+  } else {
+    ROS_WARN_STREAM("base_driver: set_drive_params refused: " << res.message);
+  }
+  return true;
+}
+
+bool BaseDriverRos::onResetOdom(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
+  driver_->resetOdometry();
+  res.success = true;
+  res.message = "odometry reset to the origin";
+  return true;
+}
+
+bool BaseDriverRos::onHomeSteering(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
+  res.success = driver_->homeSteering(&res.message);
+  return true;
+}
+
+bool BaseDriverRos::onSafetyStop(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res) {
+  driver_->setSafetyStop(req.data);
+  res.success = true;
+  res.message = req.data ? "safety stop engaged: propulsion stopped until released" : "safety stop released";
+  ROS_WARN_STREAM("base_driver: " << res.message);
+  return true;
+}
+
+bool BaseDriverRos::onClearDriveStop(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
+  res.success = driver_->clearDriveStop(&res.message);
+  return true;
+}
+
+bool BaseDriverRos::onMuteRelay(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res) {
+  relay_muted_ = req.data;
+  res.success = true;
+  res.message = relay_muted_ ? "relay muted" : "relay active";
+  return true;
+}
+
+void BaseDriverRos::diagnoseBase(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  using diagnostic_msgs::DiagnosticStatus;
+  const StopReason reason = driver_->stopReason();
+  if (reason == StopReason::kDriveStop) {
+    stat.summary(DiagnosticStatus::ERROR, "propulsion stopped: " + driver_->driveStopText());
+  } else if (reason == StopReason::kSafetyStop) {
+    stat.summary(DiagnosticStatus::WARN, "safety stop engaged");
+  } else if (hardware_ && !hardware_->busOk()) {
+    stat.summary(DiagnosticStatus::ERROR, "bus not usable");
+  } else {
+    stat.summary(DiagnosticStatus::OK, toString(reason));
+  }
+  stat.add("mode", simple_sim_ ? "simulation" : "hardware");
+  stat.add("kinematics", driver_->calculator().name());
+  stat.add("cycle rate [Hz]", cycle_rate_hz_);
+  stat.add("cycles", driver_->cycles());
+  stat.add("rejected commands", driver_->rejectedCommands());
+  stat.add("distance travelled [m]", driver_->odometry().distance());
+  if (hardware_) {
+    for (const auto& kv : hardware_->diagnostics()) stat.add(kv.first, kv.second);
+    stat.add("relay frames sent", relay_sent_);
+    stat.add("relay frames received", relay_received_);
+    stat.add("relay frames refused", relay_refused_);
+    stat.add("relay frames dropped", relay_dropped_);
+    stat.add("relay muted", relay_muted_);
+  }
+}
+
+void BaseDriverRos::diagnoseDrives(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  using diagnostic_msgs::DiagnosticStatus;
+  int bad = 0;
+  for (size_t i = 0; i < driver_->driveStatus().size(); ++i) {
+    const auto& s = driver_->driveStatus()[i];
+    const bool ok = s.online && !s.fault;
+    bad += ok ? 0 : 1;
+    stat.add("drive" + std::to_string(i), s.online ? s.text : "lost");
+  }
+  if (bad) {
+    stat.summary(DiagnosticStatus::ERROR, std::to_string(bad) + " drive(s) lost or faulted");
+  } else {
+    stat.summary(DiagnosticStatus::OK, "all drives ok");
+  }
+}
+
+void BaseDriverRos::diagnoseBatteries(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  using diagnostic_msgs::DiagnosticStatus;
+  stat.summary(DiagnosticStatus::OK, "batteries ok");
+  const auto readings = driver_->batteries();
+  for (size_t i = 0; i < readings.size(); ++i) {
+    const auto& r = readings[i];
+    const std::string name = driver_->batteryDevices()[i]->name();
+    stat.add(name + " voltage [V]", r.voltage_v);
+    stat.add(name + " charge [%]", r.charge_pct);
+    if (!r.online) stat.mergeSummary(DiagnosticStatus::ERROR, name + " not heard from");
+    if (r.alarms) stat.mergeSummary(DiagnosticStatus::WARN, name + " reports alarms");
+  }
+}
+
+}  // namespace thorvald_base

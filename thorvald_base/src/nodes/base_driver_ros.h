@@ -1,0 +1,74 @@
+#pragma once
+
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <geometry_msgs/Twist.h>
+#include <nav_msgs/Odometry.h>
+#include <pluginlib/class_loader.hpp>
+#include <ros/ros.h>
+#include <sensor_msgs/JointState.h>
+#include <std_srvs/SetBool.h>
+#include <std_srvs/Trigger.h>
+#include <tf2_ros/transform_broadcaster.h>
+
+#include <memory>
+#include <string>
+
+#include "thorvald_base/BaseState.h"
+#include "thorvald_base/CANFrame.h"
+#include "thorvald_base/SetDriveParams.h"
+#include "thorvald_base/base_driver.h"
+#include "thorvald_base/base_hardware.h"
+
+namespace thorvald_base {
+
+/// The base_driver node: reads the robot file from its namespace, builds a BaseDriver on simulated drives or on
+/// a hardware plugin, and connects it to topics, services, tf and diagnostics. Single-threaded (one spinner):
+/// callbacks and the control timer never run at once.
+class BaseDriverRos {
+ public:
+  /// Throws ConfigError or std::runtime_error when the node cannot start; main() reports it and exits non-zero.
+  BaseDriverRos(ros::NodeHandle nh, ros::NodeHandle pnh);
+
+ private:
+  void onCommand(const geometry_msgs::Twist& msg);
+  void onRelayFrame(const thorvald_base::CANFrame& msg);
+  void onTimer(const ros::TimerEvent& event);
+  bool onSetDriveParams(SetDriveParams::Request& req, SetDriveParams::Response& res);
+  bool onResetOdom(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
+  bool onHomeSteering(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
+  bool onSafetyStop(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res);
+  bool onClearDriveStop(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
+  bool onMuteRelay(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res);
+  void publish(const ros::Time& now);
+  void relayFromBus();
+  void diagnoseBase(diagnostic_updater::DiagnosticStatusWrapper& stat);
+  void diagnoseDrives(diagnostic_updater::DiagnosticStatusWrapper& stat);
+  void diagnoseBatteries(diagnostic_updater::DiagnosticStatusWrapper& stat);
+  std::string frame(const std::string& name) const;
+
+  ros::NodeHandle nh_, pnh_;
+  std::string tf_prefix_;
+  bool simple_sim_ = true;
+  bool enable_odom_tf_ = true;
+  bool relay_muted_ = false;
+  int relay_max_per_cycle_ = 20;
+  unsigned long relay_refused_ = 0, relay_sent_ = 0, relay_received_ = 0, relay_dropped_ = 0;
+  int relay_sent_this_cycle_ = 0;
+  std::unique_ptr<pluginlib::ClassLoader<BaseCalculator>> calculator_loader_;
+  std::unique_ptr<pluginlib::ClassLoader<BaseHardware>> hardware_loader_;
+  std::shared_ptr<BaseHardware> hardware_;
+  std::unique_ptr<BaseDriver> driver_;
+
+  ros::Subscriber cmd_sub_, relay_sub_;
+  ros::Publisher odom_pub_, joint_pub_, state_pub_, relay_pub_;
+  std::vector<ros::Publisher> battery_pubs_;
+  std::vector<ros::ServiceServer> services_;
+  ros::Timer timer_;
+  tf2_ros::TransformBroadcaster tf_broadcaster_;
+  diagnostic_updater::Updater diagnostics_;
+  std::vector<std::string> joint_names_;
+  ros::Time last_cycle_;
+  double cycle_rate_hz_ = 0.0;
+};
+
+}  // namespace thorvald_base

@@ -1,0 +1,132 @@
+#include <gmock/gmock.h>
+#include <yaml-cpp/yaml.h>
+
+#include "thorvald_base/robot_config.h"
+
+using thorvald_base::ConfigError;
+using thorvald_base::loadRobotConfigFile;
+using thorvald_base::parseRobotConfig;
+using thorvald_base::RobotConfig;
+
+namespace {
+
+const char* kDrive =
+    "{node: 1, x: 0.5, y: -0.3, r_wheel: 0.2, prp_gr_rt: 42, prp_enc_ppr: 1024, prp_max_rpm: 3000, "
+    "str_gr_rt: 42.86, str_enc_ppr: 1024, str_lim: 3.07}";
+
+RobotConfig parse(const std::string& text) { return parseRobotConfig(YAML::Load(text), "test.yaml"); }
+
+/// Expects a ConfigError whose location is `where` and whose text contains `what`.
+void expectError(const std::string& text, const std::string& where, const std::string& what) {
+  try {
+    parse(text);
+    FAIL() << "no error for: " << text;
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.where(), where) << e.what();
+    EXPECT_THAT(e.problem(), testing::HasSubstr(what)) << e.what();
+    EXPECT_THAT(std::string(e.what()), testing::HasSubstr("test.yaml"));
+  }
+}
+
+std::string withDrive0(const std::string& replace_from, const std::string& replace_to) {
+  std::string d = kDrive;
+  d.replace(d.find(replace_from), replace_from.size(), replace_to);
+  return "motor_drives: {drive0: " + d + "}";
+}
+
+}  // namespace
+
+TEST(RobotConfig, PaperFigure5Loads) {
+  const RobotConfig c = loadRobotConfigFile("data/figure5.yaml");
+  ASSERT_EQ(c.drives.size(), 4u);
+  EXPECT_EQ(c.base_calculator, "pltf_clc_std::PltfClcStd");
+  EXPECT_DOUBLE_EQ(c.drives[2].x, 0.547);
+  EXPECT_DOUBLE_EQ(c.drives[2].y, 0.30);
+  EXPECT_EQ(c.drives[3].node, 4);
+  EXPECT_EQ(c.drives[3].leg_mesh, 3);
+  EXPECT_DOUBLE_EQ(c.drives[0].str_lim, 3.078027759);  // written as str_llm
+  EXPECT_DOUBLE_EQ(c.drives[0].str_sim_v, 4.0);        // written as str_stm_v
+  EXPECT_DOUBLE_EQ(c.drives[0].w_wheel, 0.16);         // default
+  EXPECT_TRUE(c.warnings.empty());
+}
+
+TEST(RobotConfig, FieldQuirksLoad) {
+  const RobotConfig c = loadRobotConfigFile("data/field_quirks.yaml");
+  EXPECT_EQ(c.base_calculator, "pltf_clc_2wdiff::PltfClc2WDiff");
+  ASSERT_EQ(c.drives.size(), 2u);
+  EXPECT_EQ(c.drives[0].node, 1);  // 1.0
+  EXPECT_EQ(c.drives[0].type, 1);
+  EXPECT_DOUBLE_EQ(c.drives[0].y, -0.35);  // "-0.35"
+  EXPECT_DOUBLE_EQ(c.drives[0].prp_enc_ppr, 1024);
+  ASSERT_EQ(c.batteries.size(), 2u);
+  EXPECT_EQ(c.batteries[0].id, 1);  // node 345 - 344
+  EXPECT_TRUE(c.batteries[0].present());
+  EXPECT_FALSE(c.batteries[1].present());
+  ASSERT_EQ(c.pipes.size(), 1u);
+  EXPECT_DOUBLE_EQ(c.pipes[0].x1, -0.425);
+  EXPECT_TRUE(c.corners.empty());
+  ASSERT_EQ(c.casters.size(), 1u);
+  EXPECT_DOUBLE_EQ(c.casters[0].r_wheel, 0.08);
+  ASSERT_EQ(c.io.size(), 1u);
+  EXPECT_EQ(c.io[0].rl1_init_state, 1);
+  // Unknown keys are warned about, once each, and do not fail.
+  ASSERT_EQ(c.warnings.size(), 2u);
+  EXPECT_THAT(c.warnings, testing::Contains(testing::HasSubstr("motor_drives.drive0.future_key")));
+  EXPECT_THAT(c.warnings, testing::Contains(testing::HasSubstr("lidar_mount")));
+}
+
+TEST(RobotConfig, SingleColonPluginNameMeansTheSamePlugin) {
+  const RobotConfig c = parse(std::string("base_calculator: \"pltf_clc_std:PltfClcStd\"\nmotor_drives: {drive0: ") +
+                              kDrive + "}");
+  EXPECT_EQ(c.base_calculator, "pltf_clc_std::PltfClcStd");
+}
+
+TEST(RobotConfig, PropulsionOnlyDrivesNeedNoSteeringKeys) {
+  const RobotConfig c = parse(
+      "motor_drives: {drive0: {node: 1, type: 1, x: 0, y: 0.3, r_wheel: 0.2, prp_gr_rt: 42, prp_enc_ppr: 1024, "
+      "prp_max_rpm: 3000}}");
+  EXPECT_FALSE(c.drives[0].steered());
+}
+
+TEST(RobotConfig, ErrorsNameTheKey) {
+  expectError(withDrive0("r_wheel: 0.2", "r_wheel: -0.2"), "motor_drives.drive0.r_wheel", "greater than 0");
+  expectError(withDrive0("prp_gr_rt: 42", "prp_gr_rt: 0"), "motor_drives.drive0.prp_gr_rt", "greater than 0");
+  expectError(withDrive0("str_lim: 3.07", "str_lim: 3.5"), "motor_drives.drive0.str_lim", "(0, pi]");
+  expectError(withDrive0("r_wheel: 0.2, ", ""), "motor_drives.drive0.r_wheel", "required");
+  expectError(withDrive0("x: 0.5", "x: abc"), "motor_drives.drive0.x", "finite number");
+  expectError(withDrive0("x: 0.5", "x: .nan"), "motor_drives.drive0.x", "finite number");
+  expectError(withDrive0("node: 1", "node: 1.5"), "motor_drives.drive0.node", "integer");
+  expectError(withDrive0("x: 0.5", "x: [1, 2]"), "motor_drives.drive0.x", "number");
+  expectError(withDrive0("node: 1", "node: 1, type: 2"), "motor_drives.drive0.type", "0 (steering");
+  expectError(withDrive0("str_lim: 3.07", "str_lim: 3.07, str_llm: 3.0"), "motor_drives.drive0.str_llm",
+              "given twice");
+  expectError(std::string("motor_drives: {drive0: ") + kDrive + ", drive00: " + kDrive + "}", "motor_drives.drive00",
+              "given twice");
+  expectError(std::string("motor_drives: {drive0: ") + kDrive + ", drive2: " + kDrive + "}", "motor_drives",
+              "drive1 is missing");
+  expectError(std::string("motor_drives: {wheel0: ") + kDrive + "}", "motor_drives.wheel0", "driveN");
+  expectError("batteries: {}", "motor_drives", "required");
+  expectError("motor_drives: { }", "motor_drives", "non-empty");
+  expectError(std::string("motor_drives: {drive0: ") + kDrive + "}\nbeams: {b: {start: drive0, end: drive7}}",
+              "beams.b", "drive7");
+}
+
+TEST(RobotConfig, UnreadableOrBrokenFiles) {
+  EXPECT_THROW(loadRobotConfigFile("data/does_not_exist.yaml"), ConfigError);
+  try {
+    loadRobotConfigFile("data/broken.yaml");
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_THAT(e.problem(), testing::HasSubstr("not valid YAML"));
+  }
+}
+
+TEST(RobotConfig, SetDriveKeyByFieldName) {
+  RobotConfig c = parse(std::string("motor_drives: {drive0: ") + kDrive + "}");
+  EXPECT_TRUE(thorvald_base::setDriveKey(c.drives[0], "r_wheel", 0.12));
+  EXPECT_DOUBLE_EQ(c.drives[0].r_wheel, 0.12);
+  EXPECT_TRUE(thorvald_base::setDriveKey(c.drives[0], "str_llm", 2.0));
+  EXPECT_DOUBLE_EQ(c.drives[0].str_lim, 2.0);
+  EXPECT_FALSE(thorvald_base::setDriveKey(c.drives[0], "node", 3));
+  EXPECT_FALSE(thorvald_base::setDriveKey(c.drives[0], "r_wheel", std::nan("")));
+}
