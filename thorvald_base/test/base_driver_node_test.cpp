@@ -35,8 +35,9 @@ class Base {
     return false;
   }
 
-  /// Publishes `cmd` at 20 Hz for `seconds`, calling `each` after every spin.
-  void drive(double vx, double vy, double wz, double seconds, const std::function<void()>& each = [] {}) {
+  /// Publishes `cmd` at 20 Hz for `seconds` (or until `each` returns false), then one zero command as a user's
+  /// teleop or planner does when it stops.
+  void drive(double vx, double vy, double wz, double seconds, const std::function<bool()>& each = [] { return true; }) {
     geometry_msgs::Twist t;
     t.linear.x = vx;
     t.linear.y = vy;
@@ -49,13 +50,15 @@ class Base {
         next += ros::WallDuration(0.05);
       }
       ros::spinOnce();
-      each();
+      if (!each()) break;
       ros::WallDuration(0.002).sleep();
     }
+    cmd_.publish(geometry_msgs::Twist());
   }
 
   /// Waits until the base stands still, then zeroes odometry.
   void resetAtRest() {
+    ASSERT_TRUE(waitFor([&] { return cmd_.getNumSubscribers() > 0; }, 5.0));
     ASSERT_TRUE(waitFor([&] { return have_odom_ && std::fabs(odom_.twist.twist.linear.x) < 1e-4 &&
                                      std::fabs(odom_.twist.twist.linear.y) < 1e-4 &&
                                      std::fabs(odom_.twist.twist.angular.z) < 1e-4; },
@@ -89,12 +92,13 @@ bool within(double value, double want, double rel) { return std::fabs(value - wa
 
 /// Drives `cmd` and checks that, once the wheels have reached their angles, the odometry twist settles within 1%
 /// of it in under 1 s. Returns the time spent after settling.
-void expectSettles(Base& base, double vx, double vy, double wz, double seconds) {
+void expectSettles(Base& base, double vx, double vy, double wz, double seconds,
+                   const std::function<bool()>& until = [] { return true; }) {
   ros::WallTime reached, settled;
   std::vector<double> last_steer;
   base.drive(vx, vy, wz, seconds, [&] {
     const auto& s = base.state_;
-    if (s.drives.empty()) return;
+    if (s.drives.empty()) return true;
     bool all = true;
     for (const auto& d : s.drives) all = all && std::fabs(d.steering - d.steering_cmd) < 0.01;
     if (all && reached.isZero()) reached = ros::WallTime::now();
@@ -104,6 +108,7 @@ void expectSettles(Base& base, double vx, double vy, double wz, double seconds) 
                     std::fabs(t.linear.x - vx) < 0.01 * std::max(1e-3, std::hypot(vx, vy)) + 1e-3 &&
                     std::fabs(t.linear.y - vy) < 0.01 * std::max(1e-3, std::hypot(vx, vy)) + 1e-3;
     if (ok && settled.isZero() && !reached.isZero()) settled = ros::WallTime::now();
+    return until();
   });
   ASSERT_FALSE(reached.isZero()) << "wheels never reached their angles";
   ASSERT_FALSE(settled.isZero()) << "odometry never settled to the command";
@@ -147,7 +152,7 @@ TEST(BaseDriverNode, HalfCircle) {
   Base base;
   base.resetAtRest();
   // Radius 1 m: v = 0.5 m/s, w = 0.5 rad/s; half a circle takes pi s once the wheels have turned.
-  expectSettles(base, 0.5, 0.0, 0.5, M_PI + 0.3);
+  expectSettles(base, 0.5, 0.0, 0.5, 10.0, [&] { return std::fabs(base.yaw()) < M_PI - 0.05; });
   ASSERT_TRUE(base.waitFor([&] { return std::fabs(base.odom_.twist.twist.linear.x) < 1e-4; }, 5.0));
   // The robot stays on the circle about (0, 1): odometry matches the commanded motion.
   const auto& p = base.odom_.pose.pose.position;
@@ -158,14 +163,16 @@ TEST(BaseDriverNode, HalfCircle) {
 TEST(BaseDriverNode, OneCommandThenSilenceStopsShort) {
   Base base;
   base.resetAtRest();
+  base.drive(0.05, 0.0, 0.0, 1.0);  // wheels straight first, so the one command is not spent steering
+  base.resetAtRest();
   geometry_msgs::Twist t;
   t.linear.x = 1.0;
-  ros::WallDuration(0.1).sleep();
+  ASSERT_TRUE(base.waitFor([&] { return base.cmd_.getNumSubscribers() > 0; }, 5.0));
   base.cmd_.publish(t);
   ASSERT_TRUE(base.waitFor([&] { return base.odom_.twist.twist.linear.x > 0.1; }, 2.0));
   ASSERT_TRUE(base.waitFor([&] { return std::fabs(base.odom_.twist.twist.linear.x) < 1e-4; }, 5.0));
   EXPECT_LT(base.odom_.pose.pose.position.x, 0.8);
-  EXPECT_TRUE(base.state_.command_timed_out);
+  EXPECT_TRUE(base.waitFor([&] { return base.state_.command_timed_out; }, 1.0));
 }
 
 TEST(BaseDriverNode, NanCommandMovesNothing) {
