@@ -16,8 +16,9 @@ struct TwistSegment {
   Twist2D twist;
 };
 
-/// The paper's odometry test (§3.3.2): a loop of about 77 s commanded in x, y and yaw that ends where it started
-/// (about 80 m). Straights, half circles, crab moves and a diagonal out and back.
+/// The paper's odometry test (§3.3.2): 77 s of commands in x, y and yaw, about 80 m, that would close a loop if
+/// the robot followed them exactly (straights, half circles, crab moves, a diagonal out and back). The simulated
+/// robot does not close it: it loses part of each turn while its wheels steer, as a real one does.
 std::vector<TwistSegment> paperLoop();
 
 /// How each drive's readings are corrupted in a trial.
