@@ -1,0 +1,148 @@
+// Node `keyboard_teleop`: drive from a terminal (see README.md and the help screen it prints).
+#include <poll.h>
+#include <termios.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <exception>
+#include <stdexcept>
+#include <string>
+
+#include <geometry_msgs/Twist.h>
+#include <ros/ros.h>
+
+#include "thorvald_teleop/key_decoder.h"
+#include "thorvald_teleop/keyboard_command.h"
+
+namespace thorvald_teleop {
+namespace {
+
+std::atomic<bool> g_stop_requested{false};  // set by SIGINT/SIGTERM; the only state a signal handler may touch
+
+void onSignal(int) { g_stop_requested = true; }
+
+/// Puts a terminal in raw mode (no echo, no line buffering, Ctrl-C as a byte) and restores it on destruction.
+class RawTerminal {
+ public:
+  explicit RawTerminal(int fd) : fd_(fd) {
+    if (!isatty(fd_) || tcgetattr(fd_, &saved_) != 0) return;
+    termios raw = saved_;
+    raw.c_lflag &= static_cast<tcflag_t>(~(ICANON | ECHO | ISIG));
+    raw.c_iflag &= static_cast<tcflag_t>(~(IXON | ICRNL));
+    raw.c_cc[VMIN] = 0;
+    raw.c_cc[VTIME] = 0;
+    active_ = tcsetattr(fd_, TCSANOW, &raw) == 0;
+  }
+  ~RawTerminal() {
+    if (active_) tcsetattr(fd_, TCSANOW, &saved_);
+  }
+  RawTerminal(const RawTerminal&) = delete;
+  RawTerminal& operator=(const RawTerminal&) = delete;
+  bool active() const { return active_; }
+
+ private:
+  int fd_;
+  termios saved_{};
+  bool active_ = false;
+};
+
+geometry_msgs::Twist toTwist(const VelocityCommand& c) {
+  geometry_msgs::Twist t;
+  t.linear.x = c.linear_x;
+  t.linear.y = c.linear_y;
+  t.angular.z = c.angular_z;
+  return t;
+}
+
+KeyboardConfig loadConfig(ros::NodeHandle& pnh) {
+  KeyboardConfig c;
+  pnh.param("linear_speed_max", c.linear_speed_max, c.linear_speed_max);
+  pnh.param("angular_speed_max", c.angular_speed_max, c.angular_speed_max);
+  pnh.param("gain", c.gain, c.gain);
+  pnh.param("gain_step", c.gain_step, c.gain_step);
+  pnh.param("gain_min", c.gain_min, c.gain_min);
+  pnh.param("gain_max", c.gain_max, c.gain_max);
+  pnh.param("key_timeout", c.key_timeout_s, c.key_timeout_s);
+  const std::string error = validateKeyboardConfig(c);
+  if (!error.empty()) throw std::runtime_error("~" + error);
+  return c;
+}
+
+void print(const std::string& text) {
+  std::fputs(text.c_str(), stdout);
+  std::fflush(stdout);
+}
+
+int run(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
+  const KeyboardConfig config = loadConfig(pnh);
+  double repeat_rate_hz = 10.0;
+  pnh.param("repeat_rate", repeat_rate_hz, repeat_rate_hz);
+  if (!(repeat_rate_hz > 0.0)) throw std::runtime_error("~repeat_rate must be > 0 [Hz]");
+  ros::Publisher pub = nh.advertise<geometry_msgs::Twist>("cmd_vel", 1);
+  KeyboardCommand command(config);
+  KeyDecoder decoder;
+  RawTerminal terminal(STDIN_FILENO);
+  if (!terminal.active()) ROS_WARN("keyboard_teleop: stdin is not a terminal; reading keys from it anyway");
+  print(keyboardHelp(config, command.gain()));
+
+  ros::WallTime last_publish;
+  auto publish = [&](const VelocityCommand& c) {
+    pub.publish(toTwist(c));
+    last_publish = ros::WallTime::now();
+  };
+  bool quit = false;
+  while (!quit && !g_stop_requested && ros::ok()) {
+    pollfd pfd{STDIN_FILENO, POLLIN, 0};
+    if (poll(&pfd, 1, 20) > 0) {  // 20 ms: resolution of the key timeout and the repeat
+      char buffer[64];
+      const ssize_t n = read(STDIN_FILENO, buffer, sizeof(buffer));
+      if (n <= 0) {
+        ROS_WARN("keyboard_teleop: end of input on stdin, stopping (run it in a terminal)");
+        quit = true;  // end of input: stop as on Ctrl-D
+      } else {
+        for (const KeyPress& key : decoder.feed(std::string(buffer, static_cast<std::size_t>(n)))) {
+          const KeyboardActions a = command.onKey(key, ros::WallTime::now().toSec());
+          if (a.command) publish(*a.command);
+          if (a.show_help) print(keyboardHelp(config, command.gain()));
+          if (a.gain_changed) {
+            char line[96];
+            std::snprintf(line, sizeof(line), "speed: %.2f m/s, %.2f rad/s\r\n",
+                          config.linear_speed_max * command.gain(), config.angular_speed_max * command.gain());
+            print(line);
+          }
+          quit = quit || a.quit;
+        }
+      }
+    }
+    const KeyboardActions timed = command.onTimer(ros::WallTime::now().toSec());
+    if (timed.command) publish(*timed.command);
+    if (command.moving() && ros::WallTime::now() - last_publish >= ros::WallDuration(1.0 / repeat_rate_hz)) {
+      publish(command.current());  // keeps the mux input alive while a latched command is held
+    }
+    ros::spinOnce();
+  }
+  publish(VelocityCommand());
+  print("stopped\r\n");
+  // The publisher writes on roscpp's network thread: give the final stop time to leave before exiting.
+  ros::WallDuration(0.3).sleep();
+  return 0;
+}
+
+}  // namespace
+}  // namespace thorvald_teleop
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "keyboard_teleop", ros::init_options::NoSigintHandler);
+  std::signal(SIGINT, thorvald_teleop::onSignal);
+  std::signal(SIGTERM, thorvald_teleop::onSignal);
+  ros::NodeHandle nh;  // outlives the try block: the last handle's destruction shuts logging down
+  ros::NodeHandle pnh("~");
+  try {
+    return thorvald_teleop::run(nh, pnh);
+  } catch (const std::exception& e) {
+    ROS_FATAL("keyboard_teleop cannot start: %s", e.what());
+    return 1;
+  }
+}
