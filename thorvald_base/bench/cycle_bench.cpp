@@ -47,15 +47,16 @@ int main(int argc, char** argv) {
       for (const auto& d : robot.drives) drives.push_back(std::make_unique<thorvald_base::SimulatedDrive>(d));
       thorvald_base::BaseDriverOptions o;
       o.calculator.estimator = estimator;
-      thorvald_base::BaseDriver driver(robot, std::make_unique<thorvald_base::StandardCalculator>(),
-                                       std::move(drives), {}, o);
+      thorvald_base::BaseDriver driver(robot, std::make_unique<thorvald_base::StandardCalculator>(), std::move(drives),
+                                       {}, o);
       const auto start = std::chrono::steady_clock::now();
       for (int c = 0; c < cycles; ++c) {
         const double t = c * 0.02;
         driver.setCommand({0.5 * std::cos(t), 0.3 * std::sin(0.5 * t), 0.4 * std::sin(0.3 * t)}, t);
         driver.update(t);
       }
-      const double elapsed = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
+      const double elapsed =
+          std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
       us[k++] = elapsed / cycles;
     }
     if (n == 9) us9 = us[0];

@@ -13,25 +13,27 @@ int main(int argc, char** argv) {
   int seeds = 5;
   std::string csv;
   for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--seeds") && i + 1 < argc) seeds = std::atoi(argv[++i]);
-    else if (!std::strcmp(argv[i], "--csv") && i + 1 < argc) csv = argv[++i];
+    if (!std::strcmp(argv[i], "--seeds") && i + 1 < argc)
+      seeds = std::atoi(argv[++i]);
+    else if (!std::strcmp(argv[i], "--csv") && i + 1 < argc)
+      csv = argv[++i];
   }
   if (seeds < 1) seeds = 1;
   const auto robot = thorvald_base::figure7Robot();
   const auto loop = thorvald_base::paperLoop();
   const thorvald_base::TrialCorruption corruption;
-  std::printf("Figure 7 robot, %zu-segment loop, readings: encoder quantisation, speed noise %.3f rad/s, steering "
-              "noise %.4f rad, +%.0f%% radius on drives 1 and 4, drive %d slips %.0f%% (%.0f%% of the time)\n",
-              loop.size(), corruption.speed_noise_radps, corruption.steering_noise_rad,
-              100 * corruption.radius_error, corruption.slipping_drive, 100 * corruption.slip_ratio,
-              100 * corruption.slip_fraction);
+  std::printf(
+      "Figure 7 robot, %zu-segment loop, readings: encoder quantisation, speed noise %.3f rad/s, steering "
+      "noise %.4f rad, +%.0f%% radius on drives 1 and 4, drive %d slips %.0f%% (%.0f%% of the time)\n",
+      loop.size(), corruption.speed_noise_radps, corruption.steering_noise_rad, 100 * corruption.radius_error,
+      corruption.slipping_drive, 100 * corruption.slip_ratio, 100 * corruption.slip_fraction);
   std::printf("%-6s %12s %12s %12s %14s %14s\n", "seed", "truth [m]", "ls [m]", "paper [m]", "ls err [%]",
               "paper err [%]");
   double sum_ls = 0, sum_paper = 0, sum_dist = 0;
   for (int s = 1; s <= seeds; ++s) {
     const auto r = thorvald_base::runOdometryTrial(robot, loop, corruption, static_cast<unsigned>(s));
-    std::printf("%-6d %12.2f %12.2f %12.2f %14.3f %14.3f\n", s, r.distance_truth_m, r.distance_ls_m,
-                r.distance_paper_m, r.errorPctLs(), r.errorPctPaper());
+    std::printf("%-6d %12.2f %12.2f %12.2f %14.3f %14.3f\n", s, r.distance_truth_m, r.distance_ls_m, r.distance_paper_m,
+                r.errorPctLs(), r.errorPctPaper());
     sum_ls += r.errorPctLs();
     sum_paper += r.errorPctPaper();
     sum_dist += r.distance_truth_m;
@@ -45,11 +47,13 @@ int main(int argc, char** argv) {
     }
   }
   const double ls = sum_ls / seeds, paper = sum_paper / seeds;
-  std::printf("mean over %d seeds: distance %.2f m, end-point error least squares %.3f %%, paper %.3f %%, "
-              "paper/ls %.2f (the paper's robot: 2.2 m over 80.2 m = 2.74 %%)\n",
-              seeds, sum_dist / seeds, ls, paper, paper / ls);
-  std::printf("RESULT {\"odom_err_pct_ls\": %.4f, \"odom_err_pct_paper\": %.4f, \"paper_over_ls\": %.3f, "
-              "\"distance_m\": %.2f}\n",
-              ls, paper, paper / ls, sum_dist / seeds);
+  std::printf(
+      "mean over %d seeds: distance %.2f m, end-point error least squares %.3f %%, paper %.3f %%, "
+      "paper/ls %.2f (the paper's robot: 2.2 m over 80.2 m = 2.74 %%)\n",
+      seeds, sum_dist / seeds, ls, paper, paper / ls);
+  std::printf(
+      "RESULT {\"odom_err_pct_ls\": %.4f, \"odom_err_pct_paper\": %.4f, \"paper_over_ls\": %.3f, "
+      "\"distance_m\": %.2f}\n",
+      ls, paper, paper / ls, sum_dist / seeds);
   return 0;
 }

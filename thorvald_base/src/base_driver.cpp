@@ -6,11 +6,16 @@ namespace thorvald_base {
 
 const char* toString(StopReason reason) {
   switch (reason) {
-    case StopReason::kNone: return "driving";
-    case StopReason::kNoCommand: return "no command yet";
-    case StopReason::kCommandTimeout: return "command timed out";
-    case StopReason::kSafetyStop: return "safety stop";
-    case StopReason::kDriveStop: return "drive lost or faulted";
+    case StopReason::kNone:
+      return "driving";
+    case StopReason::kNoCommand:
+      return "no command yet";
+    case StopReason::kCommandTimeout:
+      return "command timed out";
+    case StopReason::kSafetyStop:
+      return "safety stop";
+    case StopReason::kDriveStop:
+      return "drive lost or faulted";
   }
   return "unknown";
 }
@@ -117,8 +122,9 @@ bool BaseDriver::setDriveParams(const std::vector<DriveParamChange>& changes, st
   std::vector<DriveConfig> drives = config_.drives;
   for (const auto& change : changes) {
     if (change.drive < -1 || change.drive >= static_cast<int>(drives.size())) {
-      if (message) *message = "drive " + std::to_string(change.drive) + " does not exist (0.." +
-                              std::to_string(drives.size() - 1) + ", or -1 for all)";
+      if (message)
+        *message = "drive " + std::to_string(change.drive) + " does not exist (0.." +
+                   std::to_string(drives.size() - 1) + ", or -1 for all)";
       return false;
     }
     for (size_t i = 0; i < drives.size(); ++i) {

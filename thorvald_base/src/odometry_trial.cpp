@@ -12,9 +12,28 @@ namespace thorvald_base {
 std::vector<TwistSegment> paperLoop() {
   const double turn = kPi / 9.0;  // half a circle in 9 s
   return {
-      {16.0, {1.2, 0.0, 0.0}},  {9.0, {1.05, 0.0, turn}}, {5.0, {0.0, 0.8, 0.0}},    {16.0, {1.2, 0.0, 0.0}},
-      {9.0, {1.05, 0.0, turn}}, {5.0, {0.0, 0.8, 0.0}},   {8.5, {0.8, 0.4, 0.0}},    {8.5, {-0.8, -0.4, 0.0}},
+      {16.0, {1.2, 0.0, 0.0}},  {9.0, {1.05, 0.0, turn}}, {5.0, {0.0, 0.8, 0.0}}, {16.0, {1.2, 0.0, 0.0}},
+      {9.0, {1.05, 0.0, turn}}, {5.0, {0.0, 0.8, 0.0}},   {8.5, {0.8, 0.4, 0.0}}, {8.5, {-0.8, -0.4, 0.0}},
   };
+}
+
+DriveConfig thorvaldDriveModule(int index, double x, double y, int type) {
+  DriveConfig d;
+  d.index = index;
+  d.node = index + 1;
+  d.x = x;
+  d.y = y;
+  d.type = type;
+  d.r_wheel = 0.2;
+  d.prp_gr_rt = 42;
+  d.prp_enc_ppr = 1024;
+  d.prp_max_rpm = 3000;
+  d.prp_sim_a = 1.5;
+  d.str_gr_rt = 42.8571429;
+  d.str_enc_ppr = 1024;
+  d.str_lim = 3.078027759;
+  d.str_sim_v = 4.0;
+  return d;
 }
 
 RobotConfig figure7Robot() {
@@ -22,23 +41,7 @@ RobotConfig figure7Robot() {
   r.source = "figure 7 robot";
   r.base_calculator = kDefaultBaseCalculator;
   const double xy[6][2] = {{-0.9, -0.8}, {0.25, -0.8}, {1.1, -0.55}, {1.1, 0.75}, {0.1, 0.75}, {-0.9, 0.6}};
-  for (int i = 0; i < 6; ++i) {
-    DriveConfig d;
-    d.index = i;
-    d.node = i + 1;
-    d.x = xy[i][0];
-    d.y = xy[i][1];
-    d.r_wheel = 0.2;
-    d.prp_gr_rt = 42;
-    d.prp_enc_ppr = 1024;
-    d.prp_max_rpm = 3000;
-    d.prp_sim_a = 1.5;
-    d.str_gr_rt = 42.8571429;
-    d.str_enc_ppr = 1024;
-    d.str_lim = 3.078027759;
-    d.str_sim_v = 4.0;
-    r.drives.push_back(d);
-  }
+  for (int i = 0; i < 6; ++i) r.drives.push_back(thorvaldDriveModule(i, xy[i][0], xy[i][1]));
   return r;
 }
 

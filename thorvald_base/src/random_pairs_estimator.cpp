@@ -4,8 +4,8 @@
 
 namespace thorvald_base {
 namespace {
-constexpr double kParallelSin = 1e-3;   // normals closer to parallel than this do not intersect usefully
-constexpr double kFarCentre_m = 1e4;    // a centre of rotation this far away is straight driving
+constexpr double kParallelSin = 1e-3;  // normals closer to parallel than this do not intersect usefully
+constexpr double kFarCentre_m = 1e4;   // a centre of rotation this far away is straight driving
 }  // namespace
 
 RandomPairsEstimator::RandomPairsEstimator(unsigned seed, int pairs) : state_(seed ? seed : 1u), pairs_(pairs) {}

@@ -97,7 +97,8 @@ Field<T> textField(std::vector<std::string> names, bool required, std::string T:
 /// Reads the keys of one module map by a field table; unknown keys become warnings.
 template <typename T>
 void readFields(T& out, const YAML::Node& module, const std::vector<Field<T>>& fields, const ScalarReader& reader,
-                std::vector<std::string>& warnings, const std::function<bool(const T&, const Field<T>&)>& required = {}) {
+                std::vector<std::string>& warnings,
+                const std::function<bool(const T&, const Field<T>&)>& required = {}) {
   if (!module.IsMap()) throw ConfigError(reader.source(), reader.where(), "expected a map of keys");
   std::set<std::string> known;
   for (const auto& field : fields) {
@@ -169,10 +170,14 @@ const std::vector<Field<BatteryConfig>>& batteryFields() {
       numberField<B>({"z"}, false, &B::z),
       numberField<B>({"yaw"}, false, &B::yaw),
       intField<B>({"bat_mesh"}, false, &B::bat_mesh),
-      {{"with_battery"}, false,
-       [](B& b, const ScalarReader& r, const YAML::Node& n, const std::string& k) { b.with_battery = r.boolean(n, k); }},
+      {{"with_battery"},
+       false,
+       [](B& b, const ScalarReader& r, const YAML::Node& n, const std::string& k) {
+         b.with_battery = r.boolean(n, k);
+       }},
       // Older files: `node`, where -1 means no battery and the bus id was node - 344.
-      {{"node"}, false,
+      {{"node"},
+       false,
        [](B& b, const ScalarReader& r, const YAML::Node& n, const std::string& k) {
          const int node = r.integer(n, k);
          b.id = node < 0 ? -1 : node - 344;
@@ -184,8 +189,8 @@ const std::vector<Field<BatteryConfig>>& batteryFields() {
 const std::vector<Field<PipeConfig>>& pipeFields() {
   using P = PipeConfig;
   static const std::vector<Field<P>> fields = {
-      numberField<P>({"x1"}, true, &P::x1),         numberField<P>({"y1"}, true, &P::y1),
-      numberField<P>({"x2"}, true, &P::x2),         numberField<P>({"y2"}, true, &P::y2),
+      numberField<P>({"x1"}, true, &P::x1),          numberField<P>({"y1"}, true, &P::y1),
+      numberField<P>({"x2"}, true, &P::x2),          numberField<P>({"y2"}, true, &P::y2),
       numberField<P>({"height"}, false, &P::height), numberField<P>({"space"}, false, &P::space),
   };
   return fields;
@@ -194,9 +199,12 @@ const std::vector<Field<PipeConfig>>& pipeFields() {
 const std::vector<Field<CornerConfig>>& cornerFields() {
   using C = CornerConfig;
   static const std::vector<Field<C>> fields = {
-      intField<C>({"type"}, false, &C::type),           intField<C>({"corner_mesh"}, false, &C::corner_mesh),
-      numberField<C>({"x"}, true, &C::x),               numberField<C>({"y"}, true, &C::y),
-      numberField<C>({"z"}, false, &C::z),              numberField<C>({"space"}, false, &C::space),
+      intField<C>({"type"}, false, &C::type),
+      intField<C>({"corner_mesh"}, false, &C::corner_mesh),
+      numberField<C>({"x"}, true, &C::x),
+      numberField<C>({"y"}, true, &C::y),
+      numberField<C>({"z"}, false, &C::z),
+      numberField<C>({"space"}, false, &C::space),
       numberField<C>({"susp_ang"}, false, &C::susp_ang),
   };
   return fields;
@@ -212,9 +220,12 @@ const std::vector<Field<BeamConfig>>& beamFields() {
 const std::vector<Field<PassiveWheelConfig>>& passiveWheelFields() {
   using W = PassiveWheelConfig;
   static const std::vector<Field<W>> fields = {
-      numberField<W>({"x"}, true, &W::x),         numberField<W>({"y"}, true, &W::y),
-      numberField<W>({"z_top"}, false, &W::z_top), numberField<W>({"r_wheel"}, false, &W::r_wheel),
-      numberField<W>({"w_wheel"}, false, &W::w_wheel), numberField<W>({"offset"}, false, &W::offset),
+      numberField<W>({"x"}, true, &W::x),
+      numberField<W>({"y"}, true, &W::y),
+      numberField<W>({"z_top"}, false, &W::z_top),
+      numberField<W>({"r_wheel"}, false, &W::r_wheel),
+      numberField<W>({"w_wheel"}, false, &W::w_wheel),
+      numberField<W>({"offset"}, false, &W::offset),
   };
   return fields;
 }
@@ -270,7 +281,8 @@ std::vector<DriveConfig> readDrives(const YAML::Node& root, const std::string& s
     const std::string name = kv.first.Scalar();
     const int index = numberedName(name, "drive");
     if (index < 0) throw ConfigError(source, "motor_drives." + name, "expected a module named driveN (N = 0, 1, ...)");
-    if (by_index.count(index)) throw ConfigError(source, "motor_drives." + name, "drive number " + std::to_string(index) + " is given twice");
+    if (by_index.count(index))
+      throw ConfigError(source, "motor_drives." + name, "drive number " + std::to_string(index) + " is given twice");
     DriveConfig drive;
     drive.index = index;
     const std::string where = "motor_drives." + name;
@@ -281,9 +293,9 @@ std::vector<DriveConfig> readDrives(const YAML::Node& root, const std::string& s
   std::vector<DriveConfig> drives;
   for (const auto& [index, drive] : by_index) {
     if (index != static_cast<int>(drives.size())) {
-      throw ConfigError(source, "motor_drives",
-                        "drives must be numbered from drive0 without gaps; drive" + std::to_string(drives.size()) +
-                            " is missing");
+      throw ConfigError(
+          source, "motor_drives",
+          "drives must be numbered from drive0 without gaps; drive" + std::to_string(drives.size()) + " is missing");
     }
     drives.push_back(drive);
   }
@@ -356,7 +368,7 @@ RobotConfig parseRobotConfig(const YAML::Node& root, const std::string& source) 
   RobotConfig config;
   config.source = source;
   if (!root.IsMap()) throw ConfigError(source, "<top level>", "expected a map of module groups");
-  static const std::set<std::string> known = {"base_calculator", "motor_drives", "batteries", "pipes", "corners",
+  static const std::set<std::string> known = {"base_calculator", "motor_drives", "batteries",      "pipes", "corners",
                                               "beams",           "casters",      "passive_wheels", "io"};
   for (const auto& kv : root) {
     if (!known.count(kv.first.Scalar())) {
@@ -365,7 +377,8 @@ RobotConfig parseRobotConfig(const YAML::Node& root, const std::string& source) 
   }
   config.base_calculator = kDefaultBaseCalculator;
   if (root["base_calculator"].IsDefined() && !root["base_calculator"].IsNull()) {
-    config.base_calculator = normalisePluginName(ScalarReader(source, "").text(root["base_calculator"], "base_calculator"));
+    config.base_calculator =
+        normalisePluginName(ScalarReader(source, "").text(root["base_calculator"], "base_calculator"));
   }
   config.drives = readDrives(root, source, config.warnings);
   config.batteries = readGroup(root, "batteries", batteryFields(), source, config.warnings);

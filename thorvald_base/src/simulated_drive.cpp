@@ -74,7 +74,8 @@ void SimulatedDrive::read() {
   double speed = wheel_speed_ * (slipping_ ? 1.0 + options_.slip_ratio : 1.0);
   double position = wheel_position_ + slip_position_extra_;
   double steering = steering_;
-  if (options_.speed_noise_radps > 0.0) speed += std::normal_distribution<double>(0.0, options_.speed_noise_radps)(rng_);
+  if (options_.speed_noise_radps > 0.0)
+    speed += std::normal_distribution<double>(0.0, options_.speed_noise_radps)(rng_);
   if (options_.steering_noise_rad > 0.0) {
     steering += std::normal_distribution<double>(0.0, options_.steering_noise_rad)(rng_);
   }

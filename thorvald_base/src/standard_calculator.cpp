@@ -13,7 +13,8 @@ constexpr double kStill_mps = 1e-6;  // a wheel slower than this has no directio
 
 void StandardCalculator::configure(const std::vector<DriveConfig>& drives,
                                    const std::vector<PassiveWheelConfig>& passive, const CalculatorOptions& options) {
-  if (drives.empty()) throw ConfigError("base_calculator", "motor_drives", "the standard model needs at least one drive");
+  if (drives.empty())
+    throw ConfigError("base_calculator", "motor_drives", "the standard model needs at least one drive");
   auto estimator = makeVelocityEstimator(options.estimator, options.seed);
   if (!estimator) {
     throw ConfigError("base_driver", "~odometry_estimator",
@@ -80,8 +81,8 @@ VelocityEstimate StandardCalculator::estimateTwist(const std::vector<DriveFeedba
   for (size_t i = 0; i < drives_.size() && i < measured.size(); ++i) {
     if (!measured[i].valid) continue;
     const DriveConfig& d = drives_[i];
-    wheels.push_back({d.x, d.y, d.steered() ? measured[i].steering_rad : 0.0,
-                      measured[i].wheel_speed_radps * d.r_wheel, true});
+    wheels.push_back(
+        {d.x, d.y, d.steered() ? measured[i].steering_rad : 0.0, measured[i].wheel_speed_radps * d.r_wheel, true});
   }
   if (wheels.empty()) return {};
   for (const auto& p : passive_) wheels.push_back({p.x, p.y, 0.0, 0.0, false});
@@ -106,8 +107,9 @@ void DiffDriveCalculator::configure(const std::vector<DriveConfig>& drives,
                                     const std::vector<PassiveWheelConfig>& /*passive*/,
                                     const CalculatorOptions& /*options*/) {
   if (drives.size() != 2) {
-    throw ConfigError("base_calculator", "motor_drives",
-                      "the two-wheel differential model needs exactly 2 drives, found " + std::to_string(drives.size()));
+    throw ConfigError(
+        "base_calculator", "motor_drives",
+        "the two-wheel differential model needs exactly 2 drives, found " + std::to_string(drives.size()));
   }
   if (std::fabs(drives[0].y - drives[1].y) < 1e-3) {
     throw ConfigError("base_calculator", "motor_drives", "the two differential wheels must have different y");

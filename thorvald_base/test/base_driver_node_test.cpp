@@ -37,7 +37,8 @@ class Base {
 
   /// Publishes `cmd` at 20 Hz for `seconds` (or until `each` returns false), then one zero command as a user's
   /// teleop or planner does when it stops.
-  void drive(double vx, double vy, double wz, double seconds, const std::function<bool()>& each = [] { return true; }) {
+  void drive(
+      double vx, double vy, double wz, double seconds, const std::function<bool()>& each = [] { return true; }) {
     geometry_msgs::Twist t;
     t.linear.x = vx;
     t.linear.y = vy;
@@ -59,10 +60,12 @@ class Base {
   /// Waits until the base stands still, then zeroes odometry.
   void resetAtRest() {
     ASSERT_TRUE(waitFor([&] { return cmd_.getNumSubscribers() > 0; }, 5.0));
-    ASSERT_TRUE(waitFor([&] { return have_odom_ && std::fabs(odom_.twist.twist.linear.x) < 1e-4 &&
-                                     std::fabs(odom_.twist.twist.linear.y) < 1e-4 &&
-                                     std::fabs(odom_.twist.twist.angular.z) < 1e-4; },
-                        10.0));
+    ASSERT_TRUE(waitFor(
+        [&] {
+          return have_odom_ && std::fabs(odom_.twist.twist.linear.x) < 1e-4 &&
+                 std::fabs(odom_.twist.twist.linear.y) < 1e-4 && std::fabs(odom_.twist.twist.angular.z) < 1e-4;
+        },
+        10.0));
     std_srvs::Trigger t;
     ASSERT_TRUE(ros::service::call("base_driver/reset_base_odom", t));
     const auto stamp = ros::Time::now();
@@ -92,8 +95,9 @@ bool within(double value, double want, double rel) { return std::fabs(value - wa
 
 /// Drives `cmd` and checks that, once the wheels have reached their angles, the odometry twist settles within 1%
 /// of it in under 1 s. Returns the time spent after settling.
-void expectSettles(Base& base, double vx, double vy, double wz, double seconds,
-                   const std::function<bool()>& until = [] { return true; }) {
+void expectSettles(
+    Base& base, double vx, double vy, double wz, double seconds,
+    const std::function<bool()>& until = [] { return true; }) {
   ros::WallTime reached, settled;
   std::vector<double> last_steer;
   base.drive(vx, vy, wz, seconds, [&] {

@@ -25,8 +25,8 @@ std::vector<WheelObservation> observe(const Twist2D& t) {
 
 TEST(LeastSquares, ExactMotionIsRecovered) {
   LeastSquaresEstimator est;
-  for (const Twist2D t : {Twist2D{1.0, 0.0, 0.0}, Twist2D{0.0, 0.4, 0.0}, Twist2D{0.0, 0.0, 0.314},
-                          Twist2D{0.5, -0.2, 0.3}}) {
+  for (const Twist2D t :
+       {Twist2D{1.0, 0.0, 0.0}, Twist2D{0.0, 0.4, 0.0}, Twist2D{0.0, 0.0, 0.314}, Twist2D{0.5, -0.2, 0.3}}) {
     const auto e = est.estimate(observe(t));
     ASSERT_TRUE(e.valid);
     EXPECT_NEAR(e.twist.vx, t.vx, 1e-9);

@@ -84,7 +84,9 @@ TEST_P(PaperRobots, RandomTwistsRoundTripWithinLimits) {
       EXPECT_NEAR(est.twist.wz, want.wz, tol);
       previous = out;
     }
-    if (robot.calculator == "standard" && robot.name.find("2ws") == std::string::npos) EXPECT_GT(flips, 0);
+    if (robot.calculator == "standard" && robot.name.find("2ws") == std::string::npos) {
+      EXPECT_GT(flips, 0);
+    }
   }
 }
 
@@ -101,7 +103,8 @@ TEST(Kinematics, FixedWheelsDropLateralSpeed) {
     EXPECT_NEAR(a.vx, 0.0, 1e-12);
     EXPECT_NEAR(a.vy, 0.0, 1e-12);
     std::vector<DriveCommand> prev(robot.config.drives.size());
-    for (const auto& c : calc->computeCommands(lateral, reached(prev), prev)) EXPECT_NEAR(c.wheel_speed_radps, 0, 1e-12);
+    for (const auto& c : calc->computeCommands(lateral, reached(prev), prev))
+      EXPECT_NEAR(c.wheel_speed_radps, 0, 1e-12);
   }
 }
 

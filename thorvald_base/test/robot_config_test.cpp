@@ -76,8 +76,8 @@ TEST(RobotConfig, FieldQuirksLoad) {
 }
 
 TEST(RobotConfig, SingleColonPluginNameMeansTheSamePlugin) {
-  const RobotConfig c = parse(std::string("base_calculator: \"pltf_clc_std:PltfClcStd\"\nmotor_drives: {drive0: ") +
-                              kDrive + "}");
+  const RobotConfig c =
+      parse(std::string("base_calculator: \"pltf_clc_std:PltfClcStd\"\nmotor_drives: {drive0: ") + kDrive + "}");
   EXPECT_EQ(c.base_calculator, "pltf_clc_std::PltfClcStd");
 }
 
@@ -98,8 +98,7 @@ TEST(RobotConfig, ErrorsNameTheKey) {
   expectError(withDrive0("node: 1", "node: 1.5"), "motor_drives.drive0.node", "integer");
   expectError(withDrive0("x: 0.5", "x: [1, 2]"), "motor_drives.drive0.x", "number");
   expectError(withDrive0("node: 1", "node: 1, type: 2"), "motor_drives.drive0.type", "0 (steering");
-  expectError(withDrive0("str_lim: 3.07", "str_lim: 3.07, str_llm: 3.0"), "motor_drives.drive0.str_llm",
-              "given twice");
+  expectError(withDrive0("str_lim: 3.07", "str_lim: 3.07, str_llm: 3.0"), "motor_drives.drive0.str_llm", "given twice");
   expectError(std::string("motor_drives: {drive0: ") + kDrive + ", drive00: " + kDrive + "}", "motor_drives.drive00",
               "given twice");
   expectError(std::string("motor_drives: {drive0: ") + kDrive + ", drive2: " + kDrive + "}", "motor_drives",

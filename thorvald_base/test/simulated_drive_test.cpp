@@ -52,7 +52,7 @@ TEST(SimulatedDrive, RadiusErrorAndSlipShowInTruthNotReading) {
   d.setCommand({2.0, 0.0});
   d.update(0.0);
   d.update(5.0);
-  EXPECT_NEAR(d.truth().wheel_speed_radps, 2.0 * 1.01, 1e-9);   // rolls 1% further than r_wheel says
+  EXPECT_NEAR(d.truth().wheel_speed_radps, 2.0 * 1.01, 1e-9);    // rolls 1% further than r_wheel says
   EXPECT_NEAR(d.feedback().wheel_speed_radps, 2.0 * 1.2, 1e-9);  // slipping: reads 20% faster
 }
 

@@ -3,28 +3,16 @@
 #include <string>
 #include <vector>
 
+#include "thorvald_base/odometry_trial.h"
 #include "thorvald_base/robot_config.h"
 
 namespace thorvald_base {
 namespace test {
 
-/// A drive with the parameters of a standard Thorvald drive module at (x, y).
+/// A standard Thorvald drive module at (x, y), with an optional steering limit.
 inline DriveConfig drive(int index, double x, double y, int type = 0, double str_lim = 3.078027759) {
-  DriveConfig d;
-  d.index = index;
-  d.node = index + 1;
-  d.x = x;
-  d.y = y;
-  d.type = type;
-  d.r_wheel = 0.2;
-  d.prp_gr_rt = 42;
-  d.prp_enc_ppr = 1024;
-  d.prp_max_rpm = 3000;
-  d.prp_sim_a = 1.5;
-  d.str_gr_rt = 42.8571429;
-  d.str_enc_ppr = 1024;
+  DriveConfig d = thorvaldDriveModule(index, x, y, type);
   d.str_lim = str_lim;
-  d.str_sim_v = 4.0;
   return d;
 }
 

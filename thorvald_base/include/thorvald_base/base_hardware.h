@@ -15,8 +15,8 @@ namespace thorvald_base {
 
 /// One classic CAN frame, as relayed between the base's bus and users.
 struct CanFrameData {
-  uint32_t id = 0;      ///< 11-bit identifier
-  uint8_t length = 0;   ///< 0..8
+  uint32_t id = 0;     ///< 11-bit identifier
+  uint8_t length = 0;  ///< 0..8
   std::array<uint8_t, 8> data{};
 };
 

@@ -8,15 +8,15 @@ namespace thorvald_base {
 
 /// One reading of a battery enclosure. NaN where the enclosure does not report a value.
 struct BatteryReading {
-  bool online = false;       ///< frames arrive
-  bool present = true;       ///< a battery is fitted
-  double voltage_v = 0.0;    ///< [V]
-  double current_a = 0.0;    ///< [A], positive when charging
-  double charge_pct = 0.0;   ///< state of charge [%]
-  double health_pct = 0.0;   ///< state of health [%]
-  int cycles = 0;            ///< charge cycle count
+  bool online = false;                 ///< frames arrive
+  bool present = true;                 ///< a battery is fitted
+  double voltage_v = 0.0;              ///< [V]
+  double current_a = 0.0;              ///< [A], positive when charging
+  double charge_pct = 0.0;             ///< state of charge [%]
+  double health_pct = 0.0;             ///< state of health [%]
+  int cycles = 0;                      ///< charge cycle count
   std::vector<double> temperatures_c;  ///< [degC]
-  uint16_t alarms = 0;       ///< enclosure alarm bits
+  uint16_t alarms = 0;                 ///< enclosure alarm bits
   bool charging_enabled = false;
   bool discharging_enabled = false;
 };

@@ -16,14 +16,14 @@ struct DriveFeedback {
   double wheel_speed_radps = 0.0;   ///< wheel angular speed [rad/s]
   double steering_rad = 0.0;        ///< steering angle [rad]
   double steering_speed_radps = 0.0;
-  bool valid = false;               ///< false until the first reading arrives
+  bool valid = false;  ///< false until the first reading arrives
 };
 
 /// Health of one drive as its device reports it.
 struct DriveStatus {
-  bool online = true;  ///< feedback and heartbeat arrive
-  bool fault = false;  ///< the controller reports a fault
-  bool homing = false; ///< steering homing in progress
+  bool online = true;   ///< feedback and heartbeat arrive
+  bool fault = false;   ///< the controller reports a fault
+  bool homing = false;  ///< steering homing in progress
   std::string text = "ok";
 };
 

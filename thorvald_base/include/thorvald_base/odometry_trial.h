@@ -27,7 +27,7 @@ struct TrialCorruption {
   double steering_noise_rad = 0.003;
   std::vector<int> radius_error_drives = {1, 4};  ///< these wheels are 1% larger than the robot file says
   double radius_error = 0.01;
-  int slipping_drive = 2;           ///< this wheel reads faster than it rolls part of the time
+  int slipping_drive = 2;  ///< this wheel reads faster than it rolls part of the time
   double slip_ratio = 0.15;
   double slip_fraction = 0.3;
 };
@@ -53,6 +53,10 @@ struct TrialResult {
 /// both reading the same corrupted joint states.
 TrialResult runOdometryTrial(const RobotConfig& robot, const std::vector<TwistSegment>& loop,
                              const TrialCorruption& corruption, unsigned seed, double rate_hz = 50.0);
+
+/// A drive with the keys of a standard Thorvald drive module (Figure 5: r_wheel 0.2 m, gear ratio 42, 1024 ppr,
+/// 3000 rpm, steering ratio 42.857, limit 3.078 rad) at (x, y) [m], node index + 1.
+DriveConfig thorvaldDriveModule(int index, double x, double y, int type = 0);
 
 /// The asymmetric six-wheel-drive, six-wheel-steering robot of the Thorvald paper's Figure 7.
 RobotConfig figure7Robot();

@@ -27,22 +27,22 @@ class ConfigError : public std::runtime_error {
 
 /// One drive module (`motor_drives.driveN`). Units SI: metres, radians.
 struct DriveConfig {
-  int index = 0;          ///< N of driveN
-  int node = 0;           ///< CAN node id
-  double x = 0.0;         ///< position in base_link [m]
-  double y = 0.0;         ///< position in base_link [m]
-  int type = 0;           ///< 0 steering + propulsion, 1 propulsion only
-  int leg_mesh = 0;       ///< leg geometry for the model (0-9)
-  double r_wheel = 0.0;   ///< wheel radius [m]
-  double w_wheel = 0.16;  ///< wheel width [m]
-  double prp_gr_rt = 0.0;     ///< propulsion gear ratio (motor turns per wheel turn)
-  double prp_enc_ppr = 0.0;   ///< propulsion encoder pulses per motor revolution
-  double prp_max_rpm = 0.0;   ///< motor rpm mapped to a full-scale command
-  double prp_sim_a = 1.5;     ///< simulated propulsion acceleration limit [m/s^2]
-  double str_gr_rt = 0.0;     ///< steering gear ratio
-  double str_enc_ppr = 0.0;   ///< steering encoder pulses per revolution
-  double str_lim = 0.0;       ///< steering limit, symmetric [rad]
-  double str_sim_v = 4.0;     ///< simulated steering rate [rad/s]
+  int index = 0;                      ///< N of driveN
+  int node = 0;                       ///< CAN node id
+  double x = 0.0;                     ///< position in base_link [m]
+  double y = 0.0;                     ///< position in base_link [m]
+  int type = 0;                       ///< 0 steering + propulsion, 1 propulsion only
+  int leg_mesh = 0;                   ///< leg geometry for the model (0-9)
+  double r_wheel = 0.0;               ///< wheel radius [m]
+  double w_wheel = 0.16;              ///< wheel width [m]
+  double prp_gr_rt = 0.0;             ///< propulsion gear ratio (motor turns per wheel turn)
+  double prp_enc_ppr = 0.0;           ///< propulsion encoder pulses per motor revolution
+  double prp_max_rpm = 0.0;           ///< motor rpm mapped to a full-scale command
+  double prp_sim_a = 1.5;             ///< simulated propulsion acceleration limit [m/s^2]
+  double str_gr_rt = 0.0;             ///< steering gear ratio
+  double str_enc_ppr = 0.0;           ///< steering encoder pulses per revolution
+  double str_lim = 0.0;               ///< steering limit, symmetric [rad]
+  double str_sim_v = 4.0;             ///< simulated steering rate [rad/s]
   std::string protocol = "thorvald";  ///< controller protocol (workspace key `protocol`): thorvald | cia402
 
   bool steered() const { return type == 0; }
@@ -91,8 +91,8 @@ struct IoConfig {
 
 /// Everything one robot file says. Drives are ordered by their index (drive0 first).
 struct RobotConfig {
-  std::string source;                    ///< file or parameter namespace it came from
-  std::string base_calculator;           ///< plugin name as written (normalised: ':' -> '::'), default standard
+  std::string source;           ///< file or parameter namespace it came from
+  std::string base_calculator;  ///< plugin name as written (normalised: ':' -> '::'), default standard
   std::vector<DriveConfig> drives;
   std::vector<BatteryConfig> batteries;
   std::vector<PipeConfig> pipes;
@@ -101,7 +101,7 @@ struct RobotConfig {
   std::vector<PassiveWheelConfig> casters;
   std::vector<PassiveWheelConfig> passive_wheels;
   std::vector<IoConfig> io;
-  std::vector<std::string> warnings;     ///< unknown keys and other things worth one log line each
+  std::vector<std::string> warnings;  ///< unknown keys and other things worth one log line each
 };
 
 /// Plugin name used when a robot file names none.

@@ -8,13 +8,13 @@ namespace thorvald_base {
 
 /// Imperfections of a simulated drive, so odometry can be tested against a known truth. All off by default.
 struct SimulatedDriveOptions {
-  double radius_error = 0.0;         ///< true radius = r_wheel * (1 + radius_error); readings assume r_wheel
-  double speed_noise_radps = 0.0;    ///< std dev of wheel speed reading noise [rad/s]
-  double steering_noise_rad = 0.0;   ///< std dev of steering reading noise [rad]
-  double slip_ratio = 0.0;           ///< while slipping the wheel reads (1 + slip_ratio) times its rolling speed
-  double slip_fraction = 0.0;        ///< fraction of slip periods in which it slips, drawn at random
-  double slip_period_s = 1.0;        ///< length of one slip period [s]
-  bool quantize = true;              ///< quantise readings like the encoders (rpm and encoder counts)
+  double radius_error = 0.0;        ///< true radius = r_wheel * (1 + radius_error); readings assume r_wheel
+  double speed_noise_radps = 0.0;   ///< std dev of wheel speed reading noise [rad/s]
+  double steering_noise_rad = 0.0;  ///< std dev of steering reading noise [rad]
+  double slip_ratio = 0.0;          ///< while slipping the wheel reads (1 + slip_ratio) times its rolling speed
+  double slip_fraction = 0.0;       ///< fraction of slip periods in which it slips, drawn at random
+  double slip_period_s = 1.0;       ///< length of one slip period [s]
+  bool quantize = true;             ///< quantise readings like the encoders (rpm and encoder counts)
   unsigned seed = 1;
 };
 

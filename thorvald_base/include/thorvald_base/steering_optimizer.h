@@ -4,8 +4,8 @@ namespace thorvald_base {
 
 /// The steering angle chosen for a wanted wheel direction.
 struct SteeringChoice {
-  double angle_rad = 0.0;   ///< commanded steering angle, always within +-limit
-  double speed_sign = 1.0;  ///< -1 when the wheel is turned 180 deg from the wanted direction and runs backwards
+  double angle_rad = 0.0;     ///< commanded steering angle, always within +-limit
+  double speed_sign = 1.0;    ///< -1 when the wheel is turned 180 deg from the wanted direction and runs backwards
   double speed_factor = 1.0;  ///< cos of the angle still missing when the limit prevents the wanted direction
 };
 

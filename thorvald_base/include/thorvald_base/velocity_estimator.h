@@ -11,10 +11,10 @@ namespace thorvald_base {
 
 /// What one wheel tells about the body's motion: where it is, which way it rolls, and how fast.
 struct WheelObservation {
-  double x = 0.0, y = 0.0;     ///< contact point in base_link [m]
-  double heading_rad = 0.0;    ///< rolling direction in base_link [rad]
-  double speed_mps = 0.0;      ///< ground speed along the heading [m/s]
-  bool has_speed = true;       ///< false for passive wheels: only "no sideways motion" is known
+  double x = 0.0, y = 0.0;   ///< contact point in base_link [m]
+  double heading_rad = 0.0;  ///< rolling direction in base_link [rad]
+  double speed_mps = 0.0;    ///< ground speed along the heading [m/s]
+  bool has_speed = true;     ///< false for passive wheels: only "no sideways motion" is known
 };
 
 /// A body twist estimated from wheel observations, with its covariance (vx, vy, wz).

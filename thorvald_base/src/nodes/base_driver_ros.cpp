@@ -30,7 +30,8 @@ RobotConfig robotConfigFromParams(const ros::NodeHandle& nh) {
   if (!root["motor_drives"].IsDefined()) {
     throw ConfigError(source, "motor_drives",
                       "not found on the parameter server: load the robot file into this namespace first "
-                      "(rosparam load <robot.yaml> " + nh.getNamespace() + ")");
+                      "(rosparam load <robot.yaml> " +
+                          nh.getNamespace() + ")");
   }
   return parseRobotConfig(root, source);
 }
@@ -103,8 +104,8 @@ BaseDriverRos::BaseDriverRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh),
     drives = hardware_->takeDrives();
     batteries = hardware_->takeBatteries();
   }
-  driver_ = std::make_unique<BaseDriver>(config, std::move(calculator), std::move(drives), std::move(batteries),
-                                         options);
+  driver_ =
+      std::make_unique<BaseDriver>(config, std::move(calculator), std::move(drives), std::move(batteries), options);
 
   for (const auto& d : driver_->config().drives) {
     if (d.steered()) joint_names_.push_back(frame("steering" + std::to_string(d.index)));

@@ -17,15 +17,19 @@ YAML::Node toYaml(XmlRpc::XmlRpcValue& value) {
       for (int i = 0; i < value.size(); ++i) seq.push_back(toYaml(value[i]));
       return seq;
     }
-    case XmlRpc::XmlRpcValue::TypeBoolean: return YAML::Node(static_cast<bool>(value) ? "true" : "false");
-    case XmlRpc::XmlRpcValue::TypeInt: return YAML::Node(std::to_string(static_cast<int>(value)));
+    case XmlRpc::XmlRpcValue::TypeBoolean:
+      return YAML::Node(static_cast<bool>(value) ? "true" : "false");
+    case XmlRpc::XmlRpcValue::TypeInt:
+      return YAML::Node(std::to_string(static_cast<int>(value)));
     case XmlRpc::XmlRpcValue::TypeDouble: {
       std::ostringstream s;
       s << std::setprecision(17) << static_cast<double>(value);
       return YAML::Node(s.str());
     }
-    case XmlRpc::XmlRpcValue::TypeString: return YAML::Node(static_cast<std::string>(value));
-    default: return YAML::Node(YAML::NodeType::Null);
+    case XmlRpc::XmlRpcValue::TypeString:
+      return YAML::Node(static_cast<std::string>(value));
+    default:
+      return YAML::Node(YAML::NodeType::Null);
   }
 }
 
