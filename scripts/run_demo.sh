@@ -11,7 +11,7 @@ export PATH="/usr/bin:$PATH"
 echo "== building the workspace (first time: several minutes on 2 cores)"
 "$src/scripts/build.sh" >"$src/.ws/demo_build.log" 2>&1 || { tail -40 "$src/.ws/demo_build.log"; exit 1; }
 # shellcheck disable=SC1091
-source "$src/.ws/devel/setup.bash"
+set +u; source "$src/.ws/devel/setup.bash"; set -u  # ROS setup scripts read unset variables
 mkdir -p "$src/demo_output"
 echo "== odometry experiment (Figure 7 robot, 77 s loop, 5 seeds)"
 rosrun thorvald_base odometry_bench --seeds 5 --csv "$src/demo_output/odometry_paths.csv"

@@ -15,7 +15,7 @@ rm -rf "$src/.ws/build/test_results"
 
 echo "== unit tests and rostests"
 # shellcheck disable=SC1091
-source "$src/.ws/devel/setup.bash"
+set +u; source "$src/.ws/devel/setup.bash"; set -u  # ROS setup scripts read unset variables
 export ROS_HOME="$src/.ws/ros_home" ROS_LOG_DIR="$src/.ws/ros_home/log"
 make -C "$src/.ws/build" -j1 run_tests 2>&1 | tee "$src/.ws/run_tests.log" | grep -E "^\[ *(RUN|OK|FAILED|PASSED) |^-- run_tests|FAILURE|Error" || true
 
