@@ -4,11 +4,11 @@
 #   scripts/build.sh --tests         also build every test target
 #   scripts/build.sh --sanitize PKG… build PKG's unit tests with ASan+UBSan into .ws/build_sanitize
 #   scripts/build.sh --only PKG…     build PKG (and its tests) alone into .ws/build_PKG, .ws/devel_PKG
-# Environment: JOBS (default 2), BUILD_TYPE (default RelWithDebInfo).
+# Environment: JOBS (default 2), BUILD_TYPE (default Release).
 set -euo pipefail
 src="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 jobs="${JOBS:-2}"
-build_type="${BUILD_TYPE:-RelWithDebInfo}"
+build_type="${BUILD_TYPE:-Release}"
 export PATH="/usr/bin:$PATH"   # Debian's python3 (catkin_pkg, rospy), not a pyenv one
 mkdir -p "$src/.ws"
 touch "$src/.ws/CATKIN_IGNORE"

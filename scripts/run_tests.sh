@@ -34,6 +34,13 @@ if [ ${#san[@]} -gt 0 ]; then
   fi
 fi
 
+echo "== fuzzing (libFuzzer, a few seconds per CAN decoder)"
+if [ -x "$src/thorvald_can_devices/scripts/fuzz_smoke.sh" ]; then
+  "$src/thorvald_can_devices/scripts/fuzz_smoke.sh" 5 >"$src/.ws/fuzz.log" 2>&1; rc=$?
+  [ $rc -eq 0 ] || tail -30 "$src/.ws/fuzz.log"
+  checks+=("fuzz_smoke=$rc")
+fi
+
 echo "== clang-format"
 mapfile -t sources < <(git ls-files '*.cpp' '*.h' '*.hpp' '*.cc')
 if [ ${#sources[@]} -gt 0 ]; then

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <limits>
 
-#include "param_tree.h"
+#include "thorvald_base/ros/robot_config_params.h"
 #include "thorvald_base/simulated_drive.h"
 
 namespace thorvald_base {
@@ -16,24 +16,6 @@ T param(const ros::NodeHandle& nh, const std::string& key, const T& fallback) {
   T value;
   nh.param<T>(key, value, fallback);
   return value;
-}
-
-/// Reads the robot file that `rosparam load` put into the robot's namespace.
-RobotConfig robotConfigFromParams(const ros::NodeHandle& nh) {
-  YAML::Node root(YAML::NodeType::Map);
-  for (const char* group : {"base_calculator", "motor_drives", "batteries", "pipes", "corners", "beams", "casters",
-                            "passive_wheels", "io"}) {
-    XmlRpc::XmlRpcValue value;
-    if (nh.getParam(group, value)) root[group] = toYaml(value);
-  }
-  const std::string source = "robot file in namespace '" + nh.getNamespace() + "'";
-  if (!root["motor_drives"].IsDefined()) {
-    throw ConfigError(source, "motor_drives",
-                      "not found on the parameter server: load the robot file into this namespace first "
-                      "(rosparam load <robot.yaml> " +
-                          nh.getNamespace() + ")");
-  }
-  return parseRobotConfig(root, source);
 }
 
 boost::array<double, 36> covariance6(const Eigen::Matrix3d& c) {

@@ -1,4 +1,4 @@
-#include "param_tree.h"
+#include "thorvald_base/ros/robot_config_params.h"
 
 #include <iomanip>
 #include <sstream>
@@ -31,6 +31,23 @@ YAML::Node toYaml(XmlRpc::XmlRpcValue& value) {
     default:
       return YAML::Node(YAML::NodeType::Null);
   }
+}
+
+RobotConfig robotConfigFromParams(const ros::NodeHandle& nh) {
+  YAML::Node root(YAML::NodeType::Map);
+  for (const char* group : {"base_calculator", "motor_drives", "batteries", "pipes", "corners", "beams", "casters",
+                            "passive_wheels", "io"}) {
+    XmlRpc::XmlRpcValue value;
+    if (nh.getParam(group, value)) root[group] = toYaml(value);
+  }
+  const std::string source = "robot file in namespace '" + nh.getNamespace() + "'";
+  if (!root["motor_drives"].IsDefined()) {
+    throw ConfigError(source, "motor_drives",
+                      "not found on the parameter server: load the robot file into this namespace first "
+                      "(rosparam load <robot.yaml> " +
+                          nh.getNamespace() + ")");
+  }
+  return parseRobotConfig(root, source);
 }
 
 }  // namespace thorvald_base

@@ -1,0 +1,79 @@
+# Control part of cotton_harvester: harvest state machine, manipulator and rover controllers, the
+# simulated controllers on pseudo-terminals. Included by the package's CMakeLists.txt after
+# catkin_package() and message generation.
+find_package(nav_msgs REQUIRED)
+find_package(diagnostic_msgs REQUIRED)
+find_package(Threads REQUIRED)
+
+set(CONTROL_INCLUDES ${CMAKE_CURRENT_SOURCE_DIR}/include ${catkin_INCLUDE_DIRS} ${nav_msgs_INCLUDE_DIRS}
+    ${diagnostic_msgs_INCLUDE_DIRS})
+
+# ---- ROS-free library -------------------------------------------------------------------------------------
+add_library(cotton_harvester_control
+  src/control/swashplate_mapping.cpp
+  src/control/position_pid.cpp
+  src/control/articulation_controller.cpp
+  src/control/manipulator_calibration.cpp
+  src/control/manipulator_protocol.cpp
+  src/control/navigation_protocol.cpp
+  src/control/serial_port.cpp
+  src/control/hydrostatic_drive_model.cpp
+  src/control/stepper_axis_model.cpp
+  src/control/simulated_controllers.cpp
+  src/control/rover_controller.cpp
+  src/control/harvest_decision.cpp
+  src/control/boll_tracker.cpp
+  src/control/harvest_metrics.cpp
+  src/control/harvest_machine.cpp
+  src/control/step_response.cpp
+  src/control/virtual_row.cpp
+)
+target_include_directories(cotton_harvester_control PUBLIC ${CONTROL_INCLUDES})
+target_link_libraries(cotton_harvester_control ${catkin_LIBRARIES} util Threads::Threads)
+add_dependencies(cotton_harvester_control ${${PROJECT_NAME}_EXPORTED_TARGETS} ${catkin_EXPORTED_TARGETS})
+
+# ---- Benchmark ----------------------------------------------------------------------------------------------
+add_executable(rover_step_bench bench/rover_step_bench.cpp)
+target_link_libraries(rover_step_bench cotton_harvester_control)
+
+install(TARGETS cotton_harvester_control rover_step_bench
+  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+
+# ---- Tests --------------------------------------------------------------------------------------------------
+if(CATKIN_ENABLE_TESTING)
+  find_package(rostest REQUIRED)
+  catkin_add_gtest(test_control_unit
+    test/control/test_main.cpp
+    test/control/test_swashplate_mapping.cpp
+    test/control/test_position_pid.cpp
+    test/control/test_manipulator.cpp
+    test/control/test_protocols.cpp
+    test/control/test_rover_controller.cpp
+    test/control/test_serial_path.cpp
+    test/control/test_harvest_decision.cpp
+    test/control/test_harvest_machine.cpp
+    test/control/test_harvest_metrics.cpp
+  )
+  target_link_libraries(test_control_unit cotton_harvester_control)
+endif()
+
+# ---- Nodes --------------------------------------------------------------------------------------------------
+add_executable(simulated_controller src/control/simulated_controller_node.cpp)
+add_executable(manipulator src/control/manipulator_node.cpp)
+add_executable(rover src/control/rover_node.cpp)
+add_executable(harvest_state_machine src/control/harvest_state_machine_node.cpp src/control/topic_harvest_plant.cpp)
+foreach(node simulated_controller manipulator rover harvest_state_machine)
+  target_link_libraries(${node} cotton_harvester_control ${catkin_LIBRARIES})
+  add_dependencies(${node} ${${PROJECT_NAME}_EXPORTED_TARGETS} ${catkin_EXPORTED_TARGETS})
+endforeach()
+install(TARGETS simulated_controller manipulator rover harvest_state_machine
+  RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+
+# ---- Node tests (rostest; the python test scripts use rospy) ------------------------------------------------
+if(CATKIN_ENABLE_TESTING)
+  add_rostest(test/control/control_serial.test DEPENDENCIES simulated_controller rover manipulator)
+  add_rostest(test/control/harvest_sim.test
+    DEPENDENCIES simulated_controller rover manipulator harvest_state_machine)
+endif()

@@ -1,0 +1,99 @@
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+
+#include <thorvald_state_machine/state_machine.h>
+
+#include "cotton_harvester/control/boll_tracker.h"
+#include "cotton_harvester/control/harvest_decision.h"
+#include "cotton_harvester/control/harvest_metrics.h"
+
+namespace cotton_harvester {
+namespace control {
+
+/// Result of one action of the rover or the arm.
+enum class MoveResult { kDone, kFailed, kPreempted };
+
+/// What the harvest machine drives: the camera, the rover and the arm. The node implements it on
+/// topics; tests implement it with scripted observations. Every blocking call must return promptly
+/// (kPreempted / nullopt) once `preempted()` turns true.
+class HarvestPlant {
+ public:
+  using Preempted = std::function<bool()>;
+  virtual ~HarvestPlant() = default;
+  /// A camera frame taken after the last action finished; nullopt on timeout or preemption.
+  virtual std::optional<HarvestObservation> observe(const Preempted& preempted) = 0;
+  /// Moves the rover by `distance_m` along the row (negative: back) and waits until it settled.
+  virtual MoveResult moveRover(double distance_m, const Preempted& preempted) = 0;
+  /// Moves the vertical axis so the end effector is `depth_m` from the camera.
+  virtual MoveResult moveArmToDepth(double depth_m, const Preempted& preempted) = 0;
+  /// The pick: horizontal axis by `offset_m`, brush on for a while, back.
+  virtual MoveResult pick(double offset_m, const Preempted& preempted) = 0;
+  /// Time [s] and the rover's position along the row [m].
+  virtual double now() const = 0;
+  virtual double roverPositionM() const = 0;
+};
+
+struct HarvestParams {
+  DecisionParams decision;
+  TrackerParams tracker;
+  double max_rover_step_m = 0.5;     ///< a forward/backward move is clamped to this
+  double pass_step_m = 0.3;          ///< "pass on": rover step when no pickable boll is seen
+  double row_length_m = 5.3;         ///< the run ends after this much travel (paper's field tests: 5.3 m)
+  int max_missed_observations = 10;  ///< frames in a row without an end effector or at all: abort
+  int max_failed_actions = 3;        ///< rover/arm failures in a row: abort
+  int bolls_present = 0;             ///< ground truth for the metrics, 0 when unknown
+  std::string check() const;         ///< empty when sound, otherwise "key: expected ..."
+};
+
+/// The harvest state machine (paper §2.9, Algorithm 1, Figures 13–14) on thorvald_state_machine:
+/// OBSERVE (state 0) decides from the nearest reachable pending boll and the end effector and goes
+/// to MOVE_FORWARD, MOVE_BACKWARD, ARM_UP, ARM_DOWN, PICK or PASS_ON; every one of them returns to
+/// OBSERVE. Failed picks are retried up to max_pick_attempts, then the boll is skipped and counted.
+/// Outcomes: "finished" (row done), "aborted" (no frames, or actions keep failing), "preempted".
+class HarvestMachine {
+ public:
+  HarvestMachine(HarvestPlant& plant, const HarvestParams& params);
+
+  /// Runs the machine (blocking) and returns its outcome.
+  std::string run();
+  /// Counts of the run so far (thread-safe).
+  HarvestCounts counts() const;
+  /// The bolls of the run so far and their fates (thread-safe copy).
+  std::vector<TrackedBoll> tracks() const;
+  thorvald_state_machine::StateMachine& machine() { return *machine_; }
+  /// The boll (camera frame, from the frame it was chosen in) and the end effector of the last decision.
+  std::optional<std::pair<Point3, Point3>> lastDecisionPoints() const;
+  /// Sightings that could not be used: bolls without an end effector in the frame, NaN points.
+  int rejectedFrames() const;
+
+ private:
+  std::string observe(thorvald_state_machine::UserData& ud, thorvald_state_machine::ExecutionContext& ctx);
+  std::string act(HarvestAction action, thorvald_state_machine::UserData& ud,
+                  thorvald_state_machine::ExecutionContext& ctx);
+  std::string passOn(thorvald_state_machine::ExecutionContext& ctx);
+  std::string resultOutcome(MoveResult result);
+
+  HarvestPlant& plant_;
+  HarvestParams params_;
+  std::unique_ptr<thorvald_state_machine::StateMachine> machine_;
+  mutable std::mutex mutex_;
+  BollTracker tracker_;
+  double start_time_s_ = 0.0;
+  double start_position_m_ = 0.0;
+  double last_position_m_ = 0.0;
+  double last_time_s_ = 0.0;
+  int missed_ = 0;
+  int failed_actions_ = 0;
+  int rejected_frames_ = 0;
+  HarvestDecision decision_;
+  int target_id_ = 0;
+  std::optional<std::pair<Point3, Point3>> decision_points_;
+};
+
+}  // namespace control
+}  // namespace cotton_harvester

@@ -1,0 +1,63 @@
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include <opencv2/core.hpp>
+
+#include "cotton_harvester/perception/camera_model.h"
+
+namespace cotton_harvester {
+namespace perception {
+
+/// How a pixel's depth is read from the organised point cloud.
+struct LocatorParams {
+  /// Side of the square window around the pixel whose valid points are used [px], odd, >= 1. The median range
+  /// of the window's valid points is taken, so stereo holes and a few background points do not matter.
+  int window_px = 5;
+  /// Fewest valid (finite, non-zero) points the window must hold [-].
+  int min_valid_points = 3;
+  DepthModel depth_model = DepthModel::kRay;
+};
+
+std::string validate(const LocatorParams& params);
+
+/// A pixel located in 3D.
+struct LocatedPoint {
+  cv::Point3d position;  ///< camera frame: x right, y down, z along the optical axis [m]
+  double range_m = 0.0;  ///< distance from the left lens, eq. 6 [m]
+  int valid_points = 0;  ///< valid cloud points used [-]
+};
+
+/// Locates an image point in 3D (paper §2.8): its range from the lens (eq. 6) is the median over the window of
+/// sqrt(dx^2 + dy^2 + dz^2) of the organised cloud's points; x and y come from the intrinsics (pinhole, I - C).
+/// cloud: CV_32FC3, one camera-frame point [m] per pixel, NaN where the stereo matcher found none.
+/// Returns std::nullopt when the pixel is outside the cloud or the window has too few valid points.
+std::optional<LocatedPoint> locate(const cv::Mat& cloud, const cv::Point2d& pixel, const CameraIntrinsics& intrinsics,
+                                   const LocatorParams& params);
+
+/// Locates a segmented region (the end-effector): its depth is the median depth (z) of the valid cloud points
+/// under the mask (non-zero pixels, CV_8U, the cloud's size), so a leaf over part of the region does not lend it
+/// its depth; the range at `pixel` of a point at that depth then goes through the depth model as in locate().
+/// std::nullopt when the mask holds fewer than min_valid_points valid points or does not fit the cloud.
+std::optional<LocatedPoint> locateRegion(const cv::Mat& cloud, const cv::Mat& mask, const cv::Point2d& pixel,
+                                         const CameraIntrinsics& intrinsics, const LocatorParams& params);
+
+/// The manipulator's workspace as seen from the camera (paper §2.8).
+struct ReachParams {
+  /// Distance from the camera down to the end-effector's lowest position [m]: the camera is 2.20 m above the
+  /// ground and the manipulator keeps 0.27 m of ground clearance.
+  double max_depth_m = 1.93;
+  /// Length of the horizontal axis arm [m] (§2.1: 70 cm).
+  double horizontal_arm_length_m = 0.70;
+  /// Camera-frame x of the line the horizontal offset is measured from [m] (the camera centre in the paper).
+  double arm_origin_x_m = 0.0;
+};
+
+std::string validate(const ReachParams& params);
+
+/// A boll is reachable when 0 < z < max_depth_m and |x - arm_origin_x_m| <= horizontal_arm_length_m.
+bool isReachable(const cv::Point3d& position, const ReachParams& params);
+
+}  // namespace perception
+}  // namespace cotton_harvester

@@ -1,0 +1,50 @@
+#pragma once
+
+#include <vector>
+
+#include "cotton_harvester/perception/perception_pipeline.h"
+#include "cotton_harvester/perception/synthetic_scene.h"
+
+namespace cotton_harvester {
+namespace perception {
+
+/// How detections are matched to the truth.
+struct ScoringParams {
+  /// Bolls with less of their silhouette visible are not counted as missed when undetected [0, 1].
+  double min_visible_fraction = 0.5;
+  /// A detection matches a boll when its centroid is within max(min_match_px, boll radius [px]) of the boll's
+  /// projected centre [px].
+  double min_match_px = 6.0;
+};
+
+/// The score of one frame.
+struct FrameScore {
+  int true_positives = 0;           ///< detections matched to a boll that had to be found
+  int false_positives = 0;          ///< detections matched to no boll
+  int false_negatives = 0;          ///< visible bolls no detection matched
+  int matched_hidden = 0;           ///< detections matched to a mostly hidden boll (neither true nor false positive)
+  std::vector<double> errors_3d_m;  ///< |position - true surface point| of each matched detection [m]
+  bool end_effector_expected = false;
+  bool end_effector_found = false;
+  double end_effector_error_m = 0.0;  ///< |located - true top centre| when both exist [m]
+};
+
+/// Matches a frame's located bolls one to one with the true bolls, nearest pairs first.
+FrameScore scoreFrame(const FrameResult& result, const SceneLayout& truth, const ScoringParams& params);
+
+/// Totals over many frames.
+struct ScoreSummary {
+  int true_positives = 0, false_positives = 0, false_negatives = 0;
+  std::vector<double> errors_3d_m;
+  int end_effector_expected = 0, end_effector_found = 0;
+  std::vector<double> end_effector_errors_m;
+
+  void add(const FrameScore& score);
+  double precision() const;                  ///< TP / (TP + FP), 1 when nothing was detected
+  double recall() const;                     ///< TP / (TP + FN), 1 when nothing had to be found
+  double meanError3d() const;                ///< [m], 0 when no match
+  double percentileError3d(double q) const;  ///< q in [0, 1] [m]
+};
+
+}  // namespace perception
+}  // namespace cotton_harvester

@@ -1,0 +1,94 @@
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "cotton_harvester/perception/boll_detector.h"
+#include "cotton_harvester/perception/boll_locator.h"
+#include "cotton_harvester/perception/camera_model.h"
+#include "cotton_harvester/perception/end_effector_detector.h"
+
+namespace cotton_harvester {
+namespace perception {
+
+/// Which boll is "nearest" (the one to pick next).
+enum class NearestBy {
+  kCamera,       ///< smallest range from the lens (paper Algorithm 1, step 6); the default
+  kEndEffector,  ///< smallest 3D distance from the end-effector when it is located, else from the lens
+};
+
+std::optional<NearestBy> parseNearestBy(const std::string& name);
+std::string toString(NearestBy nearest_by);
+
+/// Everything the per-frame pipeline needs besides the boll detector.
+struct PerceptionParams {
+  CameraIntrinsics intrinsics;
+  EndEffectorParams end_effector;
+  LocatorParams locator;
+  ReachParams reach;
+  NearestBy nearest_by = NearestBy::kCamera;
+};
+
+/// Returns an empty string when valid, otherwise every bad field.
+std::string validate(const PerceptionParams& params);
+
+/// A boll located in 3D.
+struct LocatedBoll {
+  BollDetection detection;
+  cv::Point3d position;  ///< camera frame [m]
+  double range_m = 0.0;  ///< eq. 6 [m]
+  bool reachable = false;
+};
+
+/// Why a frame gave no result.
+enum class FrameStatus {
+  kOk,
+  kEmptyImage,    ///< zero-sized image
+  kBadImage,      ///< not 8-bit 3-channel
+  kSizeMismatch,  ///< image size differs from the intrinsics' width x height
+  kNoDepth,       ///< cloud missing or not the image's size: nothing can be located
+};
+
+std::string toString(FrameStatus status);
+
+/// What one frame shows.
+struct FrameResult {
+  FrameStatus status = FrameStatus::kOk;
+  std::vector<LocatedBoll> bolls;  ///< located bolls (those without depth are left out and counted)
+  int nearest_reachable = -1;      ///< index into bolls, -1 if none
+  int bolls_detected = 0;          ///< 2D detections before 3D location
+  int bolls_without_depth = 0;     ///< detections dropped for lack of valid cloud points
+  std::optional<EndEffectorObservation> end_effector_image;  ///< end-effector in the image
+  std::optional<LocatedPoint> end_effector;                  ///< end-effector in 3D, when its depth is known
+  cv::Mat end_effector_mask;  ///< CV_8U, 255 on the segmented end-effector (empty when not found)
+  cv::Mat boll_exclusion;     ///< CV_8U, 255 where bolls are not searched: end-effector and arm (empty: none)
+};
+
+/// Algorithm 1 up to step 7: end-effector by colour (its depth: the median over its segmented region), bolls by
+/// the detector (the end-effector's region and the arm's band masked out), each boll centroid located in the organised
+/// cloud, reachability, and the nearest reachable boll.
+class PerceptionPipeline {
+ public:
+  /// Throws std::invalid_argument on bad parameters or a null detector.
+  PerceptionPipeline(const PerceptionParams& params, std::unique_ptr<BollDetector> detector);
+
+  /// bgr: 8-bit colour image; cloud: CV_32FC3 organised cloud of the same size (camera frame [m], NaN holes).
+  FrameResult process(const cv::Mat& bgr, const cv::Mat& cloud);
+
+  const PerceptionParams& params() const { return params_; }
+
+  /// Replaces the intrinsics (e.g. from camera_info). Throws std::invalid_argument when they are invalid.
+  void setIntrinsics(const CameraIntrinsics& intrinsics);
+
+ private:
+  PerceptionParams params_;
+  EndEffectorDetector end_effector_detector_;
+  std::unique_ptr<BollDetector> detector_;
+};
+
+}  // namespace perception
+}  // namespace cotton_harvester

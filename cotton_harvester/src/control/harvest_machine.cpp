@@ -1,0 +1,200 @@
+#include "cotton_harvester/control/harvest_machine.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace cotton_harvester {
+namespace control {
+
+namespace tsm = thorvald_state_machine;
+
+std::string HarvestParams::check() const {
+  if (auto bad = decision.check(); !bad.empty()) return bad;
+  if (!(tracker.match_radius_m > 0.0)) return "match_radius_m: expected > 0";
+  if (!(tracker.max_pick_attempts >= 1)) return "max_pick_attempts: expected >= 1";
+  if (!(tracker.max_align_moves >= 1)) return "max_align_moves: expected >= 1";
+  if (!(max_rover_step_m > 0.0)) return "max_rover_step_m: expected > 0";
+  if (!(pass_step_m > 0.0)) return "pass_step_m: expected > 0";
+  if (!(row_length_m > 0.0)) return "row_length_m: expected > 0";
+  if (!(max_missed_observations >= 1)) return "max_missed_observations: expected >= 1";
+  if (!(max_failed_actions >= 1)) return "max_failed_actions: expected >= 1";
+  if (!(bolls_present >= 0)) return "bolls_present: expected >= 0";
+  return "";
+}
+
+HarvestMachine::HarvestMachine(HarvestPlant& plant, const HarvestParams& params)
+    : plant_(plant), params_(params), tracker_(params.tracker) {
+  params_.tracker.y_forward_sign = params_.decision.y_forward_sign;
+  tracker_ = BollTracker(params_.tracker);
+  machine_ = std::make_unique<tsm::StateMachine>("harvest", std::vector<std::string>{"finished", "aborted"}, 64);
+  const std::vector<std::string> action_outcomes{"done", "failed", "give_up", tsm::kPreempted};
+  const tsm::StateMachine::Transitions back{{"done", "OBSERVE"}, {"failed", "OBSERVE"}, {"give_up", "aborted"}};
+  machine_->add("OBSERVE",
+                std::make_unique<tsm::FunctionState>(
+                    std::vector<std::string>{"forward", "backward", "arm_up", "arm_down", "pick", "pass_on", "retry",
+                                             "lost", tsm::kPreempted},
+                    [this](tsm::UserData& ud, tsm::ExecutionContext& ctx) { return observe(ud, ctx); }),
+                {{"forward", "MOVE_FORWARD"},
+                 {"backward", "MOVE_BACKWARD"},
+                 {"arm_up", "ARM_UP"},
+                 {"arm_down", "ARM_DOWN"},
+                 {"pick", "PICK"},
+                 {"pass_on", "PASS_ON"},
+                 {"retry", "OBSERVE"},
+                 {"lost", "aborted"}});
+  const std::pair<const char*, HarvestAction> actions[] = {{"MOVE_FORWARD", HarvestAction::kForward},
+                                                           {"MOVE_BACKWARD", HarvestAction::kBackward},
+                                                           {"ARM_UP", HarvestAction::kArmUp},
+                                                           {"ARM_DOWN", HarvestAction::kArmDown},
+                                                           {"PICK", HarvestAction::kPick}};
+  for (const auto& [name, action] : actions) {
+    const HarvestAction a = action;
+    machine_->add(
+        name,
+        std::make_unique<tsm::FunctionState>(
+            action_outcomes, [this, a](tsm::UserData& ud, tsm::ExecutionContext& ctx) { return act(a, ud, ctx); }),
+        back);
+  }
+  machine_->add("PASS_ON",
+                std::make_unique<tsm::FunctionState>(
+                    std::vector<std::string>{"done", "failed", "give_up", "row_end", tsm::kPreempted},
+                    [this](tsm::UserData&, tsm::ExecutionContext& ctx) { return passOn(ctx); }),
+                {{"done", "OBSERVE"}, {"failed", "OBSERVE"}, {"give_up", "aborted"}, {"row_end", "finished"}});
+}
+
+std::string HarvestMachine::run() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    tracker_ = BollTracker(params_.tracker);
+    start_time_s_ = last_time_s_ = plant_.now();
+    start_position_m_ = last_position_m_ = plant_.roverPositionM();
+    missed_ = failed_actions_ = rejected_frames_ = 0;
+    decision_points_.reset();
+  }
+  tsm::UserData userdata;
+  return machine_->run(userdata);
+}
+
+HarvestCounts HarvestMachine::counts() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  HarvestCounts counts;
+  counts.bolls_present = params_.bolls_present;
+  counts.detected = tracker_.detected();
+  counts.reached = tracker_.reached();
+  counts.picked = tracker_.picked();
+  counts.skipped = tracker_.skipped();
+  counts.pick_attempts = tracker_.pickAttempts();
+  counts.time_s = last_time_s_ - start_time_s_;
+  counts.distance_m = std::abs(last_position_m_ - start_position_m_);
+  return counts;
+}
+
+std::vector<TrackedBoll> HarvestMachine::tracks() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return tracker_.tracks();
+}
+
+std::optional<std::pair<Point3, Point3>> HarvestMachine::lastDecisionPoints() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return decision_points_;
+}
+
+int HarvestMachine::rejectedFrames() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return rejected_frames_;
+}
+
+std::string HarvestMachine::observe(tsm::UserData& ud, tsm::ExecutionContext& ctx) {
+  const auto preempted = [&ctx] { return ctx.preemptRequested(); };
+  const auto observation = plant_.observe(preempted);
+  std::lock_guard<std::mutex> lock(mutex_);
+  last_time_s_ = plant_.now();
+  last_position_m_ = plant_.roverPositionM();
+  if (ctx.preemptRequested()) return tsm::kPreempted;
+  if (!observation) return ++missed_ >= params_.max_missed_observations ? "lost" : "retry";
+
+  const std::vector<int> ids = tracker_.update(*observation);
+  while (true) {
+    const auto index = tracker_.nearestPending(*observation, ids);
+    if (!index) {
+      missed_ = 0;
+      return "pass_on";
+    }
+    const auto& ee = observation->end_effector;
+    if (!ee || !std::isfinite(ee->x) || !std::isfinite(ee->y) || !std::isfinite(ee->z)) {
+      ++rejected_frames_;
+      return ++missed_ >= params_.max_missed_observations ? "lost" : "retry";
+    }
+    missed_ = 0;
+    const int id = ids[*index];
+    HarvestDecision decision = decide(observation->bolls[*index].position, *ee, params_.decision);
+    if (decision.action == HarvestAction::kOutOfReach) {
+      tracker_.skip(id);
+      continue;
+    }
+    if (decision.action != HarvestAction::kPick) {
+      tracker_.noteAlignMove(id);
+      if (tracker_.find(id)->fate == BollFate::kSkipped) continue;
+    }
+    decision.rover_move_m = std::clamp(decision.rover_move_m, -params_.max_rover_step_m, params_.max_rover_step_m);
+    decision_ = decision;
+    target_id_ = id;
+    decision_points_ = std::make_pair(observation->bolls[*index].position, *ee);
+    ud.set<int>("target_boll", id);
+    ud.set<std::string>("action", toString(decision.action));
+    return toString(decision.action);
+  }
+}
+
+std::string HarvestMachine::resultOutcome(MoveResult result) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  last_time_s_ = plant_.now();
+  last_position_m_ = plant_.roverPositionM();
+  switch (result) {
+    case MoveResult::kDone:
+      failed_actions_ = 0;
+      return "done";
+    case MoveResult::kPreempted:
+      return tsm::kPreempted;
+    case MoveResult::kFailed:
+    default:
+      return ++failed_actions_ >= params_.max_failed_actions ? "give_up" : "failed";
+  }
+}
+
+std::string HarvestMachine::act(HarvestAction action, tsm::UserData&, tsm::ExecutionContext& ctx) {
+  const auto preempted = [&ctx] { return ctx.preemptRequested(); };
+  HarvestDecision decision;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    decision = decision_;
+    if (action == HarvestAction::kPick) tracker_.notePick(target_id_);  // judged on the next frame
+  }
+  switch (action) {
+    case HarvestAction::kForward:
+    case HarvestAction::kBackward:
+      return resultOutcome(plant_.moveRover(decision.rover_move_m, preempted));
+    case HarvestAction::kArmUp:
+    case HarvestAction::kArmDown:
+      return resultOutcome(plant_.moveArmToDepth(decision.arm_depth_m, preempted));
+    case HarvestAction::kPick:
+      return resultOutcome(plant_.pick(decision.pick_offset_m, preempted));
+    default:
+      return "failed";
+  }
+}
+
+std::string HarvestMachine::passOn(tsm::ExecutionContext& ctx) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (std::abs(plant_.roverPositionM() - start_position_m_) >= params_.row_length_m) {
+      last_time_s_ = plant_.now();
+      last_position_m_ = plant_.roverPositionM();
+      return "row_end";
+    }
+  }
+  return resultOutcome(plant_.moveRover(params_.pass_step_m, [&ctx] { return ctx.preemptRequested(); }));
+}
+
+}  // namespace control
+}  // namespace cotton_harvester

@@ -1,0 +1,211 @@
+#include "topic_harvest_plant.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace cotton_harvester {
+namespace control {
+
+TopicHarvestPlant::TopicHarvestPlant(ros::NodeHandle& nh, const TopicPlantParams& params) : params_(params) {
+  rover_target_pub_ = nh.advertise<std_msgs::Float64>("rover/position_target", 1, true);
+  arm_target_pub_ = nh.advertise<geometry_msgs::PointStamped>("manipulator/target", 1, true);
+  brush_pub_ = nh.advertise<std_msgs::Bool>("manipulator/brush", 1, true);
+  bolls_sub_ = nh.subscribe("bolls", 2, &TopicHarvestPlant::onBolls, this);
+  effector_sub_ = nh.subscribe("end_effector/position", 5, &TopicHarvestPlant::onEffector, this);
+  rover_sub_ = nh.subscribe("rover/position", 5, &TopicHarvestPlant::onRoverPosition, this);
+  joints_sub_ = nh.subscribe("manipulator/joint_states", 5, &TopicHarvestPlant::onJoints, this);
+  busy_sub_ = nh.subscribe("manipulator/busy", 5, &TopicHarvestPlant::onBusy, this);
+}
+
+void TopicHarvestPlant::onBolls(const cotton_harvester::BollArray::ConstPtr& msg) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  bolls_ = msg;
+  changed_.notify_all();
+}
+
+void TopicHarvestPlant::onEffector(const geometry_msgs::PointStamped::ConstPtr& msg) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  effector_ = msg;
+  changed_.notify_all();
+}
+
+void TopicHarvestPlant::onRoverPosition(const std_msgs::Float64::ConstPtr& msg) {
+  if (!std::isfinite(msg->data)) return;
+  std::lock_guard<std::mutex> lock(mutex_);
+  rover_position_ = msg->data;
+  changed_.notify_all();
+}
+
+void TopicHarvestPlant::onJoints(const sensor_msgs::JointState::ConstPtr& msg) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (std::size_t i = 0; i < msg->name.size() && i < msg->position.size(); ++i) {
+    if (!std::isfinite(msg->position[i])) continue;
+    if (msg->name[i] == "horizontal") arm_extension_ = msg->position[i];
+    if (msg->name[i] == "vertical") arm_depth_ = msg->position[i];
+  }
+  changed_.notify_all();
+}
+
+void TopicHarvestPlant::onBusy(const std_msgs::Bool::ConstPtr& msg) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  arm_busy_ = msg->data;
+  changed_.notify_all();
+}
+
+double TopicHarvestPlant::roverPositionM() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return rover_position_.value_or(0.0);
+}
+
+std::size_t TopicHarvestPlant::rejectedFrames() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return rejected_frames_;
+}
+
+template <typename Done>
+bool TopicHarvestPlant::waitFor(Done done, double timeout_s, const Preempted& preempted, bool* was_preempted) {
+  const ros::Time deadline = ros::Time::now() + ros::Duration(timeout_s);
+  std::unique_lock<std::mutex> lock(mutex_);
+  *was_preempted = false;
+  while (ros::ok()) {
+    if (done()) return true;
+    if (preempted()) {
+      *was_preempted = true;
+      return false;
+    }
+    if (ros::Time::now() >= deadline) return false;
+    changed_.wait_for(lock, std::chrono::milliseconds(20));
+  }
+  return false;
+}
+
+void TopicHarvestPlant::markActionEnd() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  action_end_ = ros::Time::now();
+}
+
+HarvestObservation TopicHarvestPlant::makeObservation(bool with_effector) {
+  HarvestObservation observation;
+  observation.stamp_s = bolls_->header.stamp.toSec();
+  observation.rover_position_m = rover_position_.value_or(0.0);
+  for (const auto& boll : bolls_->bolls) {
+    if (!std::isfinite(boll.position.x) || !std::isfinite(boll.position.y) || !std::isfinite(boll.position.z)) {
+      ++rejected_frames_;
+      continue;
+    }
+    observation.bolls.push_back(BollSighting{Point3{boll.position.x, boll.position.y, boll.position.z}, boll.confidence,
+                                             static_cast<bool>(boll.reachable)});
+  }
+  if (with_effector && std::isfinite(effector_->point.x) && std::isfinite(effector_->point.y) &&
+      std::isfinite(effector_->point.z)) {
+    observation.end_effector = Point3{effector_->point.x, effector_->point.y, effector_->point.z};
+  }
+  last_used_stamp_ = bolls_->header.stamp;
+  return observation;
+}
+
+std::optional<HarvestObservation> TopicHarvestPlant::observe(const Preempted& preempted) {
+  bool was_preempted = false;
+  ros::Time fresh_after;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    fresh_after = std::max(action_end_ + ros::Duration(params_.settle_s), last_used_stamp_ + ros::Duration(1e-6));
+  }
+  const auto fresh = [&] { return bolls_ && bolls_->header.stamp >= fresh_after; };
+  const auto effector_matches = [&] {
+    return effector_ &&
+           std::abs((effector_->header.stamp - bolls_->header.stamp).toSec()) <= params_.effector_max_age_s;
+  };
+  const bool complete =
+      waitFor([&] { return fresh() && effector_matches(); }, params_.observe_timeout_s, preempted, &was_preempted);
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (complete) return makeObservation(true);
+  if (!was_preempted && fresh()) return makeObservation(false);  // bolls but no end effector: the machine decides
+  return std::nullopt;
+}
+
+MoveResult TopicHarvestPlant::moveRover(double distance_m, const Preempted& preempted) {
+  double target = 0.0;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!rover_position_) return MoveResult::kFailed;
+    target = *rover_position_ + distance_m;
+  }
+  std_msgs::Float64 msg;
+  msg.data = target;
+  rover_target_pub_.publish(msg);
+  const double timeout = params_.rover_timeout_s + params_.rover_timeout_per_m_s * std::abs(distance_m);
+  // A short move must really happen: arrive within half of it when that is tighter than the tolerance.
+  const double tolerance = std::min(params_.rover_tolerance_m, 0.5 * std::abs(distance_m));
+  ros::Time inside_since;
+  bool was_preempted = false;
+  const bool arrived = waitFor(
+      [&] {
+        if (!rover_position_ || std::abs(*rover_position_ - target) > tolerance) {
+          inside_since = ros::Time();
+          return false;
+        }
+        if (inside_since.isZero()) inside_since = ros::Time::now();
+        return (ros::Time::now() - inside_since).toSec() >= params_.rover_settle_s;
+      },
+      timeout, preempted, &was_preempted);
+  markActionEnd();
+  if (was_preempted) return MoveResult::kPreempted;
+  return arrived ? MoveResult::kDone : MoveResult::kFailed;
+}
+
+MoveResult TopicHarvestPlant::moveArm(double extension_m, double depth_m, const Preempted& preempted) {
+  geometry_msgs::PointStamped target;
+  target.header.stamp = ros::Time::now();
+  target.header.frame_id = "manipulator";
+  target.point.x = extension_m;
+  target.point.y = 0.0;
+  target.point.z = depth_m;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    arm_busy_ = true;  // until the manipulator says otherwise after this command
+  }
+  arm_target_pub_.publish(target);
+  bool was_preempted = false;
+  const bool arrived = waitFor(
+      [&] {
+        const bool x_ok = !std::isfinite(extension_m) ||
+                          (arm_extension_ && std::abs(*arm_extension_ - extension_m) <= params_.arm_tolerance_m);
+        const bool z_ok =
+            !std::isfinite(depth_m) || (arm_depth_ && std::abs(*arm_depth_ - depth_m) <= params_.arm_tolerance_m);
+        return x_ok && z_ok && !arm_busy_;
+      },
+      params_.arm_timeout_s, preempted, &was_preempted);
+  markActionEnd();
+  if (was_preempted) return MoveResult::kPreempted;
+  return arrived ? MoveResult::kDone : MoveResult::kFailed;
+}
+
+MoveResult TopicHarvestPlant::moveArmToDepth(double depth_m, const Preempted& preempted) {
+  return moveArm(std::numeric_limits<double>::quiet_NaN(), depth_m, preempted);
+}
+
+MoveResult TopicHarvestPlant::pick(double offset_m, const Preempted& preempted) {
+  double start = 0.0;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!arm_extension_) return MoveResult::kFailed;
+    start = *arm_extension_;
+  }
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  MoveResult result = moveArm(start + offset_m, nan, preempted);
+  if (result != MoveResult::kDone) return result;
+  std_msgs::Bool brush;
+  brush.data = true;
+  brush_pub_.publish(brush);
+  bool was_preempted = false;
+  waitFor([] { return false; }, params_.pick_dwell_s, preempted, &was_preempted);
+  brush.data = false;
+  brush_pub_.publish(brush);
+  result = moveArm(start, nan, preempted);
+  return was_preempted ? MoveResult::kPreempted : result;
+}
+
+}  // namespace control
+}  // namespace cotton_harvester

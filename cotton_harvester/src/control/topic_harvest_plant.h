@@ -1,0 +1,80 @@
+#pragma once
+
+// The harvest machine's plant on ROS topics: frames from perception, the rover through its position
+// target, the arm through the manipulator node. Waits are condition waits with deadlines on ROS time
+// that poll the machine's preemption flag.
+
+#include <condition_variable>
+#include <mutex>
+#include <optional>
+
+#include <geometry_msgs/PointStamped.h>
+#include <ros/ros.h>
+#include <sensor_msgs/JointState.h>
+#include <std_msgs/Bool.h>
+#include <std_msgs/Float64.h>
+
+#include "cotton_harvester/BollArray.h"
+#include "cotton_harvester/control/harvest_machine.h"
+
+namespace cotton_harvester {
+namespace control {
+
+struct TopicPlantParams {
+  double observe_timeout_s = 3.0;   ///< wait for a fresh frame at most this long
+  double settle_s = 0.3;            ///< frames must be this much newer than the end of the last action
+  double effector_max_age_s = 0.5;  ///< end effector position this close to the frame's stamp
+  double rover_tolerance_m = 0.05;  ///< a rover move is done within this of its target ...
+  double rover_settle_s = 0.5;      ///< ... held this long
+  double rover_timeout_s = 20.0;    ///< plus rover_timeout_per_m_s per metre: then the move failed
+  double rover_timeout_per_m_s = 20.0;
+  double arm_tolerance_m = 0.01;  ///< an arm axis is there within this
+  double arm_timeout_s = 15.0;
+  double pick_dwell_s = 1.0;  ///< brush runs this long at the boll
+};
+
+class TopicHarvestPlant : public HarvestPlant {
+ public:
+  TopicHarvestPlant(ros::NodeHandle& nh, const TopicPlantParams& params);
+
+  std::optional<HarvestObservation> observe(const Preempted& preempted) override;
+  MoveResult moveRover(double distance_m, const Preempted& preempted) override;
+  MoveResult moveArmToDepth(double depth_m, const Preempted& preempted) override;
+  MoveResult pick(double offset_m, const Preempted& preempted) override;
+  double now() const override { return ros::Time::now().toSec(); }
+  double roverPositionM() const override;
+
+  /// Frames dropped: NaN points, frames without an end effector close in time.
+  std::size_t rejectedFrames() const;
+
+ private:
+  void onBolls(const cotton_harvester::BollArray::ConstPtr& msg);
+  void onEffector(const geometry_msgs::PointStamped::ConstPtr& msg);
+  void onRoverPosition(const std_msgs::Float64::ConstPtr& msg);
+  void onJoints(const sensor_msgs::JointState::ConstPtr& msg);
+  void onBusy(const std_msgs::Bool::ConstPtr& msg);
+  /// Waits until `done()` (called with the lock held) or the deadline; false on timeout/preemption.
+  template <typename Done>
+  bool waitFor(Done done, double timeout_s, const Preempted& preempted, bool* was_preempted);
+  MoveResult moveArm(double extension_m, double depth_m, const Preempted& preempted);
+  void markActionEnd();
+  /// The current frame as an observation (mutex held); marks the frame used.
+  HarvestObservation makeObservation(bool with_effector);
+
+  TopicPlantParams params_;
+  mutable std::mutex mutex_;
+  std::condition_variable changed_;
+  cotton_harvester::BollArray::ConstPtr bolls_;
+  geometry_msgs::PointStamped::ConstPtr effector_;
+  std::optional<double> rover_position_;
+  std::optional<double> arm_extension_, arm_depth_;
+  bool arm_busy_ = true;
+  ros::Time action_end_;
+  ros::Time last_used_stamp_;
+  std::size_t rejected_frames_ = 0;
+  ros::Publisher rover_target_pub_, arm_target_pub_, brush_pub_;
+  ros::Subscriber bolls_sub_, effector_sub_, rover_sub_, joints_sub_, busy_sub_;
+};
+
+}  // namespace control
+}  // namespace cotton_harvester

@@ -1,0 +1,142 @@
+#include "perception_params_ros.h"
+
+#include <cmath>
+#include <sstream>
+#include <vector>
+
+namespace cotton_harvester {
+namespace {
+
+using namespace perception;
+
+/// Reads one optional parameter; a present value of the wrong type is an error.
+class ParamReader {
+ public:
+  explicit ParamReader(const ros::NodeHandle& pnh) : pnh_(pnh) {}
+
+  template <typename T>
+  void read(const std::string& key, T* value, const char* expected) {
+    if (!pnh_.hasParam(key)) return;
+    if (!pnh_.getParam(key, *value)) fail(key, expected);
+  }
+
+  /// A string parameter that must be one of a parser's names.
+  template <typename E, typename Parse>
+  void readChoice(const std::string& key, E* value, Parse parse, const char* expected) {
+    if (!pnh_.hasParam(key)) return;
+    std::string name;
+    if (!pnh_.getParam(key, name)) return fail(key, expected);
+    const auto parsed = parse(name);
+    if (!parsed) return fail(key, expected, name);
+    *value = *parsed;
+  }
+
+  void fail(const std::string& key, const std::string& expected, const std::string& got = "") {
+    errors_ << "~" << key << ": expected " << expected << (got.empty() ? "" : " (got '" + got + "')") << "; ";
+  }
+
+  std::string errors() const { return errors_.str(); }
+
+ private:
+  const ros::NodeHandle& pnh_;
+  std::ostringstream errors_;
+};
+
+}  // namespace
+
+bool loadPerceptionNodeConfig(const ros::NodeHandle& pnh, PerceptionNodeConfig* config, std::string* error) {
+  ParamReader r(pnh);
+  PerceptionParams& p = config->pipeline;
+
+  r.read("camera/fx", &p.intrinsics.fx, "a positive number [px]");
+  r.read("camera/fy", &p.intrinsics.fy, "a positive number [px]");
+  r.read("camera/cx", &p.intrinsics.cx, "a number [px]");
+  r.read("camera/cy", &p.intrinsics.cy, "a number [px]");
+  r.read("camera/width", &p.intrinsics.width, "an integer [px]");
+  r.read("camera/height", &p.intrinsics.height, "an integer [px]");
+  r.read("use_camera_info", &config->use_camera_info, "true or false");
+
+  EndEffectorParams& e = p.end_effector;
+  r.read("end_effector/r_min", &e.r_min, "an integer in [0, 255]");
+  r.read("end_effector/r_max", &e.r_max, "an integer in [0, 255]");
+  r.read("end_effector/g_min", &e.g_min, "an integer in [0, 255]");
+  r.read("end_effector/g_max", &e.g_max, "an integer in [0, 255]");
+  r.read("end_effector/b_min", &e.b_min, "an integer in [0, 255]");
+  r.read("end_effector/b_max", &e.b_max, "an integer in [0, 255]");
+  r.read("end_effector/min_area_px", &e.min_area_px, "an integer >= 1 [px]");
+  r.read("end_effector/opening_px", &e.opening_px, "an integer >= 0 [px]");
+  r.readChoice(
+      "end_effector/point", &e.point,
+      [](const std::string& n) -> std::optional<EndEffectorPoint> {
+        if (n == "centroid") return EndEffectorPoint::kCentroid;
+        if (n == "tip") return EndEffectorPoint::kTip;
+        return std::nullopt;
+      },
+      "'centroid' or 'tip'");
+  std::vector<double> tip;
+  r.read("end_effector/tip_direction", &tip, "a list [du, dv]");
+  if (!tip.empty()) {
+    if (tip.size() == 2)
+      e.tip_direction = {tip[0], tip[1]};
+    else
+      r.fail("end_effector/tip_direction", "a list of two numbers [du, dv]");
+  }
+  std::vector<double> arm;
+  r.read("end_effector/arm_direction", &arm, "a list [du, dv]");
+  if (!arm.empty()) {
+    if (arm.size() == 2)
+      e.arm_direction = {arm[0], arm[1]};
+    else
+      r.fail("end_effector/arm_direction", "a list of two numbers [du, dv] ([0, 0]: no arm mask)");
+  }
+
+  ColourBollParams& c = config->colour;
+  r.read("colour/value_min", &c.value_min, "an integer in [0, 255]");
+  r.read("colour/saturation_max", &c.saturation_max, "an integer in [0, 255]");
+  r.read("colour/opening_px", &c.opening_px, "an integer >= 0 [px]");
+  r.read("colour/min_area_px", &c.min_area_px, "an integer >= 1 [px^2]");
+  r.read("colour/max_area_px", &c.max_area_px, "an integer >= min_area_px [px^2]");
+  r.read("colour/min_circularity", &c.min_circularity, "a number in [0, 1]");
+  r.read("colour/min_solidity", &c.min_solidity, "a number in [0, 1]");
+  r.read("colour/max_aspect_ratio", &c.max_aspect_ratio, "a number >= 1");
+
+  DarknetParams& d = config->darknet;
+  r.read("darknet/cfg", &d.cfg_path, "a path to a Darknet .cfg file");
+  r.read("darknet/weights", &d.weights_path, "a path to a Darknet .weights file");
+  r.read("darknet/input_width", &d.input_width, "a positive multiple of 32 [px]");
+  r.read("darknet/input_height", &d.input_height, "a positive multiple of 32 [px]");
+  r.read("darknet/confidence_threshold", &d.decode.confidence_threshold, "a number in [0, 1]");
+  r.read("darknet/nms_threshold", &d.decode.nms_threshold, "a number in [0, 1]");
+  r.read("darknet/class_id", &d.decode.class_id, "an integer >= -1");
+  r.read("darknet/swap_rb", &d.swap_rb, "true or false");
+  r.readChoice("darknet/resize", &d.resize, parseInputResize, "'linear', 'nearest' or 'none'");
+  config->use_darknet = !d.cfg_path.empty() || !d.weights_path.empty();
+
+  r.read("depth/window_px", &p.locator.window_px, "an odd integer >= 1 [px]");
+  r.read("depth/min_valid_points", &p.locator.min_valid_points, "an integer >= 1");
+  r.readChoice("depth/model", &p.locator.depth_model, parseDepthModel, "'ray' or 'paper'");
+
+  r.read("reach/max_depth_m", &p.reach.max_depth_m, "a positive number [m]");
+  r.read("reach/horizontal_arm_length_m", &p.reach.horizontal_arm_length_m, "a number >= 0 [m]");
+  r.read("reach/arm_origin_x_m", &p.reach.arm_origin_x_m, "a number [m]");
+  r.readChoice("nearest_by", &p.nearest_by, parseNearestBy, "'camera' or 'end_effector'");
+
+  r.read("max_stamp_diff_s", &config->max_stamp_diff_s, "a number >= 0 [s]");
+  r.read("publish_debug_image", &config->publish_debug_image, "true or false");
+
+  std::string errors = r.errors();
+  const std::string pipeline_errors = validate(p);
+  if (!pipeline_errors.empty()) errors += pipeline_errors;
+  const std::string colour_errors = validate(c);
+  if (!colour_errors.empty()) errors += "colour: " + colour_errors;
+  if (config->use_darknet) {
+    const std::string darknet_errors = validate(d);
+    if (!darknet_errors.empty()) errors += "darknet: " + darknet_errors;
+  }
+  if (!(config->max_stamp_diff_s >= 0.0) || !std::isfinite(config->max_stamp_diff_s))
+    errors += "~max_stamp_diff_s: expected a number >= 0; ";
+  *error = errors;
+  return errors.empty();
+}
+
+}  // namespace cotton_harvester

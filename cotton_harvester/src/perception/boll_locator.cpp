@@ -1,0 +1,112 @@
+#include "cotton_harvester/perception/boll_locator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <vector>
+
+#include <opencv2/imgproc.hpp>
+
+namespace cotton_harvester {
+namespace perception {
+
+std::string validate(const LocatorParams& params) {
+  std::ostringstream error;
+  if (params.window_px < 1 || params.window_px % 2 == 0)
+    error << "window_px must be an odd number >= 1 (got " << params.window_px << "); ";
+  if (params.min_valid_points < 1) error << "min_valid_points must be >= 1 (got " << params.min_valid_points << "); ";
+  if (params.min_valid_points > params.window_px * params.window_px)
+    error << "min_valid_points must not exceed window_px^2 (got " << params.min_valid_points << "); ";
+  return error.str();
+}
+
+namespace {
+
+/// Range of a cloud point (eq. 6), or a negative number when the point is no measurement.
+double pointRange(const cv::Vec3f& p) {
+  if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) return -1.0;
+  const double r = std::sqrt(double(p[0]) * p[0] + double(p[1]) * p[1] + double(p[2]) * p[2]);
+  return r > 0.0 ? r : -1.0;
+}
+
+double median(std::vector<double>& values) {
+  const size_t middle = values.size() / 2;
+  std::nth_element(values.begin(), values.begin() + middle, values.end());
+  double m = values[middle];
+  if (values.size() % 2 == 0) m = 0.5 * (m + *std::max_element(values.begin(), values.begin() + middle));
+  return m;
+}
+
+}  // namespace
+
+std::optional<LocatedPoint> locate(const cv::Mat& cloud, const cv::Point2d& pixel, const CameraIntrinsics& intrinsics,
+                                   const LocatorParams& params) {
+  if (cloud.empty() || cloud.type() != CV_32FC3) return std::nullopt;
+  if (!std::isfinite(pixel.x) || !std::isfinite(pixel.y)) return std::nullopt;
+  const int u = static_cast<int>(std::lround(pixel.x));
+  const int v = static_cast<int>(std::lround(pixel.y));
+  if (u < 0 || v < 0 || u >= cloud.cols || v >= cloud.rows) return std::nullopt;
+
+  const int half = params.window_px / 2;
+  std::vector<double> ranges;
+  ranges.reserve(static_cast<size_t>(params.window_px) * params.window_px);
+  for (int row = std::max(0, v - half); row <= std::min(cloud.rows - 1, v + half); ++row) {
+    const cv::Vec3f* points = cloud.ptr<cv::Vec3f>(row);
+    for (int col = std::max(0, u - half); col <= std::min(cloud.cols - 1, u + half); ++col) {
+      const double r = pointRange(points[col]);
+      if (r > 0.0) ranges.push_back(r);
+    }
+  }
+  if (static_cast<int>(ranges.size()) < params.min_valid_points) return std::nullopt;
+  LocatedPoint located;
+  located.valid_points = static_cast<int>(ranges.size());
+  located.range_m = median(ranges);
+  located.position = backProject(intrinsics, pixel, located.range_m, params.depth_model);
+  return located;
+}
+
+std::optional<LocatedPoint> locateRegion(const cv::Mat& cloud, const cv::Mat& mask, const cv::Point2d& pixel,
+                                         const CameraIntrinsics& intrinsics, const LocatorParams& params) {
+  if (cloud.empty() || cloud.type() != CV_32FC3 || mask.size() != cloud.size() || mask.type() != CV_8U)
+    return std::nullopt;
+  if (!std::isfinite(pixel.x) || !std::isfinite(pixel.y)) return std::nullopt;
+  const cv::Rect box = cv::boundingRect(mask);
+  if (box.area() == 0) return std::nullopt;
+  // At most about 4000 samples: a regular subsampling of large regions. Each point's depth along the optical
+  // axis is used, so that a region facing the camera gets one depth wherever its points lie in the image.
+  const int stride = std::max(1, static_cast<int>(std::sqrt(box.area() / 4000.0)));
+  std::vector<double> depths;
+  for (int row = box.y; row < box.y + box.height; row += stride) {
+    const uint8_t* inside = mask.ptr<uint8_t>(row);
+    const cv::Vec3f* points = cloud.ptr<cv::Vec3f>(row);
+    for (int col = box.x; col < box.x + box.width; col += stride) {
+      if (inside[col] && pointRange(points[col]) > 0.0 && points[col][2] > 0.0f) depths.push_back(points[col][2]);
+    }
+  }
+  if (static_cast<int>(depths.size()) < params.min_valid_points) return std::nullopt;
+  // The range (eq. 6) at `pixel` of a point at the median depth.
+  const double ray_x = (pixel.x - intrinsics.cx) / intrinsics.fx, ray_y = (pixel.y - intrinsics.cy) / intrinsics.fy;
+  LocatedPoint located;
+  located.valid_points = static_cast<int>(depths.size());
+  located.range_m = median(depths) * std::sqrt(ray_x * ray_x + ray_y * ray_y + 1.0);
+  located.position = backProject(intrinsics, pixel, located.range_m, params.depth_model);
+  return located;
+}
+
+std::string validate(const ReachParams& params) {
+  std::ostringstream error;
+  if (!(params.max_depth_m > 0.0) || !std::isfinite(params.max_depth_m))
+    error << "max_depth_m must be a positive number (got " << params.max_depth_m << "); ";
+  if (!(params.horizontal_arm_length_m >= 0.0) || !std::isfinite(params.horizontal_arm_length_m))
+    error << "horizontal_arm_length_m must be >= 0 (got " << params.horizontal_arm_length_m << "); ";
+  if (!std::isfinite(params.arm_origin_x_m)) error << "arm_origin_x_m must be finite; ";
+  return error.str();
+}
+
+bool isReachable(const cv::Point3d& position, const ReachParams& params) {
+  return position.z > 0.0 && position.z < params.max_depth_m &&
+         std::abs(position.x - params.arm_origin_x_m) <= params.horizontal_arm_length_m;
+}
+
+}  // namespace perception
+}  // namespace cotton_harvester

@@ -1,0 +1,126 @@
+#include "cotton_harvester/perception/perception_pipeline.h"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace cotton_harvester {
+namespace perception {
+
+std::optional<NearestBy> parseNearestBy(const std::string& name) {
+  if (name == "camera") return NearestBy::kCamera;
+  if (name == "end_effector") return NearestBy::kEndEffector;
+  return std::nullopt;
+}
+
+std::string toString(NearestBy nearest_by) { return nearest_by == NearestBy::kCamera ? "camera" : "end_effector"; }
+
+std::string toString(FrameStatus status) {
+  switch (status) {
+    case FrameStatus::kOk:
+      return "ok";
+    case FrameStatus::kEmptyImage:
+      return "empty image";
+    case FrameStatus::kBadImage:
+      return "image is not 8-bit 3-channel";
+    case FrameStatus::kSizeMismatch:
+      return "image size differs from the camera intrinsics";
+    case FrameStatus::kNoDepth:
+      return "no organised cloud of the image's size";
+  }
+  return "?";
+}
+
+std::string validate(const PerceptionParams& params) {
+  std::string error;
+  const auto add = [&error](const std::string& prefix, const std::string& message) {
+    if (!message.empty()) error += prefix + message;
+  };
+  add("camera: ", validate(params.intrinsics));
+  add("end_effector: ", validate(params.end_effector));
+  add("depth: ", validate(params.locator));
+  add("reach: ", validate(params.reach));
+  return error;
+}
+
+PerceptionPipeline::PerceptionPipeline(const PerceptionParams& params, std::unique_ptr<BollDetector> detector)
+    : params_(params), end_effector_detector_(params.end_effector), detector_(std::move(detector)) {
+  const std::string error = validate(params);
+  if (!error.empty()) throw std::invalid_argument("perception parameters: " + error);
+  if (!detector_) throw std::invalid_argument("perception pipeline needs a boll detector");
+}
+
+void PerceptionPipeline::setIntrinsics(const CameraIntrinsics& intrinsics) {
+  const std::string error = validate(intrinsics);
+  if (!error.empty()) throw std::invalid_argument("camera intrinsics: " + error);
+  params_.intrinsics = intrinsics;
+}
+
+FrameResult PerceptionPipeline::process(const cv::Mat& bgr, const cv::Mat& cloud) {
+  FrameResult result;
+  if (bgr.empty()) {
+    result.status = FrameStatus::kEmptyImage;
+    return result;
+  }
+  if (bgr.type() != CV_8UC3) {
+    result.status = FrameStatus::kBadImage;
+    return result;
+  }
+  if (bgr.cols != params_.intrinsics.width || bgr.rows != params_.intrinsics.height) {
+    result.status = FrameStatus::kSizeMismatch;
+    return result;
+  }
+  const bool has_depth = !cloud.empty() && cloud.type() == CV_32FC3 && cloud.size() == bgr.size();
+
+  // Steps 1-3: end-effector, then bolls outside its region.
+  result.end_effector_image = end_effector_detector_.detect(bgr, &result.end_effector_mask);
+  if (result.end_effector_image) {
+    result.boll_exclusion = armBandMask(bgr.size(), *result.end_effector_image, params_.end_effector);
+    result.boll_exclusion |= result.end_effector_mask;
+  }
+  const std::vector<BollDetection> detections = detector_->detect(bgr, result.boll_exclusion);
+  result.bolls_detected = static_cast<int>(detections.size());
+  if (!has_depth) {
+    result.status = FrameStatus::kNoDepth;
+    result.bolls_without_depth = result.bolls_detected;
+    return result;
+  }
+  if (result.end_effector_image)
+    result.end_effector = locateRegion(cloud, result.end_effector_mask, result.end_effector_image->pixel,
+                                       params_.intrinsics, params_.locator);
+
+  // Steps 4-5: depth of each centroid; step 7: its position.
+  for (const BollDetection& detection : detections) {
+    const std::optional<LocatedPoint> located = locate(cloud, detection.centroid, params_.intrinsics, params_.locator);
+    if (!located) {
+      ++result.bolls_without_depth;
+      continue;
+    }
+    LocatedBoll boll;
+    boll.detection = detection;
+    boll.position = located->position;
+    boll.range_m = located->range_m;
+    boll.reachable = isReachable(located->position, params_.reach);
+    result.bolls.push_back(boll);
+  }
+
+  // Step 6: the closest reachable boll.
+  double best = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < result.bolls.size(); ++i) {
+    const LocatedBoll& boll = result.bolls[i];
+    if (!boll.reachable) continue;
+    double distance = boll.range_m;
+    if (params_.nearest_by == NearestBy::kEndEffector && result.end_effector) {
+      const cv::Point3d d = boll.position - result.end_effector->position;
+      distance = std::sqrt(d.dot(d));
+    }
+    if (distance < best) {
+      best = distance;
+      result.nearest_reachable = static_cast<int>(i);
+    }
+  }
+  return result;
+}
+
+}  // namespace perception
+}  // namespace cotton_harvester

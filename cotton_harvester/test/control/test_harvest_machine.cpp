@@ -1,0 +1,325 @@
+// The harvest state machine driven by scripted observations (each transition of Algorithm 1,
+// retries, skips, preemption, aborts) and by a simulated row with ideal motion.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <deque>
+#include <thread>
+
+#include "cotton_harvester/control/harvest_machine.h"
+#include "cotton_harvester/control/virtual_row.h"
+
+using namespace cotton_harvester::control;
+
+namespace {
+
+/// A plant whose frames come from a script; it records every action.
+class ScriptedPlant : public HarvestPlant {
+ public:
+  std::deque<std::optional<HarvestObservation>> frames;  ///< empty script: frames without bolls
+  std::vector<std::string> actions;
+  std::vector<double> values;
+  MoveResult result = MoveResult::kDone;
+  bool block_rover = false;  ///< moveRover waits until preempted
+  std::atomic<bool> blocking{false};
+  double position = 0.0;
+  double time = 0.0;
+
+  std::optional<HarvestObservation> observe(const Preempted&) override {
+    time += 0.1;
+    if (frames.empty()) {
+      HarvestObservation empty;
+      empty.rover_position_m = position;
+      return empty;
+    }
+    auto frame = frames.front();
+    frames.pop_front();
+    if (frame) frame->rover_position_m = position;
+    return frame;
+  }
+  MoveResult moveRover(double distance_m, const Preempted& preempted) override {
+    actions.push_back("rover");
+    values.push_back(distance_m);
+    if (block_rover) {
+      blocking = true;
+      while (!preempted()) std::this_thread::yield();
+      return MoveResult::kPreempted;
+    }
+    if (result == MoveResult::kDone) position += distance_m;
+    time += 1.0;
+    return result;
+  }
+  MoveResult moveArmToDepth(double depth_m, const Preempted&) override {
+    actions.push_back("arm");
+    values.push_back(depth_m);
+    time += 1.0;
+    return result;
+  }
+  MoveResult pick(double offset_m, const Preempted&) override {
+    actions.push_back("pick");
+    values.push_back(offset_m);
+    time += 2.0;
+    return result;
+  }
+  double now() const override { return time; }
+  double roverPositionM() const override { return position; }
+};
+
+HarvestObservation frame(std::vector<Point3> bolls, Point3 effector = Point3{0.0, 0.0, 0.8}) {
+  HarvestObservation observation;
+  for (const auto& p : bolls) observation.bolls.push_back(BollSighting{p, 0.9, true});
+  observation.end_effector = effector;
+  return observation;
+}
+
+HarvestParams shortRow() {
+  HarvestParams params;
+  params.row_length_m = 0.6;  // two pass-on steps of 0.3 m
+  return params;
+}
+
+std::vector<std::string> visited(HarvestMachine& machine) {
+  std::vector<std::string> states;
+  for (const auto& record : machine.machine().status().history) states.push_back(record.state);
+  return states;
+}
+
+}  // namespace
+
+TEST(HarvestMachine, NoBollsPassesOnToTheRowEnd) {
+  ScriptedPlant plant;
+  HarvestMachine machine(plant, shortRow());
+  EXPECT_EQ(machine.run(), "finished");
+  EXPECT_EQ(plant.actions, (std::vector<std::string>{"rover", "rover"}));
+  EXPECT_DOUBLE_EQ(plant.values[0], 0.3);
+  EXPECT_EQ(visited(machine),
+            (std::vector<std::string>{"OBSERVE", "PASS_ON", "OBSERVE", "PASS_ON", "OBSERVE", "PASS_ON"}));
+  EXPECT_EQ(machine.machine().status().history.back().next, "-> finished");
+  EXPECT_NEAR(machine.counts().distance_m, 0.6, 1e-12);
+}
+
+TEST(HarvestMachine, EachTransitionFromScriptedObservations) {
+  struct Case {
+    Point3 boll;
+    const char* state;
+    const char* action;
+    double value;
+  };
+  const Case cases[] = {
+      {{0.1, 0.25, 0.9}, "MOVE_FORWARD", "rover", 0.25},   // Yb > Ym
+      {{0.1, -0.2, 0.9}, "MOVE_BACKWARD", "rover", -0.2},  // Yb < Ym
+      {{0.1, 0.0, 0.6}, "ARM_UP", "arm", 0.6},             // aligned, Zm > Zb
+      {{0.1, 0.0, 1.0}, "ARM_DOWN", "arm", 1.0},           // aligned, Zm < Zb
+      {{0.15, 0.0, 0.8}, "PICK", "pick", 0.15},            // aligned, within 37 cm
+      {{0.1, 0.9, 0.9}, "MOVE_FORWARD", "rover", 0.5},     // clamped to max_rover_step_m
+  };
+  for (const auto& c : cases) {
+    ScriptedPlant plant;
+    plant.frames.push_back(frame({c.boll}));
+    HarvestMachine machine(plant, shortRow());
+    EXPECT_EQ(machine.run(), "finished");
+    ASSERT_FALSE(plant.actions.empty());
+    EXPECT_EQ(plant.actions[0], c.action) << c.state;
+    EXPECT_DOUBLE_EQ(plant.values[0], c.value) << c.state;
+    const auto states = visited(machine);
+    ASSERT_GE(states.size(), 3u);
+    EXPECT_EQ(states[0], "OBSERVE");
+    EXPECT_EQ(states[1], c.state);
+    EXPECT_EQ(states[2], "OBSERVE") << "every state returns to state 0";
+  }
+}
+
+TEST(HarvestMachine, NearestReachableBollIsChosen) {
+  ScriptedPlant plant;
+  HarvestObservation observation = frame({{0.0, 0.3, 1.0}, {0.0, 0.1, 0.7}, {0.0, -0.05, 0.5}});
+  observation.bolls[2].reachable = false;  // the closest one is out of the workspace
+  plant.frames.push_back(observation);
+  HarvestMachine machine(plant, shortRow());
+  machine.run();
+  EXPECT_EQ(plant.actions[0], "rover");
+  EXPECT_DOUBLE_EQ(plant.values[0], 0.1);  // the boll at 0.71 m, not the one at 1.04 m
+}
+
+TEST(HarvestMachine, SuccessfulPickIsCounted) {
+  ScriptedPlant plant;
+  plant.frames.push_back(frame({{0.1, 0.0, 0.8}}));
+  plant.frames.push_back(frame({}));  // gone after the pick
+  HarvestParams params = shortRow();
+  params.bolls_present = 1;
+  HarvestMachine machine(plant, params);
+  EXPECT_EQ(machine.run(), "finished");
+  const HarvestCounts counts = machine.counts();
+  EXPECT_EQ(counts.detected, 1);
+  EXPECT_EQ(counts.reached, 1);
+  EXPECT_EQ(counts.picked, 1);
+  EXPECT_EQ(counts.skipped, 0);
+  EXPECT_EQ(counts.pick_attempts, 1);
+  EXPECT_DOUBLE_EQ(*computeMetrics(counts).action_success_pct, 100.0);
+}
+
+TEST(HarvestMachine, FailedPicksAreRetriedThenTheBollIsSkipped) {
+  ScriptedPlant plant;
+  for (int i = 0; i < 4; ++i) plant.frames.push_back(frame({{0.1, 0.0, 0.8}}));  // it stays on the plant
+  HarvestParams params = shortRow();
+  params.tracker.max_pick_attempts = 3;
+  HarvestMachine machine(plant, params);
+  EXPECT_EQ(machine.run(), "finished");
+  EXPECT_EQ(plant.actions, (std::vector<std::string>{"pick", "pick", "pick", "rover", "rover"}));
+  const HarvestCounts counts = machine.counts();
+  EXPECT_EQ(counts.pick_attempts, 3);
+  EXPECT_EQ(counts.skipped, 1);
+  EXPECT_EQ(counts.picked, 0);
+  EXPECT_EQ(counts.reached, 1);
+}
+
+TEST(HarvestMachine, BollThatCannotBeAlignedIsSkipped) {
+  ScriptedPlant plant;
+  // The rover "moves" but the boll stays 20 cm ahead in every frame (wheel slip).
+  for (int i = 0; i < 10; ++i) plant.frames.push_back(frame({{0.1, 0.2, 0.8}}));
+  HarvestParams params = shortRow();
+  params.row_length_m = 1.0;
+  params.tracker.max_align_moves = 4;
+  params.tracker.match_radius_m = 10.0;  // the same boll despite the rover's odometry
+  HarvestMachine machine(plant, params);
+  EXPECT_EQ(machine.run(), "finished");
+  // Four moves towards it, then it is skipped and the rover passes on (0.8 m + 0.3 m > 1 m: row end).
+  EXPECT_EQ(plant.values, (std::vector<double>{0.2, 0.2, 0.2, 0.2, 0.3}));
+  EXPECT_EQ(machine.counts().skipped, 1);
+  EXPECT_EQ(machine.counts().reached, 0);
+}
+
+TEST(HarvestMachine, OutOfReachBollIsSkippedAndTheRowContinues) {
+  ScriptedPlant plant;
+  plant.frames.push_back(frame({{0.5, 0.0, 0.8}}));  // aligned but 50 cm across
+  HarvestMachine machine(plant, shortRow());
+  EXPECT_EQ(machine.run(), "finished");
+  EXPECT_EQ(plant.actions, (std::vector<std::string>{"rover", "rover"}));
+  EXPECT_EQ(machine.counts().skipped, 1);
+}
+
+TEST(HarvestMachine, PreemptionDuringAMove) {
+  ScriptedPlant plant;
+  plant.block_rover = true;
+  HarvestMachine machine(plant, shortRow());
+  std::string outcome;
+  std::thread runner([&] { outcome = machine.run(); });
+  while (!plant.blocking) std::this_thread::yield();
+  const auto status = machine.machine().status();
+  EXPECT_TRUE(status.running);
+  EXPECT_EQ(status.active_state, "PASS_ON");
+  machine.machine().requestPreempt();
+  runner.join();
+  EXPECT_EQ(outcome, "preempted");
+  EXPECT_FALSE(machine.machine().status().running);
+}
+
+TEST(HarvestMachine, NoFramesAborts) {
+  ScriptedPlant plant;
+  for (int i = 0; i < 20; ++i) plant.frames.push_back(std::nullopt);
+  HarvestParams params = shortRow();
+  params.max_missed_observations = 5;
+  HarvestMachine machine(plant, params);
+  EXPECT_EQ(machine.run(), "aborted");
+  EXPECT_TRUE(plant.actions.empty());
+  EXPECT_EQ(machine.machine().status().transitions, 5u);
+}
+
+TEST(HarvestMachine, BollsWithoutEndEffectorAreRejected) {
+  ScriptedPlant plant;
+  HarvestObservation observation = frame({{0.1, 0.0, 0.8}});
+  observation.end_effector.reset();
+  for (int i = 0; i < 3; ++i) plant.frames.push_back(observation);
+  HarvestParams params = shortRow();
+  params.max_missed_observations = 3;
+  HarvestMachine machine(plant, params);
+  EXPECT_EQ(machine.run(), "aborted");
+  EXPECT_EQ(machine.rejectedFrames(), 3);
+}
+
+TEST(HarvestMachine, ActionsThatKeepFailingAbort) {
+  ScriptedPlant plant;
+  plant.result = MoveResult::kFailed;
+  HarvestMachine machine(plant, shortRow());
+  EXPECT_EQ(machine.run(), "aborted");
+  EXPECT_EQ(plant.actions.size(), 3u);
+}
+
+TEST(HarvestMachine, NanSightingsAreIgnored) {
+  ScriptedPlant plant;
+  plant.frames.push_back(frame({{std::nan(""), 0.0, 0.8}}));
+  HarvestMachine machine(plant, shortRow());
+  EXPECT_EQ(machine.run(), "finished");
+  EXPECT_EQ(machine.counts().detected, 0);
+}
+
+TEST(HarvestParams, CheckNamesTheKey) {
+  HarvestParams params;
+  EXPECT_EQ(params.check(), "");
+  params.tracker.max_pick_attempts = 0;
+  EXPECT_NE(params.check().find("max_pick_attempts"), std::string::npos);
+  params = HarvestParams();
+  params.row_length_m = -1.0;
+  EXPECT_NE(params.check().find("row_length_m"), std::string::npos);
+}
+
+namespace {
+
+/// Ideal motion over the simulated row: the rover and the arm go exactly where they are told.
+class IdealRowPlant : public HarvestPlant {
+ public:
+  explicit IdealRowPlant(const VirtualRowParams& params) : row(params) {}
+  VirtualRow row;
+  double travel = 0.0, extension = 0.0, depth = 1.1, time = 0.0;
+
+  std::optional<HarvestObservation> observe(const Preempted&) override {
+    time += 0.2;
+    HarvestObservation observation;
+    observation.bolls = row.visibleBolls(travel);
+    observation.end_effector = row.endEffector(extension, depth);
+    observation.rover_position_m = travel;
+    return observation;
+  }
+  MoveResult moveRover(double d, const Preempted&) override {
+    travel += d;
+    time += 2.0 + std::abs(d) / 0.1;
+    return MoveResult::kDone;
+  }
+  MoveResult moveArmToDepth(double z, const Preempted&) override {
+    time += 1.0;
+    depth = z;
+    return MoveResult::kDone;
+  }
+  MoveResult pick(double offset, const Preempted&) override {
+    const double before = extension;
+    extension += offset;
+    row.brush(travel, row.endEffector(extension, depth));
+    extension = before;
+    time += 4.0;
+    return MoveResult::kDone;
+  }
+  double now() const override { return time; }
+  double roverPositionM() const override { return travel; }
+};
+
+}  // namespace
+
+TEST(HarvestMachine, HarvestsASimulatedRowOfSixPlants) {
+  VirtualRowParams row;  // 6 plants x 3 bolls, 85 % of brush passes take the boll
+  IdealRowPlant plant(row);
+  HarvestParams params;
+  params.row_length_m = 2.4;  // the preliminary experiment's distance
+  params.bolls_present = plant.row.present();
+  HarvestMachine machine(plant, params);
+  EXPECT_EQ(machine.run(), "finished");
+  const HarvestCounts counts = machine.counts();
+  EXPECT_EQ(counts.bolls_present, 18);
+  // The tracker counts a pick when the boll it aimed at is gone. The seeded row has two bolls 6 cm
+  // apart that one brush pass takes together: the row lost one more boll than the tracker saw picked.
+  const int removed = 18 - plant.row.remaining();
+  EXPECT_LE(counts.picked, removed);
+  EXPECT_GE(counts.picked, removed - 1);
+  EXPECT_GE(counts.picked, 15);
+  EXPECT_EQ(counts.detected, 18);
+  EXPECT_LE(counts.picked + counts.skipped, counts.detected);
+  EXPECT_GE(counts.reached, counts.picked);
+}

@@ -1,0 +1,73 @@
+#include <algorithm>
+
+#include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include "cotton_harvester/perception/colour_boll_detector.h"
+
+using namespace cotton_harvester::perception;
+
+namespace {
+
+const cv::Scalar kWhite(235, 238, 240);
+
+bool hasDetectionNear(const std::vector<BollDetection>& bolls, const cv::Point2d& p, double tolerance) {
+  return std::any_of(bolls.begin(), bolls.end(), [&](const BollDetection& b) {
+    return std::hypot(b.centroid.x - p.x, b.centroid.y - p.y) <= tolerance;
+  });
+}
+
+}  // namespace
+
+TEST(ColourBollDetector, FindsWhiteCompactBollsOnly) {
+  cv::Mat image(720, 1280, CV_8UC3, cv::Scalar(40, 120, 50));
+  cv::circle(image, {300, 200}, 15, kWhite, cv::FILLED);                      // boll
+  cv::circle(image, {800, 500}, 22, kWhite, cv::FILLED);                      // boll
+  cv::rectangle(image, cv::Rect(100, 600, 300, 20), kWhite, cv::FILLED);      // aluminium bar
+  cv::circle(image, {1000, 100}, 4, kWhite, cv::FILLED);                      // glint
+  cv::circle(image, {600, 300}, 18, cv::Scalar(40, 230, 240), cv::FILLED);    // yellow: saturated
+  cv::circle(image, {1100, 300}, 18, cv::Scalar(110, 110, 110), cv::FILLED);  // grey: too dark
+  ColourBollDetector detector{ColourBollParams{}};
+  const std::vector<BollDetection> bolls = detector.detect(image, cv::Mat());
+  ASSERT_EQ(bolls.size(), 2u);
+  EXPECT_TRUE(hasDetectionNear(bolls, {300, 200}, 0.5));
+  EXPECT_TRUE(hasDetectionNear(bolls, {800, 500}, 0.5));
+  for (const BollDetection& b : bolls) {
+    EXPECT_GT(b.confidence, 0.5);
+    EXPECT_LE(b.confidence, 1.0);
+    EXPECT_TRUE(b.box.contains(b.centroid));
+  }
+}
+
+TEST(ColourBollDetector, ExclusionMaskHidesTheEndEffectorRegion) {
+  cv::Mat image(720, 1280, CV_8UC3, cv::Scalar(40, 120, 50));
+  cv::circle(image, {300, 200}, 15, kWhite, cv::FILLED);
+  cv::circle(image, {800, 500}, 15, kWhite, cv::FILLED);
+  cv::Mat exclude(image.size(), CV_8U, cv::Scalar(0));
+  cv::rectangle(exclude, cv::Rect(250, 150, 100, 100), cv::Scalar(255), cv::FILLED);
+  ColourBollDetector detector{ColourBollParams{}};
+  const std::vector<BollDetection> bolls = detector.detect(image, exclude);
+  ASSERT_EQ(bolls.size(), 1u);
+  EXPECT_TRUE(hasDetectionNear(bolls, {800, 500}, 0.5));
+}
+
+TEST(ColourBollDetector, BadInputGivesNothing) {
+  ColourBollDetector detector{ColourBollParams{}};
+  EXPECT_TRUE(detector.detect(cv::Mat(), cv::Mat()).empty());
+  EXPECT_TRUE(detector.detect(cv::Mat(10, 10, CV_32FC3, cv::Scalar(1, 1, 1)), cv::Mat()).empty());
+  // A mask of the wrong size is ignored rather than trusted.
+  cv::Mat image(100, 100, CV_8UC3, cv::Scalar(40, 120, 50));
+  cv::circle(image, {50, 50}, 15, kWhite, cv::FILLED);
+  EXPECT_EQ(detector.detect(image, cv::Mat(10, 10, CV_8U, cv::Scalar(255))).size(), 1u);
+}
+
+TEST(ColourBollDetector, RejectsBadParameters) {
+  ColourBollParams params;
+  params.max_area_px = 10;  // below min_area_px
+  EXPECT_NE(validate(params).find("max_area_px"), std::string::npos);
+  EXPECT_THROW(ColourBollDetector{params}, std::invalid_argument);
+  params = ColourBollParams{};
+  params.max_aspect_ratio = 0.5;
+  EXPECT_NE(validate(params).find("max_aspect_ratio"), std::string::npos);
+}

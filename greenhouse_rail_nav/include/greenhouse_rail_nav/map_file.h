@@ -1,0 +1,18 @@
+#pragma once
+
+#include <string>
+
+#include "greenhouse_rail_nav/occupancy_map.h"
+
+namespace greenhouse_rail_nav {
+
+/// Reads a map the way map_server keeps it: a YAML file with `image` (PGM/PNG, relative to the YAML
+/// file unless absolute), `resolution` [m/cell], `origin` [x, y, yaw], `negate`, `occupied_thresh`,
+/// `free_thresh` and optionally `mode` (trinary, the default, or scale). Returns false and says what is
+/// wrong in *error (which file, which key, what was expected).
+bool loadMapYaml(const std::string& yaml_path, OccupancyMap* map, std::string* error);
+
+/// Writes a map as map_server's map_saver would (trinary PGM + YAML next to it, image path relative).
+bool saveMapYaml(const OccupancyMap& map, const std::string& yaml_path, std::string* error);
+
+}  // namespace greenhouse_rail_nav

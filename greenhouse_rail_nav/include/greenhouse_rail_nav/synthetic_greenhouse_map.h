@@ -1,0 +1,46 @@
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "greenhouse_rail_nav/occupancy_map.h"
+#include "greenhouse_rail_nav/pose2d.h"
+
+namespace greenhouse_rail_nav {
+
+/// A greenhouse headland as a robot's SLAM map would show it, for tests and benchmarks.
+/// Layout frame: x across the greenhouse from the left side wall's inner face, y from the rear wall's
+/// inner face towards the rows. Rail set i is centred at x = (i + 0.5) * spacing; rows (plants or
+/// ventilation lines) can stand at x = j * spacing, j = 1 .. rail_sets - 1; the side walls are at
+/// x = 0 and x = rail_sets * spacing.
+struct GreenhouseLayout {
+  int rail_sets = 8;
+  double spacing_m = 1.6;               ///< [m]
+  double headland_depth_m = 4.0;        ///< rear wall to the start of the rows [m]
+  double visible_row_depth_m = 3.0;     ///< how far the map shows into the rows [m]
+  double resolution_m = 0.05;           ///< [m/cell]
+  Pose2D layout_in_map{2.0, 3.0, 0.0};  ///< where the layout frame sits in the map frame
+  double map_margin_m = 1.0;            ///< unknown border around the greenhouse [m]
+  std::vector<int> visible_rows;        ///< row positions j shown; empty: each with row_probability
+  double row_probability = 0.5;
+  double ventilation_fraction = 0.5;  ///< share of rows drawn as thin solid lines (others: dotted plants)
+  double wall_thickness_m = 0.15;     ///< [m]
+  double row_start_jitter_m = 0.03;   ///< random shift of where a row's first cell is [m]
+  double gap_probability = 0.3;       ///< chance a row has a gap
+  int clutter_objects = 4;            ///< boxes and trolleys on the headland floor
+  double speckle_per_m2 = 0.02;       ///< isolated false occupied cells on the headland [1/m^2]
+  bool side_walls = true;
+  std::uint32_t seed = 1;
+};
+
+/// The map and the truth it was drawn from.
+struct SyntheticGreenhouseMap {
+  OccupancyMap map;
+  std::vector<Pose2D> rail_frames;       ///< true rail frames in the map frame, leftmost first
+  std::vector<int> rows_drawn;           ///< row positions j actually drawn
+  Eigen::Vector2d edge_start, edge_end;  ///< true headland edge between the side walls [m]
+};
+
+SyntheticGreenhouseMap makeGreenhouseMap(const GreenhouseLayout& layout);
+
+}  // namespace greenhouse_rail_nav

@@ -1,0 +1,129 @@
+#include "greenhouse_rail_nav/map_file.h"
+
+#include <cmath>
+#include <fstream>
+
+#include <opencv2/imgcodecs.hpp>
+#include <yaml-cpp/yaml.h>
+
+namespace greenhouse_rail_nav {
+namespace {
+
+std::string directoryOf(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  return slash == std::string::npos ? std::string(".") : path.substr(0, slash);
+}
+
+std::string baseName(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+template <typename T>
+bool readKey(const YAML::Node& node, const std::string& key, const std::string& file, const std::string& expected,
+             T* value, std::string* error) {
+  if (!node[key]) {
+    *error = file + ": missing key '" + key + "' (expected " + expected + ")";
+    return false;
+  }
+  try {
+    *value = node[key].as<T>();
+  } catch (const YAML::Exception&) {
+    *error = file + ": key '" + key + "' is not " + expected;
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+bool loadMapYaml(const std::string& yaml_path, OccupancyMap* map, std::string* error) {
+  YAML::Node doc;
+  try {
+    doc = YAML::LoadFile(yaml_path);
+  } catch (const YAML::Exception& e) {
+    *error = yaml_path + ": cannot read map YAML: " + e.what();
+    return false;
+  }
+  std::string image;
+  double resolution = 0.0, occupied_thresh = 0.65, free_thresh = 0.196;
+  int negate = 0;
+  std::vector<double> origin;
+  if (!readKey(doc, "image", yaml_path, "an image file name", &image, error) ||
+      !readKey(doc, "resolution", yaml_path, "a cell size in metres", &resolution, error) ||
+      !readKey(doc, "origin", yaml_path, "[x, y, yaw]", &origin, error) ||
+      !readKey(doc, "negate", yaml_path, "0 or 1", &negate, error) ||
+      !readKey(doc, "occupied_thresh", yaml_path, "a number in (0, 1]", &occupied_thresh, error) ||
+      !readKey(doc, "free_thresh", yaml_path, "a number in [0, 1)", &free_thresh, error)) {
+    return false;
+  }
+  std::string mode = "trinary";
+  if (doc["mode"]) mode = doc["mode"].as<std::string>();
+  if (!(resolution > 0.0) || !std::isfinite(resolution)) {
+    *error = yaml_path + ": 'resolution' must be > 0, got " + std::to_string(resolution);
+    return false;
+  }
+  if (origin.size() != 3) {
+    *error = yaml_path + ": 'origin' must be [x, y, yaw], got " + std::to_string(origin.size()) + " numbers";
+    return false;
+  }
+  if (!(free_thresh >= 0.0 && free_thresh < occupied_thresh && occupied_thresh <= 1.0)) {
+    *error = yaml_path + ": need 0 <= free_thresh < occupied_thresh <= 1";
+    return false;
+  }
+  if (mode != "trinary" && mode != "scale") {
+    *error = yaml_path + ": 'mode' must be trinary or scale, got '" + mode + "'";
+    return false;
+  }
+  const std::string image_path = (!image.empty() && image[0] == '/') ? image : directoryOf(yaml_path) + "/" + image;
+  const cv::Mat img = cv::imread(image_path, cv::IMREAD_GRAYSCALE);
+  if (img.empty()) {
+    *error = yaml_path + ": cannot read image '" + image_path + "'";
+    return false;
+  }
+  *map = OccupancyMap(img.cols, img.rows, resolution, Pose2D(origin[0], origin[1], origin[2]));
+  for (int r = 0; r < img.rows; ++r) {
+    for (int c = 0; c < img.cols; ++c) {
+      const double pixel = img.at<std::uint8_t>(r, c);
+      const double occ = negate ? pixel / 255.0 : (255.0 - pixel) / 255.0;
+      std::int8_t value = OccupancyMap::kUnknown;
+      if (occ > occupied_thresh) {
+        value = OccupancyMap::kOccupied;
+      } else if (occ < free_thresh) {
+        value = OccupancyMap::kFree;
+      } else if (mode == "scale") {
+        value = static_cast<std::int8_t>(std::lround(99.0 * (occ - free_thresh) / (occupied_thresh - free_thresh)));
+      }
+      map->at(c, img.rows - 1 - r) = value;  // image row 0 is the top of the map
+    }
+  }
+  return true;
+}
+
+bool saveMapYaml(const OccupancyMap& map, const std::string& yaml_path, std::string* error) {
+  std::string stem = yaml_path;
+  if (stem.size() > 5 && stem.substr(stem.size() - 5) == ".yaml") stem.resize(stem.size() - 5);
+  const std::string pgm_path = stem + ".pgm";
+  cv::Mat img(map.height, map.width, CV_8UC1);
+  for (int r = 0; r < map.height; ++r) {
+    for (int c = 0; c < map.width; ++c) {
+      const std::int8_t v = map.at(c, map.height - 1 - r);
+      img.at<std::uint8_t>(r, c) = v < 0 ? 205 : (v >= 65 ? 0 : (v <= 19 ? 254 : 205));
+    }
+  }
+  if (!cv::imwrite(pgm_path, img)) {
+    *error = "cannot write " + pgm_path;
+    return false;
+  }
+  std::ofstream out(yaml_path);
+  if (!out) {
+    *error = "cannot write " + yaml_path;
+    return false;
+  }
+  out.precision(10);
+  out << "image: " << baseName(pgm_path) << "\nresolution: " << map.resolution << "\norigin: [" << map.origin.x << ", "
+      << map.origin.y << ", " << map.origin.yaw << "]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n";
+  return static_cast<bool>(out);
+}
+
+}  // namespace greenhouse_rail_nav

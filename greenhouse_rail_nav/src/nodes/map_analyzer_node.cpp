@@ -1,0 +1,214 @@
+// map_analyzer: finds the rail sets in a headland map (paper §V-B) and publishes target poses, the
+// headland edge, the keep-out grid (virtual wall) and markers. Thin shell around analyzeMap().
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <geometry_msgs/PolygonStamped.h>
+#include <ros/ros.h>
+#include <std_msgs/String.h>
+
+#include "greenhouse_rail_nav/keep_out_grid.h"
+#include "greenhouse_rail_nav/map_analyzer.h"
+#include "greenhouse_rail_nav/map_file.h"
+#include "greenhouse_rail_nav/rail_set_file.h"
+#include "map_messages.h"
+#include "param_reader.h"
+
+namespace greenhouse_rail_nav {
+namespace {
+
+struct NodeSettings {
+  std::string map_file;     // empty: take the map from the `map` topic
+  std::string output_file;  // empty: write no file
+  std::string frame_id = "map";
+  MapAnalyzerParams analysis;
+};
+
+bool loadSettings(const ros::NodeHandle& pnh, NodeSettings* s, std::string* error) {
+  ParamReader r(pnh);
+  r.read("map_file", &s->map_file);
+  r.read("output_file", &s->output_file);
+  r.read("frame_id", &s->frame_id);
+  auto& a = s->analysis;
+  r.read("rail_set_spacing_m", &a.rail_set_spacing_m);
+  r.read("rail_gauge_m", &a.rail_gauge_m);
+  r.read("target_x_m", &a.target_in_rail.x);
+  r.read("target_y_m", &a.target_in_rail.y);
+  r.read("target_yaw_rad", &a.target_in_rail.yaw);
+  r.read("cluster_link_radius_m", &a.cluster_link_radius_m);
+  r.read("min_cluster_cells", &a.min_cluster_cells);
+  r.read("min_linearity", &a.lines.min_linearity);
+  r.read("min_line_length_m", &a.lines.min_length_m);
+  r.read("split_inlier_m", &a.lines.split_inlier_m);
+  r.read("max_gap_m", &a.lines.max_gap_m);
+  r.read("merge_angle_rad", &a.lines.merge_angle_rad);
+  r.read("merge_offset_m", &a.lines.merge_offset_m);
+  r.read("perpendicular_tolerance_rad", &a.perpendicular_tolerance_rad);
+  r.read("min_headland_depth_m", &a.min_headland_depth_m);
+  r.read("edge_tolerance_m", &a.edge_tolerance_m);
+  r.read("spacing_tolerance", &a.spacing_tolerance);
+  r.read("keep_out_margin_m", &a.keep_out_margin_m);
+  r.fail(a.validate());
+  if (s->frame_id.empty()) r.fail("frame_id must not be empty");
+  *error = r.error();
+  return error->empty();
+}
+
+class MapAnalyzerNode {
+ public:
+  MapAnalyzerNode(ros::NodeHandle& nh, ros::NodeHandle& pnh, const NodeSettings& settings)
+      : settings_(settings), updater_(nh, pnh) {
+    targets_pub_ = nh.advertise<geometry_msgs::PoseArray>("rail_targets", 1, true);
+    frames_pub_ = nh.advertise<geometry_msgs::PoseArray>("rail_frames", 1, true);
+    edge_pub_ = nh.advertise<geometry_msgs::PolygonStamped>("headland_edge", 1, true);
+    keep_out_pub_ = nh.advertise<nav_msgs::OccupancyGrid>("keep_out_map", 1, true);
+    markers_pub_ = pnh.advertise<visualization_msgs::MarkerArray>("markers", 1, true);
+    status_pub_ = pnh.advertise<std_msgs::String>("status", 1, true);
+    updater_.setHardwareID("map_analyzer");
+    updater_.add("map analysis", this, &MapAnalyzerNode::diagnose);
+    diag_timer_ = nh.createTimer(ros::Duration(1.0), [this](const ros::TimerEvent&) { updater_.update(); });
+  }
+
+  void subscribe(ros::NodeHandle& nh) { map_sub_ = nh.subscribe("map", 1, &MapAnalyzerNode::onMap, this); }
+
+  void onMap(const nav_msgs::OccupancyGrid::ConstPtr& msg) {
+    if (static_cast<std::uint64_t>(msg->info.width) * msg->info.height != msg->data.size() ||
+        !(msg->info.resolution > 0.0f) || !std::isfinite(msg->info.resolution)) {
+      ++rejected_maps_;
+      std_msgs::String s;
+      s.data = "rejected: map with width x height != data size or resolution <= 0";
+      ROS_ERROR_STREAM("map_analyzer: " << s.data);
+      status_pub_.publish(s);
+      return;
+    }
+    analyze(fromMessage(*msg), msg->header.frame_id.empty() ? settings_.frame_id : msg->header.frame_id);
+  }
+
+  void analyze(const OccupancyMap& map, const std::string& frame_id) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const MapAnalysis analysis = analyzeMap(map, settings_.analysis);
+    last_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    ++analyses_;
+    ok_ = analysis.ok;
+    sets_ = analysis.rail_sets.size();
+    warnings_ = analysis.warnings.size();
+    last_message_ = analysis.message;
+    const ros::Time stamp = ros::Time::now();
+    geometry_msgs::PoseArray targets, frames;
+    targets.header.frame_id = frames.header.frame_id = frame_id;
+    targets.header.stamp = frames.header.stamp = stamp;
+    for (const auto& set : analysis.rail_sets) {  // empty when nothing usable was found: no invented poses
+      targets.poses.push_back(toPoseMessage(set.target_pose));
+      frames.poses.push_back(toPoseMessage(set.rail_frame));
+    }
+    markers_pub_.publish(analysisMarkers(analysis, settings_.analysis.rail_gauge_m, frame_id, stamp));
+    if (analysis.ok) {
+      ROS_INFO_STREAM("map_analyzer: " << analysis.message);
+      for (const auto& w : analysis.warnings) ROS_WARN_STREAM("map_analyzer: " << w);
+      geometry_msgs::PolygonStamped edge;
+      edge.header = targets.header;
+      for (const auto& p : {analysis.edge_start, analysis.edge_end}) {
+        geometry_msgs::Point32 q;
+        q.x = static_cast<float>(p.x());
+        q.y = static_cast<float>(p.y());
+        edge.polygon.points.push_back(q);
+      }
+      edge_pub_.publish(edge);
+      keep_out_pub_.publish(toMessage(makeKeepOutGrid(map, analysis.edge_start, analysis.edge_end, analysis.into_rows,
+                                                      settings_.analysis.keep_out_margin_m),
+                                      frame_id, stamp));
+      writeFile(analysis, frame_id);
+    } else {
+      ROS_ERROR_STREAM("map_analyzer: no rail sets: " << analysis.message);
+    }
+    frames_pub_.publish(frames);
+    targets_pub_.publish(targets);
+    publishStatus();
+    updater_.force_update();
+  }
+
+ private:
+  void writeFile(const MapAnalysis& analysis, const std::string& frame_id) {
+    if (settings_.output_file.empty()) return;
+    RailSetFile file;
+    file.frame_id = frame_id;
+    file.rail_sets = analysis.rail_sets;
+    file.edge_start = analysis.edge_start;
+    file.edge_end = analysis.edge_end;
+    file.into_rows = analysis.into_rows;
+    std::string error;
+    file_error_.clear();
+    if (!saveRailSetFile(file, settings_.output_file, &error)) {
+      file_error_ = error;
+      ROS_ERROR_STREAM("map_analyzer: " << error);
+    } else {
+      ROS_INFO_STREAM("map_analyzer: wrote " << analysis.rail_sets.size() << " rail sets to " << settings_.output_file);
+    }
+  }
+
+  void publishStatus() {
+    std_msgs::String s;
+    s.data = (ok_ ? "ok: " : "failed: ") + last_message_;
+    status_pub_.publish(s);
+  }
+
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+    using diagnostic_msgs::DiagnosticStatus;
+    if (analyses_ == 0) {
+      stat.summary(DiagnosticStatus::WARN, "waiting for a map");
+    } else if (!ok_) {
+      stat.summary(DiagnosticStatus::ERROR, last_message_);
+    } else if (!file_error_.empty()) {
+      stat.summary(DiagnosticStatus::ERROR, file_error_);
+    } else {
+      stat.summary(warnings_ ? DiagnosticStatus::WARN : DiagnosticStatus::OK, last_message_);
+    }
+    stat.add("analyses", analyses_);
+    stat.add("rejected maps", rejected_maps_);
+    stat.add("rail sets", sets_);
+    stat.add("warnings", warnings_);
+    stat.add("analysis time [ms]", last_ms_);
+    stat.add("output file", settings_.output_file);
+  }
+
+  NodeSettings settings_;
+  diagnostic_updater::Updater updater_;
+  ros::Publisher targets_pub_, frames_pub_, edge_pub_, keep_out_pub_, markers_pub_, status_pub_;
+  ros::Subscriber map_sub_;
+  ros::Timer diag_timer_;
+  std::size_t analyses_ = 0, rejected_maps_ = 0, sets_ = 0, warnings_ = 0;
+  bool ok_ = false;
+  double last_ms_ = 0.0;
+  std::string last_message_, file_error_;
+};
+
+}  // namespace
+}  // namespace greenhouse_rail_nav
+
+int main(int argc, char** argv) {
+  using namespace greenhouse_rail_nav;
+  ros::init(argc, argv, "map_analyzer");
+  ros::NodeHandle nh, pnh("~");
+  NodeSettings settings;
+  std::string error;
+  if (!loadSettings(pnh, &settings, &error)) {
+    ROS_FATAL_STREAM("map_analyzer: cannot start: " << error);
+    return 1;
+  }
+  MapAnalyzerNode node(nh, pnh, settings);
+  if (!settings.map_file.empty()) {
+    OccupancyMap map;
+    if (!loadMapYaml(settings.map_file, &map, &error)) {
+      ROS_FATAL_STREAM("map_analyzer: cannot start: " << error);
+      return 1;
+    }
+    node.analyze(map, settings.frame_id);
+  } else {
+    node.subscribe(nh);
+  }
+  ros::spin();
+  return 0;
+}

@@ -1,0 +1,328 @@
+// rail_detector: estimates base_link's pose in the rail frame from the depth camera (paper Algorithm 1),
+// gates inconsistent estimates, and calibrates the camera mount on request (paper §V-C).
+#include <chrono>
+#include <cmath>
+#include <optional>
+
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <geometry_msgs/PoseWithCovarianceStamped.h>
+#include <ros/ros.h>
+#include <std_srvs/Trigger.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include "cloud_messages.h"
+#include "greenhouse_rail_nav/RailDetectionStatus.h"
+#include "greenhouse_rail_nav/mount_calibration.h"
+#include "greenhouse_rail_nav/rail_detector.h"
+#include "greenhouse_rail_nav/rail_pose_gate.h"
+#include "param_reader.h"
+
+namespace greenhouse_rail_nav {
+namespace {
+
+struct NodeSettings {
+  std::string base_frame = "base_link";
+  std::string rail_frame = "rail";      ///< frame_id of the published pose (base_link in the rail frame)
+  std::string fit_method = "clusters";  ///< clusters (the paper) or ransac (the baseline)
+  double tf_timeout_s = 0.05;
+  std::string calibration_file;  ///< where the mount correction is kept; empty: not persisted
+  double calibration_max_y_m = 0.10, calibration_max_yaw_rad = 0.10, calibration_max_age_s = 1.0;
+  RailDetectorParams detector;
+  RailPoseGateParams gate;
+};
+
+bool loadSettings(const ros::NodeHandle& pnh, NodeSettings* s, std::string* error) {
+  ParamReader r(pnh);
+  r.read("base_frame", &s->base_frame);
+  r.read("rail_frame", &s->rail_frame);
+  r.read("fit_method", &s->fit_method);
+  r.read("tf_timeout_s", &s->tf_timeout_s);
+  r.read("calibration_file", &s->calibration_file);
+  r.read("calibration_max_y_m", &s->calibration_max_y_m);
+  r.read("calibration_max_yaw_rad", &s->calibration_max_yaw_rad);
+  r.read("calibration_max_age_s", &s->calibration_max_age_s);
+  auto& d = s->detector;
+  r.read("rail_gauge_m", &d.rail_gauge_m);
+  r.read("gauge_tolerance_m", &d.gauge_tolerance_m);
+  r.read("crop_z_min_m", &d.crop_z_min_m);
+  r.read("crop_z_max_m", &d.crop_z_max_m);
+  r.read("crop_x_min_m", &d.crop_x_min_m);
+  r.read("crop_x_max_m", &d.crop_x_max_m);
+  r.read("crop_y_max_m", &d.crop_y_max_m);
+  r.read("voxel_size_m", &d.voxel_size_m);
+  r.read("cluster_tolerance_m", &d.cluster_tolerance_m);
+  r.read("min_cluster_points", &d.min_cluster_points);
+  r.read("max_cluster_points", &d.max_cluster_points);
+  r.read("min_line_length_m", &d.min_line_length_m);
+  r.read("min_linearity", &d.min_linearity);
+  r.read("rail_trim_m", &d.rail_trim_m);
+  r.read("height_tolerance_m", &d.height_tolerance_m);
+  r.read("min_partner_coverage", &d.min_partner_coverage);
+  r.read("parallel_tolerance_rad", &d.parallel_tolerance_rad);
+  r.read("max_abs_yaw_rad", &d.max_abs_yaw_rad);
+  r.read("max_lateral_offset_m", &d.max_lateral_offset_m);
+  r.read("ransac_distance_m", &d.ransac_distance_m);
+  r.read("ransac_max_lines", &d.ransac_max_lines);
+  r.read("ransac_iterations", &d.ransac_iterations);
+  r.read("sigma_x_m", &d.sigma_x_m);
+  r.read("sigma_y_m", &d.sigma_y_m);
+  r.read("sigma_yaw_rad", &d.sigma_yaw_rad);
+  r.read("gate_max_step_xy_m", &s->gate.max_step_xy_m);
+  r.read("gate_max_step_yaw_rad", &s->gate.max_step_yaw_rad);
+  r.read("gate_frames_to_accept_jump", &s->gate.frames_to_accept_jump);
+  r.read("gate_reset_after_s", &s->gate.reset_after_s);
+  r.fail(d.validate());
+  r.fail(s->gate.validate());
+  if (s->fit_method != "clusters" && s->fit_method != "ransac") r.fail("fit_method must be 'clusters' or 'ransac'");
+  if (!(s->tf_timeout_s >= 0.0)) r.fail("tf_timeout_s must be >= 0 [s]");
+  if (!(s->calibration_max_y_m > 0.0) || !(s->calibration_max_yaw_rad > 0.0) || !(s->calibration_max_age_s > 0.0))
+    r.fail("calibration_max_y_m, calibration_max_yaw_rad and calibration_max_age_s must be > 0");
+  if (s->base_frame.empty() || s->rail_frame.empty()) r.fail("base_frame and rail_frame must not be empty");
+  *error = r.error();
+  return error->empty();
+}
+
+Eigen::Isometry3d toEigen(const geometry_msgs::Transform& t) {
+  Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
+  out.linear() = Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z).toRotationMatrix();
+  out.translation() = Eigen::Vector3d(t.translation.x, t.translation.y, t.translation.z);
+  return out;
+}
+
+class RailDetectorNode {
+ public:
+  RailDetectorNode(ros::NodeHandle& nh, ros::NodeHandle& pnh, const NodeSettings& settings)
+      : settings_(settings),
+        detector_(settings.detector),
+        gate_(settings.gate),
+        tf_listener_(tf_buffer_),
+        updater_(nh, pnh) {
+    loadCalibration();
+    pose_pub_ = nh.advertise<geometry_msgs::PoseWithCovarianceStamped>("rail_pose", 5);
+    status_pub_ = nh.advertise<greenhouse_rail_nav::RailDetectionStatus>("rail_detection", 5);
+    markers_pub_ = pnh.advertise<visualization_msgs::MarkerArray>("markers", 1);
+    calibrate_srv_ = pnh.advertiseService("calibrate_mount", &RailDetectorNode::onCalibrate, this);
+    cloud_sub_ = nh.subscribe("camera/depth/points", 1, &RailDetectorNode::onCloud, this);
+    updater_.setHardwareID("rail_detector");
+    updater_.add("rail detection", this, &RailDetectorNode::diagnose);
+    diag_timer_ = nh.createTimer(ros::Duration(1.0), [this](const ros::TimerEvent&) { updater_.update(); });
+  }
+
+ private:
+  void loadCalibration() {
+    if (settings_.calibration_file.empty()) return;
+    std::string error;
+    MountCorrection loaded;
+    if (loadMountCorrection(settings_.calibration_file, &loaded, &error)) {
+      correction_ = loaded;
+      ROS_INFO("rail_detector: mount correction y %.4f m, yaw %.4f rad from %s", loaded.y_m, loaded.yaw_rad,
+               settings_.calibration_file.c_str());
+    } else {
+      ROS_WARN_STREAM("rail_detector: no mount correction applied (" << error << ")");
+    }
+  }
+
+  void onCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
+    ++clouds_;
+    greenhouse_rail_nav::RailDetectionStatus status;
+    status.header = msg->header;
+    OrganisedCloud cloud;
+    std::string error;
+    if (!fromMessage(*msg, &cloud, &error)) {
+      finish(&status, greenhouse_rail_nav::RailDetectionStatus::BAD_INPUT, "malformed cloud: " + error);
+      return;
+    }
+    Eigen::Isometry3d camera_in_base;
+    try {
+      camera_in_base = toEigen(tf_buffer_
+                                   .lookupTransform(settings_.base_frame, msg->header.frame_id, msg->header.stamp,
+                                                    ros::Duration(settings_.tf_timeout_s))
+                                   .transform);
+    } catch (const tf2::TransformException& e) {
+      finish(&status, greenhouse_rail_nav::RailDetectionStatus::NO_TRANSFORM, std::string("no transform: ") + e.what());
+      return;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    const RailDetection d = detector_.detect(
+        cloud, camera_in_base, correction_.asTransform(),
+        settings_.fit_method == "ransac" ? RailFitMethod::kRansacBaseline : RailFitMethod::kClusterLines);
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    mean_ms_ = mean_ms_ == 0.0 ? ms : 0.95 * mean_ms_ + 0.05 * ms;
+    status.points_in_band = static_cast<std::uint32_t>(d.points_in_band);
+    status.clusters = static_cast<std::uint32_t>(d.clusters);
+    status.lines = static_cast<std::uint32_t>(d.lines);
+    if (d.status == RailDetection::Status::kBadInput) {
+      finish(&status, greenhouse_rail_nav::RailDetectionStatus::BAD_INPUT, d.reason);
+      return;
+    }
+    if (!d.found()) {
+      finish(&status, greenhouse_rail_nav::RailDetectionStatus::NOT_FOUND, d.reason);
+      return;
+    }
+    last_uncorrected_ = correction_.asTransform().inverse().compose(d.rail_in_base);
+    last_found_stamp_ = msg->header.stamp;
+    status.x = d.base_in_rail.x;
+    status.y = d.base_in_rail.y;
+    status.yaw = d.base_in_rail.yaw;
+    status.fit_score = d.fit_score;
+    publishMarkers(d, msg->header.stamp);
+    const auto verdict = gate_.update(d.base_in_rail, msg->header.stamp.toSec());
+    if (verdict == RailPoseGate::Verdict::kHeldBack) {
+      finish(&status, greenhouse_rail_nav::RailDetectionStatus::HELD_BACK,
+             "inconsistent with the previous estimate (" + std::to_string(gate_.heldBack()) + " held back)");
+      return;
+    }
+    geometry_msgs::PoseWithCovarianceStamped pose;
+    pose.header.stamp = msg->header.stamp;
+    pose.header.frame_id = settings_.rail_frame;
+    pose.pose.pose.position.x = d.base_in_rail.x;
+    pose.pose.pose.position.y = d.base_in_rail.y;
+    pose.pose.pose.orientation.z = std::sin(0.5 * d.base_in_rail.yaw);
+    pose.pose.pose.orientation.w = std::cos(0.5 * d.base_in_rail.yaw);
+    pose.pose.covariance.fill(0.0);
+    pose.pose.covariance[0] = d.variance[0];
+    pose.pose.covariance[7] = d.variance[1];
+    pose.pose.covariance[14] = pose.pose.covariance[21] = pose.pose.covariance[28] = 1e3;  // z, roll, pitch: not seen
+    pose.pose.covariance[35] = d.variance[2];
+    pose_pub_.publish(pose);
+    finish(&status, greenhouse_rail_nav::RailDetectionStatus::FOUND,
+           d.reason + (verdict == RailPoseGate::Verdict::kAcceptedJump ? " (jump accepted)" : ""));
+  }
+
+  void finish(greenhouse_rail_nav::RailDetectionStatus* status, std::uint8_t code, const std::string& reason) {
+    status->status = code;
+    status->reason = reason;
+    ++counts_[code];
+    last_code_ = code;
+    last_reason_ = reason;
+    status_pub_.publish(*status);
+  }
+
+  void publishMarkers(const RailDetection& d, const ros::Time& stamp) {
+    using visualization_msgs::Marker;
+    visualization_msgs::MarkerArray array;
+    Marker rails;
+    rails.header.frame_id = settings_.base_frame;
+    rails.header.stamp = stamp;
+    rails.ns = "rails";
+    rails.type = Marker::LINE_LIST;
+    rails.pose.orientation.w = 1.0;
+    rails.scale.x = 0.03;
+    rails.color.g = 1.0f;
+    rails.color.a = 1.0f;
+    for (const auto& rail : d.rails) {
+      for (const double s : {rail.near_end, rail.fit.s_max}) {
+        geometry_msgs::Point p;
+        const Eigen::Vector2d q = rail.fit.centroid + s * rail.fit.direction;
+        p.x = q.x();
+        p.y = q.y();
+        p.z = 0.05;
+        rails.points.push_back(p);
+      }
+    }
+    Marker frame = rails;
+    frame.ns = "rail_frame";
+    frame.type = Marker::ARROW;
+    frame.points.clear();
+    frame.scale.x = 0.5;
+    frame.scale.y = frame.scale.z = 0.05;
+    frame.color.r = 1.0f;
+    frame.color.g = 0.0f;
+    frame.pose.position.x = d.rail_in_base.x;
+    frame.pose.position.y = d.rail_in_base.y;
+    frame.pose.orientation.z = std::sin(0.5 * d.rail_in_base.yaw);
+    frame.pose.orientation.w = std::cos(0.5 * d.rail_in_base.yaw);
+    array.markers = {rails, frame};
+    markers_pub_.publish(array);
+  }
+
+  bool onCalibrate(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
+    if (!last_uncorrected_ || (ros::Time::now() - last_found_stamp_).toSec() > settings_.calibration_max_age_s) {
+      res.success = false;
+      res.message = "no rails seen in the last " + std::to_string(settings_.calibration_max_age_s) +
+                    " s: place the robot on the rails, facing along them, in view of the rails";
+      return true;
+    }
+    MountCorrection correction;
+    std::string error;
+    if (!computeMountCorrection(*last_uncorrected_, settings_.calibration_max_y_m, settings_.calibration_max_yaw_rad,
+                                &correction, &error)) {
+      res.success = false;
+      res.message = error;
+      return true;
+    }
+    if (!settings_.calibration_file.empty() && !saveMountCorrection(correction, settings_.calibration_file, &error)) {
+      res.success = false;
+      res.message = error + " (correction not applied)";
+      return true;
+    }
+    correction_ = correction;
+    gate_.reset();
+    res.success = true;
+    res.message = "mount correction y " + std::to_string(correction.y_m) + " m, yaw " +
+                  std::to_string(correction.yaw_rad) + " rad" +
+                  (settings_.calibration_file.empty() ? " (not persisted: calibration_file is empty)"
+                                                      : ", saved to " + settings_.calibration_file);
+    ROS_INFO_STREAM("rail_detector: " << res.message);
+    return true;
+  }
+
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+    using diagnostic_msgs::DiagnosticStatus;
+    using Msg = greenhouse_rail_nav::RailDetectionStatus;
+    if (clouds_ == 0) {
+      stat.summary(DiagnosticStatus::WARN, "no cloud received on camera/depth/points");
+    } else if (last_code_ == Msg::FOUND) {
+      stat.summary(DiagnosticStatus::OK, last_reason_);
+    } else {
+      stat.summary(last_code_ == Msg::NO_TRANSFORM ? DiagnosticStatus::ERROR : DiagnosticStatus::WARN, last_reason_);
+    }
+    stat.add("clouds", clouds_);
+    stat.add("found", counts_[Msg::FOUND]);
+    stat.add("held back", counts_[Msg::HELD_BACK]);
+    stat.add("not found", counts_[Msg::NOT_FOUND]);
+    stat.add("bad input", counts_[Msg::BAD_INPUT]);
+    stat.add("no transform", counts_[Msg::NO_TRANSFORM]);
+    stat.add("mean detection time [ms]", mean_ms_);
+    stat.add("mount correction y [m]", correction_.y_m);
+    stat.add("mount correction yaw [rad]", correction_.yaw_rad);
+  }
+
+  NodeSettings settings_;
+  RailDetector detector_;
+  RailPoseGate gate_;
+  MountCorrection correction_;
+  std::optional<Pose2D> last_uncorrected_;
+  ros::Time last_found_stamp_;
+  tf2_ros::Buffer tf_buffer_;
+  tf2_ros::TransformListener tf_listener_;
+  diagnostic_updater::Updater updater_;
+  ros::Publisher pose_pub_, status_pub_, markers_pub_;
+  ros::Subscriber cloud_sub_;
+  ros::ServiceServer calibrate_srv_;
+  ros::Timer diag_timer_;
+  std::size_t clouds_ = 0;
+  std::size_t counts_[5] = {0, 0, 0, 0, 0};
+  std::uint8_t last_code_ = 0;
+  double mean_ms_ = 0.0;
+  std::string last_reason_;
+};
+
+}  // namespace
+}  // namespace greenhouse_rail_nav
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "rail_detector");
+  ros::NodeHandle nh, pnh("~");
+  greenhouse_rail_nav::NodeSettings settings;
+  std::string error;
+  if (!greenhouse_rail_nav::loadSettings(pnh, &settings, &error)) {
+    ROS_FATAL_STREAM("rail_detector: cannot start: " << error);
+    return 1;
+  }
+  greenhouse_rail_nav::RailDetectorNode node(nh, pnh, settings);
+  ros::spin();
+  return 0;
+}

@@ -1,0 +1,130 @@
+#include "greenhouse_rail_nav/synthetic_greenhouse_map.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+namespace greenhouse_rail_nav {
+namespace {
+
+/// Paints cells whose centre lies in a layout-frame rectangle [x0, x1] x [y0, y1].
+class LayoutPainter {
+ public:
+  LayoutPainter(OccupancyMap* map, const Pose2D& layout_in_map)
+      : map_(map), to_map_(layout_in_map), to_layout_(layout_in_map.inverse()) {}
+
+  void rect(double x0, double x1, double y0, double y1, std::int8_t value) {
+    double min_c = 1e18, max_c = -1e18, min_r = 1e18, max_r = -1e18;
+    const Pose2D grid_to_layout = map_->origin.inverse();
+    for (const auto& corner :
+         {Eigen::Vector2d(x0, y0), Eigen::Vector2d(x1, y0), Eigen::Vector2d(x0, y1), Eigen::Vector2d(x1, y1)}) {
+      const Eigen::Vector2d g = grid_to_layout.transformPoint(to_map_.transformPoint(corner)) / map_->resolution;
+      min_c = std::min(min_c, g.x());
+      max_c = std::max(max_c, g.x());
+      min_r = std::min(min_r, g.y());
+      max_r = std::max(max_r, g.y());
+    }
+    const int c0 = std::max(0, static_cast<int>(std::floor(min_c)) - 1);
+    const int c1 = std::min(map_->width - 1, static_cast<int>(std::ceil(max_c)) + 1);
+    const int r0 = std::max(0, static_cast<int>(std::floor(min_r)) - 1);
+    const int r1 = std::min(map_->height - 1, static_cast<int>(std::ceil(max_r)) + 1);
+    for (int r = r0; r <= r1; ++r) {
+      for (int c = c0; c <= c1; ++c) {
+        const Eigen::Vector2d p = to_layout_.transformPoint(map_->cellCentre(c, r));
+        if (p.x() >= x0 && p.x() <= x1 && p.y() >= y0 && p.y() <= y1) map_->at(c, r) = value;
+      }
+    }
+  }
+
+ private:
+  OccupancyMap* map_;
+  Pose2D to_map_, to_layout_;
+};
+
+}  // namespace
+
+SyntheticGreenhouseMap makeGreenhouseMap(const GreenhouseLayout& layout) {
+  std::mt19937 rng(layout.seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const double width = layout.rail_sets * layout.spacing_m;
+  const double t = layout.wall_thickness_m;
+  const double depth = layout.headland_depth_m + layout.visible_row_depth_m;
+
+  // Grid: axis-aligned bounding box of the rotated greenhouse plus margin.
+  Eigen::Vector2d lo(1e18, 1e18), hi(-1e18, -1e18);
+  for (const auto& corner : {Eigen::Vector2d(-t, -t), Eigen::Vector2d(width + t, -t), Eigen::Vector2d(-t, depth),
+                             Eigen::Vector2d(width + t, depth)}) {
+    const Eigen::Vector2d p = layout.layout_in_map.transformPoint(corner);
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  lo.array() -= layout.map_margin_m;
+  hi.array() += layout.map_margin_m;
+  const double res = layout.resolution_m;
+  SyntheticGreenhouseMap out;
+  out.map = OccupancyMap(static_cast<int>(std::ceil((hi.x() - lo.x()) / res)),
+                         static_cast<int>(std::ceil((hi.y() - lo.y()) / res)), res, Pose2D(lo.x(), lo.y(), 0.0));
+  LayoutPainter paint(&out.map, layout.layout_in_map);
+  const std::int8_t occ = OccupancyMap::kOccupied, free = OccupancyMap::kFree;
+
+  // Free floor seen by the laser: the headland and the first metres of the paths between rows.
+  paint.rect(0.0, width, 0.0, depth, free);
+  // Walls.
+  paint.rect(-t, width + t, -t, 0.0, occ);
+  if (layout.side_walls) {
+    paint.rect(-t, 0.0, -t, depth, occ);
+    paint.rect(width, width + t, -t, depth, occ);
+  }
+  // Rows: ventilation lines are thin and solid, rows of plants are dotted (pots and stems) and wider.
+  for (int j = 1; j < layout.rail_sets; ++j) {
+    const bool drawn = layout.visible_rows.empty() ? unit(rng) < layout.row_probability
+                                                   : std::find(layout.visible_rows.begin(), layout.visible_rows.end(),
+                                                               j) != layout.visible_rows.end();
+    if (!drawn) continue;
+    out.rows_drawn.push_back(j);
+    const double x = j * layout.spacing_m;
+    const double y0 = layout.headland_depth_m + layout.row_start_jitter_m * (2.0 * unit(rng) - 1.0);
+    const double y_end = depth;
+    const bool has_gap = unit(rng) < layout.gap_probability;
+    const double gap0 = y0 + 1.0 + unit(rng) * std::max(0.0, y_end - y0 - 2.5), gap1 = gap0 + 0.5 + 0.5 * unit(rng);
+    if (unit(rng) < layout.ventilation_fraction) {
+      const double half = 0.5 * res;
+      if (has_gap) {
+        paint.rect(x - half, x + half, y0, gap0, occ);
+        paint.rect(x - half, x + half, gap1, y_end, occ);
+      } else {
+        paint.rect(x - half, x + half, y0, y_end, occ);
+      }
+    } else {
+      for (double y = y0; y < y_end; y += 0.25) {
+        if (has_gap && y > gap0 && y < gap1) continue;
+        const double half = 0.06 + 0.06 * unit(rng);
+        const double dx = 0.04 * (2.0 * unit(rng) - 1.0);
+        paint.rect(x + dx - half, x + dx + half, y, std::min(y_end, y + 0.15), occ);
+      }
+    }
+  }
+  // Clutter on the headland: boxes and trolleys, kept off the row starts.
+  for (int k = 0; k < layout.clutter_objects; ++k) {
+    const double sx = 0.3 + 0.7 * unit(rng), sy = 0.3 + 0.4 * unit(rng);
+    const double cx = sx + unit(rng) * std::max(0.0, width - 2.0 * sx);
+    const double cy = 0.3 + unit(rng) * std::max(0.0, layout.headland_depth_m - 1.2 - sy);
+    paint.rect(cx - sx / 2, cx + sx / 2, cy, cy + sy, occ);
+  }
+  // Speckle noise on the headland floor.
+  const int speckles = static_cast<int>(layout.speckle_per_m2 * width * layout.headland_depth_m);
+  for (int k = 0; k < speckles; ++k) {
+    const double x = unit(rng) * width, y = unit(rng) * layout.headland_depth_m;
+    paint.rect(x - 0.5 * res, x + 0.5 * res, y - 0.5 * res, y + 0.5 * res, occ);
+  }
+  for (int i = 0; i < layout.rail_sets; ++i) {
+    const Eigen::Vector2d o =
+        layout.layout_in_map.transformPoint({(i + 0.5) * layout.spacing_m, layout.headland_depth_m});
+    out.rail_frames.emplace_back(o.x(), o.y(), normalizeAngle(layout.layout_in_map.yaw + M_PI / 2));
+  }
+  out.edge_start = layout.layout_in_map.transformPoint({0.0, layout.headland_depth_m});
+  out.edge_end = layout.layout_in_map.transformPoint({width, layout.headland_depth_m});
+  return out;
+}
+
+}  // namespace greenhouse_rail_nav

@@ -1,0 +1,112 @@
+#include <cstdio>
+#include <fstream>
+
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include "greenhouse_rail_nav/map_file.h"
+#include "greenhouse_rail_nav/synthetic_greenhouse_map.h"
+
+using namespace greenhouse_rail_nav;
+
+namespace {
+
+std::string tempPath(const std::string& name) {
+  return ::testing::TempDir() + "/greenhouse_rail_nav_" + std::to_string(::getpid()) + "_" + name;
+}
+
+// A 3x2 binary PGM: top row 0 (black), 254 (white), 205 (grey); bottom row 254, 100, 0.
+void writePgm(const std::string& path) {
+  std::ofstream out(path, std::ios::binary);
+  out << "P5\n3 2\n255\n";
+  const unsigned char pixels[6] = {0, 254, 205, 254, 100, 0};
+  out.write(reinterpret_cast<const char*>(pixels), 6);
+}
+
+void writeYaml(const std::string& path, const std::string& image, int negate, const std::string& extra = "") {
+  std::ofstream out(path);
+  out << "image: " << image << "\nresolution: 0.05\norigin: [-1.0, 2.0, 0.0]\nnegate: " << negate
+      << "\noccupied_thresh: 0.65\nfree_thresh: 0.196\n"
+      << extra;
+}
+
+}  // namespace
+
+TEST(MapFile, ReadsTrinaryMapLikeMapServer) {
+  const std::string pgm = tempPath("a.pgm"), yaml = tempPath("a.yaml");
+  writePgm(pgm);
+  writeYaml(yaml, pgm.substr(pgm.find_last_of('/') + 1), 0);
+  OccupancyMap map;
+  std::string error;
+  ASSERT_TRUE(loadMapYaml(yaml, &map, &error)) << error;
+  ASSERT_EQ(map.width, 3);
+  ASSERT_EQ(map.height, 2);
+  EXPECT_DOUBLE_EQ(map.resolution, 0.05);
+  EXPECT_DOUBLE_EQ(map.origin.x, -1.0);
+  EXPECT_DOUBLE_EQ(map.origin.y, 2.0);
+  // Image row 0 is the map's top row (grid row 1). occ = (255 - p) / 255.
+  EXPECT_EQ(map.at(0, 1), OccupancyMap::kOccupied);  // p 0: occ 1.0
+  EXPECT_EQ(map.at(1, 1), OccupancyMap::kFree);      // p 254: occ 0.004
+  EXPECT_EQ(map.at(2, 1), OccupancyMap::kUnknown);   // p 205: occ 0.196, not < free_thresh
+  EXPECT_EQ(map.at(0, 0), OccupancyMap::kFree);
+  EXPECT_EQ(map.at(1, 0), OccupancyMap::kUnknown);  // p 100: occ 0.61
+  EXPECT_EQ(map.at(2, 0), OccupancyMap::kOccupied);
+  EXPECT_TRUE(map.cellCentre(0, 0).isApprox(Eigen::Vector2d(-0.975, 2.025)));
+  std::remove(pgm.c_str());
+  std::remove(yaml.c_str());
+}
+
+TEST(MapFile, NegateSwapsFreeAndOccupied) {
+  const std::string pgm = tempPath("b.pgm"), yaml = tempPath("b.yaml");
+  writePgm(pgm);
+  writeYaml(yaml, pgm, 1);  // absolute image path
+  OccupancyMap map;
+  std::string error;
+  ASSERT_TRUE(loadMapYaml(yaml, &map, &error)) << error;
+  EXPECT_EQ(map.at(0, 1), OccupancyMap::kFree);
+  EXPECT_EQ(map.at(1, 1), OccupancyMap::kOccupied);
+  std::remove(pgm.c_str());
+  std::remove(yaml.c_str());
+}
+
+TEST(MapFile, ErrorsNameTheProblem) {
+  OccupancyMap map;
+  std::string error;
+  EXPECT_FALSE(loadMapYaml(tempPath("missing.yaml"), &map, &error));
+  EXPECT_NE(error.find("missing.yaml"), std::string::npos);
+
+  const std::string yaml = tempPath("c.yaml");
+  {
+    std::ofstream out(yaml);
+    out << "image: x.pgm\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n";
+  }
+  EXPECT_FALSE(loadMapYaml(yaml, &map, &error));
+  EXPECT_NE(error.find("'resolution'"), std::string::npos) << error;
+
+  writeYaml(yaml, "does_not_exist.pgm", 0);
+  EXPECT_FALSE(loadMapYaml(yaml, &map, &error));
+  EXPECT_NE(error.find("cannot read image"), std::string::npos) << error;
+
+  writeYaml(yaml, "x.pgm", 0, "mode: raw\n");
+  EXPECT_FALSE(loadMapYaml(yaml, &map, &error));
+  EXPECT_NE(error.find("'mode'"), std::string::npos) << error;
+  std::remove(yaml.c_str());
+}
+
+TEST(MapFile, SaveThenLoadGivesTheSameCells) {
+  GreenhouseLayout layout;
+  layout.rail_sets = 4;
+  const OccupancyMap original = makeGreenhouseMap(layout).map;
+  const std::string yaml = tempPath("d.yaml");
+  std::string error;
+  ASSERT_TRUE(saveMapYaml(original, yaml, &error)) << error;
+  OccupancyMap loaded;
+  ASSERT_TRUE(loadMapYaml(yaml, &loaded, &error)) << error;
+  ASSERT_EQ(loaded.width, original.width);
+  ASSERT_EQ(loaded.height, original.height);
+  EXPECT_NEAR(loaded.origin.x, original.origin.x, 1e-6);
+  EXPECT_EQ(loaded.cells, original.cells);
+  std::remove(yaml.c_str());
+  std::remove((yaml.substr(0, yaml.size() - 5) + ".pgm").c_str());
+}

@@ -1,0 +1,164 @@
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "greenhouse_rail_nav/mount_calibration.h"
+#include "greenhouse_rail_nav/rail_detector.h"
+#include "greenhouse_rail_nav/synthetic_depth_cloud.h"
+
+using namespace greenhouse_rail_nav;
+
+namespace {
+
+// Tolerances against the synthetic truth: the paper's wheels tolerate +-3 cm sideways, so y within
+// 3 cm and yaw within 0.02 rad; x (the rails' start) within 0.15 m.
+constexpr double kTolY = 0.03, kTolYaw = 0.02, kTolX = 0.15;
+
+void expectNear(const Pose2D& truth, const RailDetection& d) {
+  ASSERT_TRUE(d.found()) << d.reason;
+  EXPECT_NEAR(d.base_in_rail.x, truth.x, kTolX);
+  EXPECT_NEAR(d.base_in_rail.y, truth.y, kTolY);
+  EXPECT_NEAR(normalizeAngle(d.base_in_rail.yaw - truth.yaw), 0.0, kTolYaw);
+}
+
+}  // namespace
+
+TEST(RailDetector, FindsTheRailsAtPosesLikeTableI) {
+  const RailDetector detector{RailDetectorParams()};
+  DepthSceneParams scene;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  for (int i = 0; i < 8; ++i) {
+    const Pose2D truth(-0.71 + 0.1 * unit(rng), 0.09 * unit(rng), 0.045 * unit(rng));
+    scene.seed = 40 + static_cast<std::uint32_t>(i);
+    SCOPED_TRACE(i);
+    const RailDetection d = detector.detect(renderDepthCloud(scene, truth), scene.camera_in_base);
+    expectNear(truth, d);
+    EXPECT_NEAR(d.gauge_m, scene.rail_gauge_m, 0.03);
+    EXPECT_GT(d.fit_score, 0.97);
+    EXPECT_EQ(d.rails.size(), 2u);
+    // Covariance is at least the configured floors.
+    EXPECT_GE(d.variance[1], 0.02 * 0.02);
+  }
+}
+
+TEST(RailDetector, OffsetRobotFindsItsOwnSetNotTheNeighbour) {
+  const RailDetector detector{RailDetectorParams()};
+  DepthSceneParams scene;
+  for (const double y : {-0.3, 0.3}) {
+    const Pose2D truth(-0.9, y, -0.6 * y);  // turned towards the rails
+    SCOPED_TRACE(y);
+    expectNear(truth, detector.detect(renderDepthCloud(scene, truth), scene.camera_in_base));
+  }
+}
+
+TEST(RailDetector, RansacBaselineFindsTheRailsToo) {
+  const RailDetector detector{RailDetectorParams()};
+  DepthSceneParams scene;
+  const Pose2D truth(-0.75, 0.03, 0.02);
+  const auto d =
+      detector.detect(renderDepthCloud(scene, truth), scene.camera_in_base, Pose2D(), RailFitMethod::kRansacBaseline);
+  ASSERT_TRUE(d.found()) << d.reason;
+  EXPECT_NEAR(d.base_in_rail.y, truth.y, 0.05);
+  EXPECT_NEAR(d.base_in_rail.yaw, truth.yaw, 0.03);
+}
+
+TEST(RailDetector, EmptyAllNanTinyAndMalformedClouds) {
+  const RailDetector detector{RailDetectorParams()};
+  const Eigen::Isometry3d mount = DepthSceneParams().camera_in_base;
+  OrganisedCloud cloud;
+  auto d = detector.detect(cloud, mount);
+  EXPECT_EQ(d.status, RailDetection::Status::kBadInput);
+  EXPECT_EQ(d.reason, "empty cloud");
+
+  cloud.width = 64;
+  cloud.height = 48;
+  cloud.points.assign(64 * 48, Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN()));
+  d = detector.detect(cloud, mount);
+  EXPECT_EQ(d.status, RailDetection::Status::kBadInput);
+  EXPECT_NE(d.reason.find("no finite point"), std::string::npos);
+
+  cloud.width = 2;
+  cloud.height = 1;
+  cloud.points = {Eigen::Vector3f(0.0f, 0.5f, 1.0f), Eigen::Vector3f(0.1f, 0.5f, 1.0f)};
+  d = detector.detect(cloud, mount);
+  EXPECT_EQ(d.status, RailDetection::Status::kNotFound);
+  EXPECT_NE(d.reason.find("points in the rails' height band"), std::string::npos) << d.reason;
+
+  cloud.width = 3;  // 3 x 1 but only 2 points
+  d = detector.detect(cloud, mount);
+  EXPECT_EQ(d.status, RailDetection::Status::kBadInput);
+}
+
+TEST(RailDetector, NoRailsInViewIsNotFound) {
+  const RailDetector detector{RailDetectorParams()};
+  DepthSceneParams scene;
+  // Far back on the headland, facing away from the rails: floor only.
+  const auto d = detector.detect(renderDepthCloud(scene, Pose2D(-6.0, 0.0, M_PI)), scene.camera_in_base);
+  EXPECT_EQ(d.status, RailDetection::Status::kNotFound);
+  EXPECT_FALSE(d.reason.empty());
+}
+
+TEST(RailDetector, CropKeepsOnlyTheRailsHeightBand) {
+  const RailDetector detector{RailDetectorParams()};
+  const Eigen::Isometry3d mount = Eigen::Isometry3d::Identity();  // cloud already in base_link
+  OrganisedCloud cloud;
+  cloud.width = 4;
+  cloud.height = 1;
+  cloud.points = {Eigen::Vector3f(1.0f, 0.2f, 0.05f), Eigen::Vector3f(1.0f, 0.2f, 0.5f),
+                  Eigen::Vector3f(1.0f, 0.2f, 0.0f), Eigen::Vector3f(-1.0f, 0.2f, 0.05f)};
+  std::size_t finite = 0;
+  const auto band = detector.cropToRailBand(cloud, mount, &finite);
+  EXPECT_EQ(finite, 4u);
+  ASSERT_EQ(band.size(), 1u);
+  EXPECT_NEAR(band[0].z(), 0.05f, 1e-6);
+}
+
+TEST(RailDetector, MountCalibrationRemovesACameraYawAndShiftError) {
+  const RailDetector detector{RailDetectorParams()};
+  DepthSceneParams scene;
+  const Eigen::Isometry3d nominal = scene.camera_in_base;
+  scene.camera_in_base = opticalFrameInBase(0.35, 0.03, 0.70, 0.70, 0.04);  // mounted 3 cm left, 0.04 rad off
+  // Robot standing on the rails, aligned and centred.
+  const auto on_rails = detector.detect(renderDepthCloud(scene, Pose2D(1.0, 0.0, 0.0)), nominal);
+  ASSERT_TRUE(on_rails.found()) << on_rails.reason;
+  MountCorrection correction;
+  std::string error;
+  ASSERT_TRUE(computeMountCorrection(on_rails.rail_in_base, 0.1, 0.1, &correction, &error)) << error;
+  const Pose2D truth(-0.75, 0.05, -0.03);
+  scene.seed = 9;
+  const auto cloud = renderDepthCloud(scene, truth);
+  const auto uncorrected = detector.detect(cloud, nominal);
+  ASSERT_TRUE(uncorrected.found());
+  // Without the correction the yaw is off by about the mount error; with it, within tolerance.
+  EXPECT_GT(std::abs(uncorrected.base_in_rail.yaw - truth.yaw), 0.03);
+  expectNear(truth, detector.detect(cloud, nominal, correction.asTransform()));
+}
+
+TEST(RailDetector, ParameterValidationNamesTheKey) {
+  RailDetectorParams p;
+  EXPECT_EQ(p.validate(), "");
+  p.crop_z_min_m = 0.2;
+  EXPECT_NE(p.validate().find("crop_z_min_m"), std::string::npos);
+  p = RailDetectorParams();
+  p.gauge_tolerance_m = 0.4;
+  EXPECT_NE(p.validate().find("gauge_tolerance_m"), std::string::npos);
+  p = RailDetectorParams();
+  p.min_cluster_points = 1;
+  EXPECT_NE(p.validate().find("min_cluster_points"), std::string::npos);
+}
+
+TEST(RailPair, CoverageTellsAPipeFromLeavesInARow) {
+  std::vector<Eigen::Vector2d> pipe, leaves;
+  for (int i = 0; i <= 100; ++i) pipe.emplace_back(0.02 * i, 0.0);  // 2 m, a point every 2 cm
+  for (int patch = 0; patch < 4; ++patch)                           // 4 leaves of 10 cm over 2 m
+    for (int i = 0; i < 5; ++i) leaves.emplace_back(0.6 * patch + 0.02 * i, 0.0);
+  EXPECT_NEAR(lineCoverage(pipe, fitLine(pipe), 0.05), 1.0, 1e-9);
+  // Independently: 5 cm bins over 1.88 m = 38 bins; each 8 cm leaf touches 2 or 3 of them: 8..12 filled.
+  const double leaf_coverage = lineCoverage(leaves, fitLine(leaves), 0.05);
+  EXPECT_GE(leaf_coverage, 8.0 / 38.0 - 1e-9);
+  EXPECT_LE(leaf_coverage, 12.0 / 38.0 + 1e-9);
+  EXPECT_EQ(lineCoverage({}, LineFit2D(), 0.05), 0.0);
+}

@@ -1,0 +1,7 @@
+// libFuzzer target: fuzzBatteryFrames (see decoders.h).
+#include "decoders.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  thorvald_can_devices::fuzzBatteryFrames(data, size);
+  return 0;
+}

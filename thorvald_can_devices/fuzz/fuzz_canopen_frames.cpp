@@ -1,0 +1,7 @@
+// libFuzzer target: fuzzCanopenFrames (see decoders.h).
+#include "decoders.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  thorvald_can_devices::fuzzCanopenFrames(data, size);
+  return 0;
+}

@@ -1,0 +1,80 @@
+#pragma once
+
+#include <deque>
+#include <functional>
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "thorvald_base/base_hardware.h"
+#include "thorvald_can_devices/can_bus.h"
+#include "thorvald_can_devices/can_device.h"
+
+namespace thorvald_can_devices {
+
+/// Options of the CAN base that the robot file does not hold.
+struct CanBaseOptions {
+  double startup_timeout_s = 3.0;   ///< initialize() waits this long for every device to reach operation [s]
+  std::string log_path;             ///< candump -l log of all traffic; "" for none
+  size_t relay_queue_limit = 1000;  ///< received frames kept for the relay between two takeRelayFrames()
+};
+
+/// The base's CAN hardware (paper §3.1 `base_handle`): one bus, one device per drive controller (Thorvald or
+/// CiA 402, by the drive's `protocol` key) and per battery; routes received frames to their device and all
+/// others to the relay; refuses relay frames aimed at base devices, NMT and SYNC. Its devices run on its own
+/// monotonic clock (the `now_s` of poll() is not used), so start-up waiting and later cycles share one time base.
+/// A bus-off (or a down interface) makes every drive report a fault, which stops the base.
+class CanBaseHardware : public thorvald_base::BaseHardware {
+ public:
+  using Clock = std::function<double()>;
+  /// `clock` in seconds; default: steady clock. Tests pass their own.
+  explicit CanBaseHardware(CanBaseOptions options = {}, Clock clock = {});
+  ~CanBaseHardware() override;
+
+  void initialize(const thorvald_base::RobotConfig& config, const std::string& interface_type,
+                  const std::string& interface_name) override;
+  /// Same with a bus already open (tests, benchmarks).
+  void initializeOnBus(const thorvald_base::RobotConfig& config, std::unique_ptr<CanBus> bus);
+  std::vector<std::unique_ptr<thorvald_base::MotorDrive>> takeDrives() override;
+  std::vector<std::unique_ptr<thorvald_base::Battery>> takeBatteries() override;
+  void poll(double now_s) override;
+  std::vector<thorvald_base::CanFrameData> takeRelayFrames() override;
+  bool sendRelayFrame(const thorvald_base::CanFrameData& frame, std::string* why) override;
+  std::vector<std::pair<std::string, std::string>> diagnostics() const override;
+  bool busOk() const override;
+
+  /// Devices that did not reach operation during initialize(), with what they reported.
+  const std::vector<std::string>& notAnswering() const { return not_answering_; }
+  /// Ids owned by base devices (both directions), NMT and SYNC included.
+  const std::set<uint32_t>& ownedIds() const { return owned_ids_; }
+  CanBus& bus() { return *bus_; }
+  unsigned long malformedFrames() const;
+
+  CanBaseOptions& options() { return options_; }
+
+ private:
+  void addDevice(std::shared_ptr<CanDevice> device, const std::string& source);
+  void readBus(double now_s);
+  double now() const { return clock_(); }
+
+  CanBaseOptions options_;
+  Clock clock_;
+  std::unique_ptr<CanBus> bus_;
+  std::vector<std::shared_ptr<CanDevice>> devices_;
+  std::map<uint32_t, CanDevice*> routes_;
+  std::set<uint32_t> owned_ids_;
+  std::vector<std::unique_ptr<thorvald_base::MotorDrive>> drives_;
+  std::vector<std::unique_ptr<thorvald_base::Battery>> batteries_;
+  std::deque<thorvald_base::CanFrameData> relay_;
+  unsigned long relay_overflow_ = 0;
+  bool has_cia402_ = false;
+  double last_host_heartbeat_s_ = -1e9;
+  std::vector<std::string> not_answering_;
+  bool was_bus_ok_ = true;
+  unsigned long bus_off_events_ = 0;
+};
+
+}  // namespace thorvald_can_devices

@@ -1,0 +1,49 @@
+// passive_joint_states: publishes the joints of casters and passive wheels (which nothing drives or measures)
+// at a fixed position on joint_states, so robot_state_publisher has a complete tree next to base_driver's joints.
+
+#include <ros/ros.h>
+#include <sensor_msgs/JointState.h>
+
+#include "thorvald_base/robot_config.h"
+#include "thorvald_model/model_builder.h"
+#include "thorvald_base/ros/robot_config_params.h"
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "passive_joint_states");
+  ros::NodeHandle nh, pnh("~");
+  std::vector<std::string> names;
+  try {
+    const auto config = thorvald_base::robotConfigFromParams(nh);
+    std::string tf_prefix;
+    if (!pnh.getParam("tf_prefix", tf_prefix)) {
+      std::string key;
+      if (nh.searchParam("tf_prefix", key)) nh.getParam(key, tf_prefix);
+    }
+    while (!tf_prefix.empty() && tf_prefix.front() == '/') tf_prefix.erase(0, 1);
+    names = thorvald_model::passiveJointNames(config, tf_prefix);
+  } catch (const std::exception& e) {
+    ROS_FATAL("passive_joint_states cannot start: %s", e.what());
+    return 1;
+  }
+  const double rate = pnh.param("rate", 10.0);
+  if (!(rate > 0.0)) {
+    ROS_FATAL("passive_joint_states cannot start: ~rate is %f, expected > 0 [Hz]", rate);
+    return 1;
+  }
+  if (names.empty()) {
+    ROS_INFO("passive_joint_states: this robot has no casters or passive wheels, nothing to publish");
+    ros::spin();
+    return 0;
+  }
+  ros::Publisher pub = nh.advertise<sensor_msgs::JointState>("joint_states", 10);
+  sensor_msgs::JointState msg;
+  msg.name = names;
+  msg.position.assign(names.size(), 0.0);
+  msg.velocity.assign(names.size(), 0.0);
+  ros::Timer timer = nh.createTimer(ros::Duration(1.0 / rate), [&](const ros::TimerEvent&) {
+    msg.header.stamp = ros::Time::now();
+    pub.publish(msg);
+  });
+  ros::spin();
+  return 0;
+}
