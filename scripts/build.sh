@@ -16,6 +16,9 @@ touch "$src/.ws/CATKIN_IGNORE"
 
 configure() {  # $1 build dir, $2 devel dir, rest: extra cmake args
   local b="$1" d="$2"; shift 2
+  # catkin caches the test environment at configure time and leaves the devel python folder out of PYTHONPATH
+  # when it does not exist yet: python tests would then not find the workspace's messages on a fresh build.
+  mkdir -p "$d/lib/python3/dist-packages"
   cmake -S "$src" -B "$b" -DCATKIN_DEVEL_PREFIX="$d" -DCMAKE_BUILD_TYPE="$build_type" \
     -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCATKIN_ENABLE_TESTING=ON "$@" >"$b.configure.log" 2>&1 || {
     cat "$b.configure.log"; echo "[build] cmake configure failed" >&2; exit 1; }

@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # The demo: installs what is missing, builds the workspace, and runs the paper's odometry experiment in
-# simulation: the Figure 7 six-wheel robot drives a 77 s loop in x, y and yaw on base_driver's joint simulator,
-# with encoder quantisation, noise, a 1% radius error on two wheels and one slipping wheel. It prints the distance
-# and end-point error of the least-squares and the paper's random-pairs odometry, and writes a plot of the paths
-# to demo_output/odometry_paths.png.
+# simulation: the Figure 7 six-wheel robot drives a 77 s loop in x, y and yaw, first in MuJoCo (the body moves by
+# contact physics), then on base_driver's joint simulator with encoder quantisation, noise, a 1% radius error on
+# two wheels and one slipping wheel. It prints distances and end-point errors of ground truth, the least-squares
+# and the paper's random-pairs odometry, and writes plots of the paths to demo_output/.
 set -euo pipefail
 src="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 export PATH="/usr/bin:$PATH"
@@ -13,10 +13,15 @@ echo "== building the workspace (first time: several minutes on 2 cores)"
 # shellcheck disable=SC1091
 set +u; source "$src/.ws/devel/setup.bash"; set -u  # ROS setup scripts read unset variables
 mkdir -p "$src/demo_output"
-echo "== odometry experiment (Figure 7 robot, 77 s loop, 5 seeds)"
-rosrun thorvald_base odometry_bench --seeds 5 --csv "$src/demo_output/odometry_paths.csv"
+cd "$src/demo_output"
+echo "== the paper's odometry experiment in MuJoCo: Figure 7 robot (thorvald_model's URDF), 77 s loop"
+rosrun thorvald_model urdf_generator --config "$src/thorvald_bringup/config/figure7_6wd6ws_asymmetric.yaml" \
+  --tf-prefix '' --robot-name figure7 >figure7.urdf
+rosrun thorvald_sim odometry_demo --urdf figure7.urdf --csv odometry_mujoco.csv --png odometry_mujoco.png
+echo "== the same loop on base_driver's joint simulator with corrupted readings (5 seeds)"
+rosrun thorvald_base odometry_bench --seeds 5 --csv odometry_joint_sim.csv
+/usr/bin/python3 "$src/thorvald_sim/scripts/plot_demo_paths.py" odometry_joint_sim.csv odometry_joint_sim.png \
+  "Figure 7 robot, 77 s loop, joint simulator with corrupted readings (seed 1)"
 echo "== cost of one control cycle"
 rosrun thorvald_base cycle_bench --cycles 5000
-/usr/bin/python3 "$src/thorvald_base/scripts/plot_paths.py" "$src/demo_output/odometry_paths.csv" \
-  "$src/demo_output/odometry_paths.png" "Figure 7 robot, 77 s loop: truth and odometry (seed 1)"
-echo "== done: plot in demo_output/odometry_paths.png"
+echo "== done: plots in demo_output/odometry_mujoco.png and demo_output/odometry_joint_sim.png"

@@ -1,0 +1,43 @@
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <thorvald_base/base_driver.h>
+#include <thorvald_base/simulated_drive.h>
+
+#include "thorvald_sim/simulation.h"
+
+namespace thorvald_sim {
+
+/// Makes the kinematic model a robot file names (the same choice base_driver makes through pluginlib):
+/// differential for `pltf_clc_2wdiff::PltfClc2WDiff` / `thorvald_base/DiffDriveCalculator`, one-wheel for
+/// `thorvald_base/OneWheelCalculator`, the standard model otherwise.
+std::unique_ptr<thorvald_base::BaseCalculator> makeCalculator(const std::string& base_calculator);
+
+/// base_driver's simple simulation, in process, coupled to one robot of a Simulation the way the node couples
+/// them over `joint_states`: each control cycle the driver runs its joint simulator and the simulated joints
+/// become the MuJoCo actuators' targets (steering position, wheel velocity). For tests, benchmarks and the demo
+/// that need no ROS master. The caller steps the Simulation.
+class DrivenRobot {
+ public:
+  /// `tf_prefix` prefixes the joint names as in the URDF. Throws thorvald_base::ConfigError, ModelError when a
+  /// joint has no actuator.
+  DrivenRobot(Simulation& sim, const thorvald_base::RobotConfig& robot, const std::string& tf_prefix,
+              const thorvald_base::BaseDriverOptions& options = {});
+
+  void command(const thorvald_base::Twist2D& cmd, double now_s) { driver_->setCommand(cmd, now_s); }
+  /// One control cycle at simulated time `now_s`: driver update, then actuator targets.
+  void control(double now_s);
+
+  thorvald_base::BaseDriver& driver() { return *driver_; }
+  const thorvald_base::BaseDriver& driver() const { return *driver_; }
+
+ private:
+  Simulation& sim_;
+  std::unique_ptr<thorvald_base::BaseDriver> driver_;
+  std::vector<int> steering_act_, wheel_act_;  ///< per drive; -1 for no steering
+};
+
+}  // namespace thorvald_sim

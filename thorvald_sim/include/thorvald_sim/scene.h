@@ -1,0 +1,45 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "thorvald_sim/world.h"
+
+namespace thorvald_sim {
+
+/// One robot taking part: its MJCF (from urdfToMjcf) and where it starts.
+struct RobotSpawn {
+  std::string name;                     ///< ROS namespace of the robot, e.g. "robot1" ("" for the global one)
+  std::string mjcf;                     ///< MJCF written by urdfToMjcf
+  std::string root_link;                ///< its root body, e.g. "robot1/base_link"
+  double x = 0, y = 0, z = 0, yaw = 0;  ///< start pose of base_link in the world [m], [rad]; z above the floor
+};
+
+/// Contact and actuator tuning shared by every robot. Defaults drive a 100-300 kg Thorvald without jitter.
+struct SceneOptions {
+  double timestep_s = 0.002;
+  double wheel_friction = 1.0;          ///< sliding friction coefficient of wheels on the ground
+  bool sphere_wheels = true;            ///< wheel contact as a sphere of the wheel radius (one clean contact);
+                                        ///< false keeps the URDF's cylinder
+  double wheel_kv = 300.0;              ///< velocity servo gain of driven wheels [N m s/rad]
+  double wheel_torque_max = 400.0;      ///< limit of the servo's drive term kv * target [N m]
+  double wheel_armature = 0.2;          ///< [kg m^2]
+  double steering_kp = 3000.0;          ///< position actuator gain of steering joints [N m/rad]
+  double steering_damping = 150.0;      ///< [N m s/rad]
+  double steering_armature = 0.5;       ///< [kg m^2]
+  double steering_torque_max = 1500.0;  ///< [N m]
+  double passive_damping = 0.05;        ///< casters and passive wheels [N m s/rad]
+};
+
+/// What a joint of a Thorvald URDF is, from its name without the robot's prefix.
+enum class JointRole { kSteering, kWheel, kPassive, kOther };
+JointRole jointRole(const std::string& name_without_prefix);
+
+/// Joins a world and robots into one MJCF: world geoms, each robot's bodies at its spawn pose with tuned joints
+/// and wheel contacts, a position actuator per `steering<i>` and a velocity actuator per `wheel<i>` (named after
+/// the joint; the velocity servo is a motor plus joint damping so that the Euler integrator treats its gain
+/// implicitly). Robots collide with the world but not with each other. Throws ModelError on malformed robot MJCF.
+std::string composeScene(const WorldDescription& world, const std::vector<RobotSpawn>& robots,
+                         const SceneOptions& options);
+
+}  // namespace thorvald_sim

@@ -1,0 +1,103 @@
+#pragma once
+
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "thorvald_sim/ray_caster.h"
+
+namespace thorvald_sim {
+
+/// Planar scanner in the sensor's x-y plane (x forward, z up), like a Hokuyo UTM-30LX.
+struct LidarSpec {
+  double angle_min_rad = -2.356, angle_max_rad = 2.356;
+  int samples = 541;
+  double range_min_m = 0.1, range_max_m = 30.0;
+  double noise_m = 0.01;  ///< std dev of range noise [m]
+};
+
+/// Ultrasonic range finder looking along its x axis with a cone of `fov_rad` (sensor_msgs/Range convention).
+/// It reports the nearest echo inside the cone.
+struct UltrasonicSpec {
+  double fov_rad = 0.35;
+  double range_min_m = 0.02, range_max_m = 2.0;
+  double noise_m = 0.002;
+  int rings = 3;  ///< rays: one on the axis plus `rings` rings of `rays_per_ring`
+  int rays_per_ring = 8;
+};
+
+/// Depth camera in the optical frame convention (z forward, x right, y down). Active stereo errors: depth noise
+/// growing with the square of depth, random dropouts, and no depth on surfaces seen at grazing angles.
+struct DepthCameraSpec {
+  int width = 640, height = 480;
+  double hfov_rad = 1.2;  ///< horizontal field of view; square pixels
+  double range_min_m = 0.3, range_max_m = 8.0;
+  double noise_coeff = 0.002;       ///< depth std dev = noise_coeff * z^2 [1/m]
+  double dropout = 0.01;            ///< probability that a valid pixel has no depth
+  double grazing_limit_rad = 1.35;  ///< no depth where the view hits a surface more obliquely than this
+};
+
+/// Colour camera (same optics as the depth camera): each pixel takes the colour of the geom it sees.
+struct ColorCameraSpec {
+  int width = 640, height = 480;
+  double hfov_rad = 1.2;
+  double range_max_m = 50.0;
+  uint8_t background[3] = {170, 200, 235};  ///< what a ray that hits nothing sees
+};
+
+/// Pinhole intrinsics of an image of width x height with horizontal field of view hfov: fx = fy, centred.
+struct Intrinsics {
+  double fx, fy, cx, cy;
+};
+Intrinsics intrinsics(int width, int height, double hfov_rad);
+
+struct DepthImage {
+  int width = 0, height = 0;
+  std::vector<Eigen::Vector3f> points;  ///< row-major, optical frame [m]; NaN where there is no depth
+};
+
+struct ColorImage {
+  int width = 0, height = 0;
+  std::vector<uint8_t> rgb;  ///< row-major rgb8
+};
+
+/// Sensor pose: `origin` and `rotation` (columns: the sensor's axes in the world).
+struct SensorPose {
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+};
+
+/// One scan; +inf where nothing is in range. Noise drawn from `rng`.
+std::vector<float> simulateLidar(RayCaster& caster, const SensorPose& pose, const LidarSpec& spec, std::mt19937& rng);
+/// Nearest echo in the cone [m]; +inf if none within range_max.
+double simulateUltrasonic(RayCaster& caster, const SensorPose& pose, const UltrasonicSpec& spec, std::mt19937& rng);
+/// `pose` is the optical frame (z forward).
+DepthImage simulateDepth(RayCaster& caster, const SensorPose& pose, const DepthCameraSpec& spec, std::mt19937& rng);
+ColorImage simulateColor(RayCaster& caster, const mjModel* model, const SensorPose& pose, const ColorCameraSpec& spec);
+
+}  // namespace thorvald_sim
+
+namespace thorvald_sim {
+
+/// Inertial measurement unit noise.
+struct ImuSpec {
+  double accel_noise_mps2 = 0.02;   ///< std dev [m/s^2]
+  double gyro_noise_radps = 0.002;  ///< std dev [rad/s]
+};
+
+/// What an IMU reads, in its own frame: orientation in the world, rates, specific force (gravity reaction included:
+/// +9.81 on z when level and still).
+struct ImuReading {
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();     ///< [rad/s]
+  Eigen::Vector3d linear_acceleration = Eigen::Vector3d::Zero();  ///< [m/s^2]
+};
+
+/// IMU on `body` turned by `mount` (sensor axes in the body). Needs mj_rnePostConstraint to have run on `data`
+/// (Simulation::updateAccelerations). Read at the body's origin: lever-arm accelerations are not modelled.
+ImuReading simulateImu(const mjModel* model, const mjData* data, int body, const Eigen::Matrix3d& mount,
+                       const ImuSpec& spec, std::mt19937& rng);
+
+}  // namespace thorvald_sim

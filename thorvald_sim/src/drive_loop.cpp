@@ -1,0 +1,45 @@
+#include "thorvald_sim/drive_loop.h"
+
+#include <thorvald_base/standard_calculator.h>
+
+namespace thorvald_sim {
+
+std::unique_ptr<thorvald_base::BaseCalculator> makeCalculator(const std::string& name) {
+  if (name == "pltf_clc_2wdiff::PltfClc2WDiff" || name == "thorvald_base/DiffDriveCalculator")
+    return std::make_unique<thorvald_base::DiffDriveCalculator>();
+  if (name == "thorvald_base/OneWheelCalculator") return std::make_unique<thorvald_base::OneWheelCalculator>();
+  return std::make_unique<thorvald_base::StandardCalculator>();
+}
+
+DrivenRobot::DrivenRobot(Simulation& sim, const thorvald_base::RobotConfig& robot, const std::string& tf_prefix,
+                         const thorvald_base::BaseDriverOptions& options)
+    : sim_(sim) {
+  const std::string p = tf_prefix.empty() ? "" : tf_prefix + "/";
+  std::vector<std::unique_ptr<thorvald_base::MotorDrive>> drives;
+  for (const auto& d : robot.drives) {
+    thorvald_base::SimulatedDriveOptions o;
+    o.seed = 1000u + static_cast<unsigned>(d.index);
+    drives.push_back(std::make_unique<thorvald_base::SimulatedDrive>(d, o));
+    const int s = d.steered() ? sim.actuatorOfJoint(p + "steering" + std::to_string(d.index)) : -1;
+    const int w = sim.actuatorOfJoint(p + "wheel" + std::to_string(d.index));
+    if ((d.steered() && s < 0) || w < 0)
+      throw ModelError("robot " + robot.source + ": drive " + std::to_string(d.index) + " has no actuated joint " + p +
+                       (w < 0 ? "wheel" : "steering") + std::to_string(d.index) + " in the scene");
+    steering_act_.push_back(s);
+    wheel_act_.push_back(w);
+  }
+  driver_ =
+      std::make_unique<thorvald_base::BaseDriver>(robot, makeCalculator(robot.base_calculator), std::move(drives),
+                                                  std::vector<std::unique_ptr<thorvald_base::Battery>>{}, options);
+}
+
+void DrivenRobot::control(double now_s) {
+  driver_->update(now_s);
+  const auto& fb = driver_->feedback();
+  for (size_t i = 0; i < fb.size(); ++i) {
+    if (steering_act_[i] >= 0) sim_.setTarget(steering_act_[i], fb[i].steering_rad);
+    sim_.setTarget(wheel_act_[i], fb[i].wheel_speed_radps);
+  }
+}
+
+}  // namespace thorvald_sim

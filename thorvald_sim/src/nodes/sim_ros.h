@@ -1,0 +1,62 @@
+#pragma once
+
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <ros/ros.h>
+#include <std_srvs/Empty.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "robot_io.h"
+#include "thorvald_sim/Step.h"
+#include "thorvald_sim/simulation.h"
+
+namespace thorvald_sim {
+
+/// Parameters of the thorvald_sim node (see README).
+struct SimNodeParams {
+  std::string world = "flat";
+  std::string truth_file;  ///< where the world's ground truth is written ("" : nowhere)
+  std::string world_frame = "map";
+  double real_time_factor = 1.0;   ///< 0: as fast as possible
+  double control_period_s = 0.01;  ///< /clock and joint targets advance in these steps [s]
+  double ground_truth_rate_hz = 50.0;
+  bool publish_map_tf = false;
+  bool start_paused = false;
+  double wait_for_description_s = 30.0;
+};
+
+/// The simulator node: one MuJoCo world with every robot, stepped on one thread that also serves callbacks.
+class SimRos {
+ public:
+  SimRos(ros::NodeHandle nh, ros::NodeHandle pnh);
+  /// Loads parameters, builds the world and robots. False (with a logged reason) if it cannot.
+  bool start();
+  /// Runs until shutdown.
+  void run();
+
+ private:
+  bool loadParams();
+  bool buildWorld(WorldDescription* world);
+  bool loadRobots(const WorldDescription& world);
+  void advance();
+  bool onPause(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
+  bool onUnpause(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
+  bool onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
+  bool onStep(Step::Request& req, Step::Response& res);
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
+
+  ros::NodeHandle nh_, pnh_;
+  SimNodeParams params_;
+  std::unique_ptr<Simulation> sim_;
+  std::vector<std::unique_ptr<RobotIo>> robots_;
+  ros::Publisher clock_pub_;
+  ros::ServiceServer pause_srv_, unpause_srv_, reset_srv_, step_srv_;
+  diagnostic_updater::Updater updater_;
+  bool paused_ = false;
+  int steps_per_period_ = 5;
+  double achieved_rtf_ = 0.0;
+};
+
+}  // namespace thorvald_sim

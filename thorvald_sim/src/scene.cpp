@@ -1,0 +1,154 @@
+#include "thorvald_sim/scene.h"
+
+#include <tinyxml2.h>
+
+#include <cmath>
+#include <regex>
+#include <sstream>
+
+#include "thorvald_sim/mjcf_compiler.h"
+
+namespace thorvald_sim {
+
+namespace {
+
+std::string stripPrefix(const std::string& name) {
+  const auto slash = name.rfind('/');
+  return slash == std::string::npos ? name : name.substr(slash + 1);
+}
+
+std::string num(double v) {
+  std::ostringstream s;
+  s.precision(9);
+  s << v;
+  return s.str();
+}
+
+bool isWheelBody(const std::string& body) {
+  static const std::regex re("(wheel_link[0-9]+|caster[0-9]+_wheel.*|passive_wheel[0-9]+.*)");
+  return std::regex_match(stripPrefix(body), re);
+}
+
+struct Actuator {
+  std::string joint;
+  bool position;
+};
+
+// Tunes one robot's bodies in place and collects its actuated joints.
+void tuneBody(tinyxml2::XMLElement* body, const SceneOptions& o, std::vector<Actuator>* actuators) {
+  const char* bname = body->Attribute("name");
+  const bool wheel = bname && isWheelBody(bname);
+  for (auto* j = body->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint")) {
+    const char* n = j->Attribute("name");
+    if (!n || (j->Attribute("type") && std::string(j->Attribute("type")) == "free")) continue;
+    switch (jointRole(stripPrefix(n))) {
+      case JointRole::kSteering:
+        j->SetAttribute("armature", num(o.steering_armature).c_str());
+        j->SetAttribute("damping", num(o.steering_damping).c_str());
+        actuators->push_back({n, true});
+        break;
+      case JointRole::kWheel:
+        // A velocity servo kv (target - qvel) split in two: joint damping kv (integrated implicitly, so stiff
+        // gains stay stable with the cheap Euler integrator) and a motor pushing kv * target.
+        j->SetAttribute("armature", num(o.wheel_armature).c_str());
+        j->SetAttribute("damping", num(o.wheel_kv).c_str());
+        actuators->push_back({n, false});
+        break;
+      case JointRole::kPassive:
+        j->SetAttribute("armature", "0.01");
+        j->SetAttribute("damping", num(o.passive_damping).c_str());
+        break;
+      case JointRole::kOther:
+        j->SetAttribute("armature", "0.05");
+        j->SetAttribute("damping", "1");
+        break;
+    }
+  }
+  for (auto* g = body->FirstChildElement("geom"); g; g = g->NextSiblingElement("geom")) {
+    g->SetAttribute("contype", "2");
+    g->SetAttribute("conaffinity", "1");
+    g->SetAttribute("group", "1");
+    if (wheel) {
+      g->SetAttribute("friction", (num(o.wheel_friction) + " 0.005 0.0001").c_str());
+      const char* type = g->Attribute("type");
+      if (o.sphere_wheels && type && std::string(type) == "cylinder") {
+        std::istringstream size(g->Attribute("size") ? g->Attribute("size") : "");
+        double r = 0;
+        size >> r;
+        g->SetAttribute("type", "sphere");
+        g->SetAttribute("size", num(r).c_str());
+        g->DeleteAttribute("quat");
+      }
+    }
+  }
+  for (auto* c = body->FirstChildElement("body"); c; c = c->NextSiblingElement("body")) tuneBody(c, o, actuators);
+}
+
+}  // namespace
+
+JointRole jointRole(const std::string& n) {
+  static const std::regex steering("steering[0-9]+"), wheel("wheel[0-9]+"),
+      passive("(caster[0-9]+_(swivel|wheel)|passive_wheel[0-9]+)");
+  if (std::regex_match(n, steering)) return JointRole::kSteering;
+  if (std::regex_match(n, wheel)) return JointRole::kWheel;
+  if (std::regex_match(n, passive)) return JointRole::kPassive;
+  return JointRole::kOther;
+}
+
+std::string composeScene(const WorldDescription& world, const std::vector<RobotSpawn>& robots, const SceneOptions& o) {
+  std::ostringstream bodies, assets, acts;
+  for (const auto& r : robots) {
+    tinyxml2::XMLDocument doc;
+    if (doc.Parse(r.mjcf.c_str(), r.mjcf.size()) != tinyxml2::XML_SUCCESS)
+      throw ModelError("robot " + r.name + ": its MJCF is not XML: " + doc.ErrorStr());
+    auto* mj = doc.FirstChildElement("mujoco");
+    auto* wb = mj ? mj->FirstChildElement("worldbody") : nullptr;
+    if (!wb) throw ModelError("robot " + r.name + ": its MJCF has no worldbody");
+    if (auto* a = mj->FirstChildElement("asset"))
+      for (auto* e = a->FirstChildElement(); e; e = e->NextSiblingElement()) {
+        tinyxml2::XMLPrinter p(nullptr, true);
+        e->Accept(&p);
+        assets << p.CStr() << "\n";
+      }
+    std::vector<Actuator> actuators;
+    int roots = 0;
+    for (auto* b = wb->FirstChildElement("body"); b; b = b->NextSiblingElement("body")) {
+      ++roots;
+      if (!b->Attribute("name") || r.root_link != b->Attribute("name"))
+        throw ModelError("robot " + r.name + ": expected root body " + r.root_link);
+      b->SetAttribute("pos", (num(r.x) + " " + num(r.y) + " " + num(world.spawn_z + r.z)).c_str());
+      b->SetAttribute("quat", ("" + num(std::cos(0.5 * r.yaw)) + " 0 0 " + num(std::sin(0.5 * r.yaw))).c_str());
+      tuneBody(b, o, &actuators);
+      tinyxml2::XMLPrinter p(nullptr, true);
+      b->Accept(&p);
+      bodies << p.CStr() << "\n";
+    }
+    if (roots != 1) throw ModelError("robot " + r.name + ": its MJCF must have exactly one root body");
+    for (const auto& a : actuators) {
+      if (a.position)
+        acts << "<position name=\"" << a.joint << "\" joint=\"" << a.joint << "\" kp=\"" << o.steering_kp
+             << "\" forcelimited=\"true\" forcerange=\"" << -o.steering_torque_max << " " << o.steering_torque_max
+             << "\"/>\n";
+      else
+        acts << "<motor name=\"" << a.joint << "\" joint=\"" << a.joint << "\" gear=\"" << o.wheel_kv
+             << "\" forcelimited=\"true\" forcerange=\"" << -o.wheel_torque_max << " " << o.wheel_torque_max
+             << "\"/>\n";
+    }
+  }
+  std::ostringstream xml;
+  xml << "<mujoco model=\"" << world.name << "\">\n"
+      << "<compiler angle=\"radian\" autolimits=\"true\"/>\n"
+      << "<option timestep=\"" << o.timestep_s << "\" integrator=\"Euler\"/>\n"
+      << "<size njmax=\"" << 2000 + 400 * robots.size() << "\" nconmax=\"" << 500 + 100 * robots.size() << "\"/>\n"
+      << "<default><geom contype=\"1\" conaffinity=\"3\" friction=\"1 0.005 0.0001\"/></default>\n"
+      << "<asset>\n"
+      << assets.str() << "</asset>\n"
+      << "<worldbody>\n"
+      << world.worldbody << bodies.str() << "</worldbody>\n"
+      << "<actuator>\n"
+      << acts.str() << "</actuator>\n"
+      << "</mujoco>\n";
+  return xml.str();
+}
+
+}  // namespace thorvald_sim

@@ -1,0 +1,141 @@
+#include "thorvald_sim/sensors.h"
+
+#include <cmath>
+#include <limits>
+
+namespace thorvald_sim {
+
+Intrinsics intrinsics(int width, int height, double hfov_rad) {
+  const double f = 0.5 * width / std::tan(0.5 * hfov_rad);
+  return {f, f, 0.5 * (width - 1), 0.5 * (height - 1)};
+}
+
+std::vector<float> simulateLidar(RayCaster& caster, const SensorPose& pose, const LidarSpec& s, std::mt19937& rng) {
+  caster.prepare(pose.origin, s.range_max_m, pose.rotation.col(0), M_PI);
+  std::normal_distribution<double> noise(0.0, s.noise_m);
+  std::vector<float> ranges(s.samples, std::numeric_limits<float>::infinity());
+  const double inc = s.samples > 1 ? (s.angle_max_rad - s.angle_min_rad) / (s.samples - 1) : 0.0;
+  for (int i = 0; i < s.samples; ++i) {
+    const double a = s.angle_min_rad + i * inc;
+    const Eigen::Vector3d dir = pose.rotation * Eigen::Vector3d(std::cos(a), std::sin(a), 0.0);
+    const double d = caster.cast(pose.origin, dir);
+    const double n = s.noise_m > 0 ? noise(rng) : 0.0;
+    if (d >= s.range_min_m && d <= s.range_max_m) ranges[i] = static_cast<float>(d + n);
+  }
+  return ranges;
+}
+
+double simulateUltrasonic(RayCaster& caster, const SensorPose& pose, const UltrasonicSpec& s, std::mt19937& rng) {
+  const Eigen::Vector3d axis = pose.rotation.col(0);
+  caster.prepare(pose.origin, s.range_max_m, axis, 0.5 * s.fov_rad);
+  double best = std::numeric_limits<double>::infinity();
+  auto probe = [&](double elevation, double azimuth) {
+    const Eigen::Vector3d local(std::cos(elevation), std::sin(elevation) * std::cos(azimuth),
+                                std::sin(elevation) * std::sin(azimuth));
+    const double d = caster.cast(pose.origin, pose.rotation * local);
+    if (d >= 0.0 && d < best) best = d;
+  };
+  probe(0.0, 0.0);
+  for (int r = 1; r <= s.rings; ++r)
+    for (int k = 0; k < s.rays_per_ring; ++k)
+      probe(0.5 * s.fov_rad * r / s.rings, 2 * M_PI * (k + 0.5 * (r % 2)) / s.rays_per_ring);
+  if (best > s.range_max_m) return std::numeric_limits<double>::infinity();
+  std::normal_distribution<double> noise(0.0, s.noise_m);
+  return std::max(s.range_min_m, best + (s.noise_m > 0 ? noise(rng) : 0.0));
+}
+
+namespace {
+
+constexpr int kTile = 16;  ///< image tiles [px] that get their own geom culling
+
+// Calls f(u, v) for every pixel, tile by tile, after culling the caster's geoms to the tile's view cone.
+template <typename F>
+void forEachPixelByTile(RayCaster& caster, const SensorPose& pose, const Intrinsics& k, int width, int height,
+                        double range, F&& f) {
+  for (int v0 = 0; v0 < height; v0 += kTile)
+    for (int u0 = 0; u0 < width; u0 += kTile) {
+      const int u1 = std::min(width, u0 + kTile), v1 = std::min(height, v0 + kTile);
+      const Eigen::Vector3d centre =
+          Eigen::Vector3d((0.5 * (u0 + u1 - 1) - k.cx) / k.fx, (0.5 * (v0 + v1 - 1) - k.cy) / k.fy, 1.0).normalized();
+      double half = 0.0;
+      for (int cu : {u0, u1 - 1})
+        for (int cv : {v0, v1 - 1}) {
+          const Eigen::Vector3d c = Eigen::Vector3d((cu - k.cx) / k.fx, (cv - k.cy) / k.fy, 1.0).normalized();
+          half = std::max(half, std::acos(std::min(1.0, c.dot(centre))));
+        }
+      caster.prepare(pose.origin, range, pose.rotation * centre, half + 1e-6);
+      for (int v = v0; v < v1; ++v)
+        for (int u = u0; u < u1; ++u) f(u, v);
+    }
+}
+
+}  // namespace
+
+DepthImage simulateDepth(RayCaster& caster, const SensorPose& pose, const DepthCameraSpec& s, std::mt19937& rng) {
+  const Intrinsics k = intrinsics(s.width, s.height, s.hfov_rad);
+  DepthImage img;
+  img.width = s.width;
+  img.height = s.height;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  img.points.assign(static_cast<size_t>(s.width) * s.height, Eigen::Vector3f(nan, nan, nan));
+  std::normal_distribution<double> unit(0.0, 1.0);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  forEachPixelByTile(caster, pose, k, s.width, s.height, s.range_max_m, [&](int u, int v) {
+    const Eigen::Vector3d ray((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);  // z = 1
+    const double len = ray.norm();
+    const Eigen::Vector3d dir = pose.rotation * (ray / len);
+    int g = -1;
+    const double d = caster.cast(pose.origin, dir, &g);
+    if (d < 0.0) return;
+    const double z = d / len;
+    if (z < s.range_min_m || z > s.range_max_m) return;
+    if (s.dropout > 0 && uni(rng) < s.dropout) return;
+    const Eigen::Vector3d n = caster.normal(g, pose.origin + d * dir, dir);
+    if (std::acos(std::min(1.0, -n.dot(dir))) > s.grazing_limit_rad) return;
+    const double zn = z + (s.noise_coeff > 0 ? s.noise_coeff * z * z * unit(rng) : 0.0);
+    img.points[static_cast<size_t>(v) * s.width + u] = (ray * zn).cast<float>();
+  });
+  return img;
+}
+
+ColorImage simulateColor(RayCaster& caster, const mjModel* model, const SensorPose& pose, const ColorCameraSpec& s) {
+  const Intrinsics k = intrinsics(s.width, s.height, s.hfov_rad);
+  ColorImage img;
+  img.width = s.width;
+  img.height = s.height;
+  img.rgb.resize(static_cast<size_t>(s.width) * s.height * 3);
+  forEachPixelByTile(caster, pose, k, s.width, s.height, s.range_max_m, [&](int u, int v) {
+    const Eigen::Vector3d dir = pose.rotation * Eigen::Vector3d((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0).normalized();
+    int g = -1;
+    const double d = caster.cast(pose.origin, dir, &g);
+    uint8_t* px = &img.rgb[(static_cast<size_t>(v) * s.width + u) * 3];
+    for (int c = 0; c < 3; ++c)
+      px[c] = (d < 0.0 || d > s.range_max_m) ? s.background[c]
+                                             : static_cast<uint8_t>(std::lround(255.0 * model->geom_rgba[4 * g + c]));
+  });
+  return img;
+}
+
+}  // namespace thorvald_sim
+
+namespace thorvald_sim {
+
+ImuReading simulateImu(const mjModel* model, const mjData* data, int body, const Eigen::Matrix3d& mount,
+                       const ImuSpec& spec, std::mt19937& rng) {
+  mjtNum vel[6], acc[6];
+  mj_objectVelocity(model, data, mjOBJ_BODY, body, vel, 1);      // [angular; linear] in the body frame
+  mj_objectAcceleration(model, data, mjOBJ_BODY, body, acc, 1);  // includes the gravity reaction
+  const Eigen::Quaterniond qb(data->xquat[4 * body], data->xquat[4 * body + 1], data->xquat[4 * body + 2],
+                              data->xquat[4 * body + 3]);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  auto noisy = [&](const Eigen::Vector3d& v, double sd) {
+    return sd > 0 ? Eigen::Vector3d(v + sd * Eigen::Vector3d(unit(rng), unit(rng), unit(rng))) : v;
+  };
+  ImuReading r;
+  r.orientation = qb * Eigen::Quaterniond(mount);
+  r.angular_velocity = noisy(mount.transpose() * Eigen::Vector3d(vel[0], vel[1], vel[2]), spec.gyro_noise_radps);
+  r.linear_acceleration = noisy(mount.transpose() * Eigen::Vector3d(acc[3], acc[4], acc[5]), spec.accel_noise_mps2);
+  return r;
+}
+
+}  // namespace thorvald_sim
