@@ -74,4 +74,16 @@ CanFrame makeErrorPassiveFrame() {
   return f;
 }
 
+void recordBusError(const CanFrame& error_frame, BusStatus& status) {
+  ++status.error_frames;
+  const BusErrorReport r = decodeBusError(error_frame);
+  status.last_error = r.text;
+  if (r.lost_arbitration) ++status.arbitration_lost;
+  if (r.bus_off) status.bus_off = true;
+  if (r.restarted) status.bus_off = false;
+  if (r.error_passive) status.error_passive = true;
+  if (r.error_active || r.restarted) status.error_passive = false;
+  status.ok = !status.bus_off;
+}
+
 }  // namespace thorvald_can_devices

@@ -251,4 +251,17 @@ std::optional<Cia402Tpdo2> decodeTpdo2(const CanFrame& f) {
   return Cia402Tpdo2{getI32(f, 0), static_cast<int8_t>(f.data[4])};
 }
 
+std::optional<uint8_t> nmtStateAfter(NmtCommand command) {
+  switch (command) {
+    case NmtCommand::kStart:
+      return kHeartbeatOperational;
+    case NmtCommand::kStop:
+      return kHeartbeatStopped;
+    case NmtCommand::kPreOperational:
+      return kHeartbeatPreOperational;
+    default:
+      return std::nullopt;
+  }
+}
+
 }  // namespace thorvald_can_devices

@@ -48,19 +48,10 @@ void Cia402AxisSim::handle(const CanFrame& f, CanBus& bus, double now_s) {
   if (id == canopen_ids::kNmt) {
     const auto m = decodeNmt(f);
     if (!forNode(m, node_)) return;
-    switch (m->command) {
-      case NmtCommand::kStart:
-        nmt_ = kHeartbeatOperational;
-        break;
-      case NmtCommand::kStop:
-        nmt_ = kHeartbeatStopped;
-        break;
-      case NmtCommand::kPreOperational:
-        nmt_ = kHeartbeatPreOperational;
-        break;
-      default:
-        reboot();
-        break;
+    if (const auto state = nmtStateAfter(m->command)) {
+      nmt_ = *state;
+    } else {
+      reboot();
     }
   } else if (id == canopen_ids::kHeartbeat + kHostNode && f.length == 1) {
     last_host_heartbeat_s_ = now_s;

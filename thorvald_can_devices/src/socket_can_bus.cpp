@@ -140,15 +140,7 @@ bool SocketCanBus::receive(CanFrame* frame) {
     out.length = f.can_dlc;
     std::memcpy(out.data.data(), f.data, 8);
     if (out.isError()) {
-      ++status_.error_frames;
-      const BusErrorReport r = decodeBusError(out);
-      status_.last_error = r.text;
-      if (r.lost_arbitration) ++status_.arbitration_lost;
-      if (r.bus_off) status_.bus_off = true;
-      if (r.restarted) status_.bus_off = false;
-      if (r.error_passive) status_.error_passive = true;
-      if (r.error_active || r.restarted) status_.error_passive = false;
-      status_.ok = !status_.bus_off;
+      recordBusError(out, status_);
       continue;
     }
     if (status_.bus_off && !down_) {  // traffic again: the controller recovered (auto restart)

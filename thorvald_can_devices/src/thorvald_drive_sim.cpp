@@ -42,19 +42,10 @@ void ThorvaldDriveSim::handle(const CanFrame& f, CanBus&) {
   if (f.stdId() == canopen_ids::kNmt) {
     const auto m = decodeNmt(f);
     if (!forNode(m, node_)) return;
-    switch (m->command) {
-      case NmtCommand::kStart:
-        nmt_ = kHeartbeatOperational;
-        break;
-      case NmtCommand::kStop:
-        nmt_ = kHeartbeatStopped;
-        break;
-      case NmtCommand::kPreOperational:
-        nmt_ = kHeartbeatPreOperational;
-        break;
-      default:
-        reboot();
-        break;
+    if (const auto state = nmtStateAfter(m->command)) {
+      nmt_ = *state;
+    } else {
+      reboot();
     }
     return;
   }

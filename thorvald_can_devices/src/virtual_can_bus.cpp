@@ -217,15 +217,7 @@ bool VirtualCanBus::receive(CanFrame* frame) {
       continue;
     }
     if (f.isError()) {
-      ++status_.error_frames;
-      const BusErrorReport r = decodeBusError(f);
-      status_.last_error = r.text;
-      if (r.lost_arbitration) ++status_.arbitration_lost;
-      if (r.bus_off) status_.bus_off = true;
-      if (r.restarted) status_.bus_off = false;
-      if (r.error_passive) status_.error_passive = true;
-      if (r.error_active || r.restarted) status_.error_passive = false;
-      status_.ok = !status_.bus_off;
+      recordBusError(f, status_);
       continue;
     }
     ++status_.frames_received;

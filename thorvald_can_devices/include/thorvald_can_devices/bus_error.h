@@ -2,6 +2,7 @@
 
 #include <string>
 
+#include "thorvald_can_devices/can_bus.h"
 #include "thorvald_can_devices/can_frame.h"
 
 namespace thorvald_can_devices {
@@ -36,6 +37,9 @@ struct BusErrorReport {
 
 /// Decodes a SocketCAN error frame. Not an error frame: valid == false.
 BusErrorReport decodeBusError(const CanFrame& frame);
+
+/// Counts an error frame received on a bus into its status (bus-off, error-passive, lost arbitration, text).
+void recordBusError(const CanFrame& error_frame, BusStatus& status);
 
 /// Builds the error frame a controller reports for bus-off, error-passive or restart (used by the simulator).
 CanFrame makeBusOffFrame();

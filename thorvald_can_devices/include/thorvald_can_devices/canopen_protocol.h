@@ -28,6 +28,9 @@ struct NmtMessage {
   int node;
 };
 std::optional<NmtMessage> decodeNmt(const CanFrame& f);
+/// The heartbeat state (CiA 301: 0x05 operational, 0x04 stopped, 0x7F pre-operational) a node enters on an NMT
+/// command; nullopt for the two resets, after which the node boots again.
+std::optional<uint8_t> nmtStateAfter(NmtCommand command);
 CanFrame encodeSync();
 
 /// Emergency message: error code (0 = error reset), error register, 5 manufacturer bytes (zero here).
