@@ -12,7 +12,9 @@ build_type="${BUILD_TYPE:-Release}"
 export PATH="/usr/bin:$PATH"   # Debian's python3 (catkin_pkg, rospy), not a pyenv one
 mkdir -p "$src/.ws"
 touch "$src/.ws/CATKIN_IGNORE"
-[ -e "$src/CMakeLists.txt" ] || ln -s /usr/share/catkin/cmake/toplevel.cmake "$src/CMakeLists.txt"
+# The catkin top-level CMakeLists.txt is a link into Debian's catkin (tracked by git; re-created if removed).
+[ -L "$src/CMakeLists.txt" ] || ln -s /usr/share/catkin/cmake/toplevel.cmake "$src/CMakeLists.txt"
+[ -e "$src/CMakeLists.txt" ] || { echo "[build] catkin is not installed: run scripts/install_deps.sh" >&2; exit 1; }
 
 configure() {  # $1 build dir, $2 devel dir, rest: extra cmake args
   local b="$1" d="$2"; shift 2
@@ -20,8 +22,27 @@ configure() {  # $1 build dir, $2 devel dir, rest: extra cmake args
   # when it does not exist yet: python tests would then not find the workspace's messages on a fresh build.
   mkdir -p "$d/lib/python3/dist-packages"
   cmake -S "$src" -B "$b" -DCATKIN_DEVEL_PREFIX="$d" -DCMAKE_BUILD_TYPE="$build_type" \
-    -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCATKIN_ENABLE_TESTING=ON "$@" >"$b.configure.log" 2>&1 || {
+    -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCATKIN_ENABLE_TESTING=ON -DCMAKE_INSTALL_PREFIX="$src/.ws/install" "$@" >"$b.configure.log" 2>&1 || {
     cat "$b.configure.log"; echo "[build] cmake configure failed" >&2; exit 1; }
+}
+
+# Runs make with its full output in "$1.make.log" and prints a progress line each time another tenth of the
+# targets is done, and the errors when it fails.
+build() {  # $1 build dir, rest: make targets
+  local b="$1"; shift
+  echo "[build] make $* in ${b#"$src"/} (full log: ${b#"$src"/}.make.log)"
+  if ! make -C "$b" -j"$jobs" "$@" 2>&1 | tee "$b.make.log" | awk '
+      match($0, /^\[ *[0-9]+%\]/) {
+        pct = substr($0, RSTART + 1, RLENGTH - 3) + 0
+        if (pct >= last + 10 || (pct == 100 && last < 100)) {
+          last = pct - pct % 10; if (pct == 100) last = 100
+          printf "[build] %3d%%  %s\n", pct, substr($0, RLENGTH + 2); fflush()
+        }
+      }'; then
+    grep -E "error|Error|\*\*\*" "$b.make.log" | head -40 >&2
+    echo "[build] make failed: see ${b#"$src"/}.make.log" >&2
+    exit 1
+  fi
 }
 
 mode="${1:-}"
@@ -34,20 +55,20 @@ case "$mode" in
     configure "$b" "$src/.ws/devel_sanitize" -DCMAKE_BUILD_TYPE=Debug -DCATKIN_WHITELIST_PACKAGES="$pkgs" \
       -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_C_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
       -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=address,undefined"
-    make -C "$b" -j"$jobs" all tests
+    build "$b" all tests
     ;;
   --only)
     shift
     pkgs="$(IFS=';'; echo "$*")"
     b="$src/.ws/build_$1"; mkdir -p "$b"
     configure "$b" "$src/.ws/devel_$1" -DCATKIN_WHITELIST_PACKAGES="$pkgs"
-    make -C "$b" -j"$jobs" all tests
+    build "$b" all tests
     ;;
   --tests|"")
     b="$src/.ws/build"; mkdir -p "$b"
     configure "$b" "$src/.ws/devel"
-    make -C "$b" -j"$jobs" all
-    if [ "$mode" = "--tests" ]; then make -C "$b" -j"$jobs" tests; fi
+    build "$b" all
+    if [ "$mode" = "--tests" ]; then build "$b" tests; fi
     ;;
   *) echo "usage: $0 [--tests | --only PKG... | --sanitize PKG...]" >&2; exit 2 ;;
 esac

@@ -9,7 +9,7 @@ src="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 export PATH="/usr/bin:$PATH"
 "$src/scripts/install_deps.sh"
 echo "== building the workspace (first time: several minutes on 2 cores)"
-"$src/scripts/build.sh" >"$src/.ws/demo_build.log" 2>&1 || { tail -40 "$src/.ws/demo_build.log"; exit 1; }
+"$src/scripts/build.sh"
 # shellcheck disable=SC1091
 set +u; source "$src/.ws/devel/setup.bash"; set -u  # ROS setup scripts read unset variables
 mkdir -p "$src/demo_output"

@@ -8,6 +8,8 @@ export JOBS="${JOBS:-2}"
 cd "$src"
 "$src/scripts/install_deps.sh" || { echo "0 passed, 1 failed"; exit 1; }
 checks=()
+# .ci/run runs the demo (README command 1) on the same fresh clone first and passes its exit code here.
+[ -z "${DEMO_STATUS:-}" ] || checks+=("demo_on_fresh_clone=$DEMO_STATUS")
 
 echo "== build"
 "$src/scripts/build.sh" --tests || { echo "0 passed, 1 failed"; exit 1; }
@@ -19,24 +21,36 @@ set +u; source "$src/.ws/devel/setup.bash"; set -u  # ROS setup scripts read uns
 export ROS_HOME="$src/.ws/ros_home" ROS_LOG_DIR="$src/.ws/ros_home/log"
 make -C "$src/.ws/build" -j1 run_tests 2>&1 | tee "$src/.ws/run_tests.log" | grep -E "^\[ *(RUN|OK|FAILED|PASSED) |^-- run_tests|FAILURE|Error" || true
 
+echo "== install into a scratch folder"
+scratch="$(mktemp -d /tmp/thorvald_install.XXXXXX)"
+make -C "$src/.ws/build" install DESTDIR="$scratch" >"$src/.ws/install.log" 2>&1; rc=$?
+[ $rc -eq 0 ] || tail -20 "$src/.ws/install.log"
+rm -rf "$scratch"
+checks+=("make_install=$rc")
+
+echo "== every command used comes from a listed Debian package"
+"$src/scripts/check_commands.sh"; checks+=("commands_listed=$?")
+
 echo "== sanitizers (ASan + UBSan)"
 mapfile -t san < <(grep -v '^\s*#' "$src/scripts/sanitize_packages.txt" | sed '/^\s*$/d')
 if [ ${#san[@]} -gt 0 ]; then
   rm -rf "$src/.ws/build_sanitize/test_results"
-  if "$src/scripts/build.sh" --sanitize "${san[@]}" >"$src/.ws/sanitize_build.log" 2>&1; then
+  if "$src/scripts/build.sh" --sanitize "${san[@]}"; then
     for p in "${san[@]}"; do
+      echo "[sanitize] unit tests of $p"
       ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
         make -C "$src/.ws/build_sanitize" -j1 "run_tests_${p}_gtest" >>"$src/.ws/sanitize_tests.log" 2>&1
     done
     checks+=("sanitizer_build=0")
   else
-    tail -30 "$src/.ws/sanitize_build.log"; checks+=("sanitizer_build=1")
+    checks+=("sanitizer_build=1")
   fi
 fi
 
 echo "== fuzzing (libFuzzer, a few seconds per CAN decoder)"
 if [ -x "$src/thorvald_can_devices/scripts/fuzz_smoke.sh" ]; then
-  "$src/thorvald_can_devices/scripts/fuzz_smoke.sh" 5 >"$src/.ws/fuzz.log" 2>&1; rc=$?
+  "$src/thorvald_can_devices/scripts/fuzz_smoke.sh" 5 2>&1 | tee "$src/.ws/fuzz.log" | grep --line-buffered "^fuzz_smoke:"
+  rc=${PIPESTATUS[0]}
   [ $rc -eq 0 ] || tail -30 "$src/.ws/fuzz.log"
   checks+=("fuzz_smoke=$rc")
 fi
