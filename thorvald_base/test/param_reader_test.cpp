@@ -1,0 +1,147 @@
+// ParamReader on a map of values instead of the parameter server: types, ranges, choices, typos, the log line.
+
+#include <gmock/gmock.h>
+
+#include <map>
+
+#include "thorvald_base/ros/param_reader.h"
+
+using testing::HasSubstr;
+using thorvald_base::ParamError;
+using thorvald_base::ParamRange;
+using thorvald_base::ParamReader;
+
+namespace {
+
+class MapSource : public thorvald_base::ParamSource {
+ public:
+  explicit MapSource(std::map<std::string, XmlRpc::XmlRpcValue> values) : values_(std::move(values)) {}
+  bool get(const std::string& name, XmlRpc::XmlRpcValue& value) const override {
+    const auto it = values_.find(name);
+    if (it == values_.end()) return false;
+    value = it->second;
+    return true;
+  }
+  std::vector<std::string> names() const override {
+    std::vector<std::string> out;
+    for (const auto& kv : values_) out.push_back(kv.first);
+    return out;
+  }
+
+ private:
+  std::map<std::string, XmlRpc::XmlRpcValue> values_;
+};
+
+ParamReader reader(std::map<std::string, XmlRpc::XmlRpcValue> values) {
+  return ParamReader(std::make_unique<MapSource>(std::move(values)), "/robot/base_driver");
+}
+
+/// The message of the ParamError that `read` throws; fails the test if none is thrown.
+template <typename F>
+std::string errorOf(F read) {
+  try {
+    read();
+  } catch (const ParamError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no ParamError";
+  return "";
+}
+
+}  // namespace
+
+TEST(ParamReader, DefaultsWhenUnset) {
+  ParamReader r = reader({});
+  EXPECT_DOUBLE_EQ(r.number("rate", 50.0, ParamRange::aboveUpTo(0, 1000), "Hz"), 50.0);
+  EXPECT_EQ(r.integer("seed", 7), 7);
+  EXPECT_TRUE(r.flag("simple_sim", true));
+  EXPECT_EQ(r.text("tf_prefix", "abc"), "abc");
+  EXPECT_EQ(r.choice("odometry_estimator", "least_squares", {"least_squares", "random_pairs"}), "least_squares");
+  EXPECT_EQ(r.effectiveValues(),
+            "rate=50 (default), seed=7 (default), simple_sim=true (default), tf_prefix='abc' (default), "
+            "odometry_estimator=least_squares (default)");
+  EXPECT_TRUE(r.finish().empty());
+}
+
+TEST(ParamReader, ReadsSetValues) {
+  ParamReader r = reader({{"rate", XmlRpc::XmlRpcValue(20)},
+                          {"timeout", XmlRpc::XmlRpcValue(0.25)},
+                          {"seed", XmlRpc::XmlRpcValue(3.0)},
+                          {"simple_sim", XmlRpc::XmlRpcValue(false)},
+                          {"estimator", XmlRpc::XmlRpcValue("random_pairs")}});
+  EXPECT_DOUBLE_EQ(r.number("rate", 50.0, ParamRange::aboveUpTo(0, 1000), "Hz"), 20.0);  // int accepted
+  EXPECT_DOUBLE_EQ(r.number("timeout", 0.5, ParamRange::above(0), "s"), 0.25);
+  EXPECT_EQ(r.integer("seed", 1, 0), 3);  // integral double accepted
+  EXPECT_FALSE(r.flag("simple_sim", true));
+  EXPECT_EQ(r.choice("estimator", "least_squares", {"least_squares", "random_pairs"}), "random_pairs");
+  EXPECT_THAT(r.effectiveValues(), HasSubstr("rate=20, timeout=0.25, seed=3, simple_sim=false"));
+  EXPECT_TRUE(r.unread().empty());
+}
+
+TEST(ParamReader, RefusesWrongTypes) {
+  ParamReader r = reader({{"simple_sim", XmlRpc::XmlRpcValue("maybe")},
+                          {"rate", XmlRpc::XmlRpcValue("fast")},
+                          {"seed", XmlRpc::XmlRpcValue(1.5)},
+                          {"tf_prefix", XmlRpc::XmlRpcValue(12)},
+                          {"flag_as_int", XmlRpc::XmlRpcValue(1)}});
+  const std::string sim = errorOf([&] { r.flag("simple_sim", true); });
+  EXPECT_THAT(sim, HasSubstr("/robot/base_driver: parameter ~simple_sim: found the string 'maybe'"));
+  EXPECT_THAT(sim, HasSubstr("expected true or false"));
+  const std::string rate = errorOf([&] { r.number("rate", 50.0, ParamRange::aboveUpTo(0, 1000), "Hz"); });
+  EXPECT_THAT(rate, HasSubstr("~rate: found the string 'fast', expected a number in (0, 1000] [Hz]"));
+  EXPECT_THAT(errorOf([&] { r.integer("seed", 1); }), HasSubstr("found the number 1.5, expected an integer"));
+  EXPECT_THAT(errorOf([&] { r.text("tf_prefix", ""); }), HasSubstr("found the integer 12, expected a string"));
+  EXPECT_THAT(errorOf([&] { r.flag("flag_as_int", false); }), HasSubstr("found the integer 1"));
+}
+
+TEST(ParamReader, RefusesValuesOutsideTheirRange) {
+  ParamReader r = reader({{"rate", XmlRpc::XmlRpcValue(0)},
+                          {"big", XmlRpc::XmlRpcValue(1001.0)},
+                          {"count", XmlRpc::XmlRpcValue(-1)},
+                          {"estimator", XmlRpc::XmlRpcValue("magic")},
+                          {"nan", XmlRpc::XmlRpcValue(std::nan(""))}});
+  EXPECT_THAT(errorOf([&] { r.number("rate", 50, ParamRange::aboveUpTo(0, 1000), "Hz"); }),
+              HasSubstr("found the integer 0, expected a number in (0, 1000] [Hz]"));
+  EXPECT_THAT(errorOf([&] { r.number("big", 50, ParamRange::aboveUpTo(0, 1000)); }), HasSubstr("(0, 1000]"));
+  EXPECT_THAT(errorOf([&] { r.integer("count", 20, 1, 1000); }), HasSubstr("expected an integer in [1, 1000]"));
+  EXPECT_THAT(errorOf([&] {
+                r.choice("estimator", "least_squares", {"least_squares", "random_pairs"});
+              }),
+              HasSubstr("found the string 'magic', expected one of 'least_squares', 'random_pairs'"));
+  EXPECT_THAT(errorOf([&] { r.number("nan", 1.0, ParamRange::any()); }), HasSubstr("expected a number"));
+}
+
+TEST(ParamReader, RangeBoundsAreExactlyAsDeclared) {
+  EXPECT_FALSE(ParamRange::above(0).contains(0.0));
+  EXPECT_TRUE(ParamRange::atLeast(0).contains(0.0));
+  EXPECT_TRUE(ParamRange::aboveUpTo(0, 10).contains(10.0));
+  EXPECT_FALSE(ParamRange::aboveUpTo(0, 10).contains(10.0000001));
+  EXPECT_FALSE(ParamRange::any().contains(std::nan("")));
+  EXPECT_EQ(ParamRange::atLeast(0).text(), ">= 0");
+  EXPECT_EQ(ParamRange::closed(-1, 2.5).text(), "[-1, 2.5]");
+}
+
+TEST(ParamReader, WarnsAboutUnreadParametersWithTheNearestName) {
+  ParamReader r = reader({{"cmd_vel_timout", XmlRpc::XmlRpcValue(0.1)},
+                          {"rate", XmlRpc::XmlRpcValue(50)},
+                          {"diagnostic_period", XmlRpc::XmlRpcValue(1.0)},
+                          {"limits/vx", XmlRpc::XmlRpcValue(1.0)},
+                          {"completely_unrelated_name", XmlRpc::XmlRpcValue(1)}});
+  r.number("cmd_vel_timeout", 0.5, ParamRange::above(0), "s");
+  r.number("rate", 50, ParamRange::aboveUpTo(0, 1000), "Hz");
+  r.alsoRead("diagnostic_period");
+  r.alsoRead("limits");
+  EXPECT_EQ(r.unread(), (std::vector<std::string>{"cmd_vel_timout", "completely_unrelated_name"}));
+  const auto warnings = r.finish();
+  ASSERT_EQ(warnings.size(), 2u);
+  EXPECT_THAT(warnings[0], HasSubstr("~cmd_vel_timout is set but nothing in this node reads it"));
+  EXPECT_THAT(warnings[0], HasSubstr("did you mean ~cmd_vel_timeout?"));
+  EXPECT_THAT(warnings[1], testing::Not(HasSubstr("did you mean")));
+}
+
+TEST(ParamReader, HasCountsAsRead) {
+  ParamReader r = reader({{"extra", XmlRpc::XmlRpcValue(1)}});
+  EXPECT_TRUE(r.has("extra"));
+  EXPECT_FALSE(r.has("other"));
+  EXPECT_TRUE(r.unread().empty());
+}
