@@ -57,6 +57,13 @@ bool loadPerceptionNodeConfig(const ros::NodeHandle& pnh, PerceptionNodeConfig* 
   r.read("use_camera_info", &config->use_camera_info, "true or false");
 
   EndEffectorParams& e = p.end_effector;
+  r.readChoice("end_effector/colour_space", &e.colour_space, parseEndEffectorColourSpace, "'hsv' or 'rgb'");
+  r.read("end_effector/hue_min", &e.hue_min, "an integer in [0, 179]");
+  r.read("end_effector/hue_max", &e.hue_max, "an integer in [0, 179]");
+  r.read("end_effector/saturation_min", &e.saturation_min, "an integer in [0, 255]");
+  r.read("end_effector/value_min", &e.value_min, "an integer in [0, 255]");
+  r.read("end_effector/arm_base_offset_m", &e.arm_base_offset_m, "a number in [0, 10) [m]");
+  r.read("end_effector/arm_depth_tolerance_m", &e.arm_depth_tolerance_m, "a number in (0, 1) [m]");
   r.read("end_effector/r_min", &e.r_min, "an integer in [0, 255]");
   r.read("end_effector/r_max", &e.r_max, "an integer in [0, 255]");
   r.read("end_effector/g_min", &e.g_min, "an integer in [0, 255]");
@@ -93,9 +100,10 @@ bool loadPerceptionNodeConfig(const ros::NodeHandle& pnh, PerceptionNodeConfig* 
   ColourBollParams& c = config->colour;
   r.read("colour/value_min", &c.value_min, "an integer in [0, 255]");
   r.read("colour/saturation_max", &c.saturation_max, "an integer in [0, 255]");
-  r.read("colour/opening_px", &c.opening_px, "an integer >= 0 [px]");
-  r.read("colour/min_area_px", &c.min_area_px, "an integer >= 1 [px^2]");
-  r.read("colour/max_area_px", &c.max_area_px, "an integer >= min_area_px [px^2]");
+  r.read("colour/opening_fraction", &c.opening_fraction, "a number in [0, 2]");
+  r.read("colour/min_visible_fraction", &c.min_visible_fraction, "a number in (0, 1]");
+  r.read("colour/max_cluster_bolls", &c.max_cluster_bolls, "an integer in [1, 100]");
+  r.read("colour/split_neck_ratio", &c.split_neck_ratio, "a number in [0, 1]");
   r.read("colour/min_circularity", &c.min_circularity, "a number in [0, 1]");
   r.read("colour/min_solidity", &c.min_solidity, "a number in [0, 1]");
   r.read("colour/max_aspect_ratio", &c.max_aspect_ratio, "a number >= 1");
@@ -115,6 +123,14 @@ bool loadPerceptionNodeConfig(const ros::NodeHandle& pnh, PerceptionNodeConfig* 
   r.read("depth/window_px", &p.locator.window_px, "an odd integer >= 1 [px]");
   r.read("depth/min_valid_points", &p.locator.min_valid_points, "an integer >= 1");
   r.readChoice("depth/model", &p.locator.depth_model, parseDepthModel, "'ray' or 'paper'");
+
+  r.read("geometry/camera_height_m", &p.geometry.camera_height_m, "a number in (0, 20) [m]");
+  r.read("geometry/boll_radius_min_m", &p.geometry.boll_radius_min_m, "a number > 0 [m]");
+  r.read("geometry/boll_radius_max_m", &p.geometry.boll_radius_max_m, "a number >= boll_radius_min_m [m]");
+  r.read("geometry/boll_height_min_m", &p.geometry.boll_height_min_m, "a number >= 0 [m]");
+  r.read("geometry/boll_height_max_m", &p.geometry.boll_height_max_m, "a number >= boll_height_min_m [m]");
+
+  r.read("check_plausibility", &p.check_plausibility, "true or false");
 
   r.read("reach/max_depth_m", &p.reach.max_depth_m, "a positive number [m]");
   r.read("reach/horizontal_arm_length_m", &p.reach.horizontal_arm_length_m, "a number >= 0 [m]");

@@ -25,6 +25,18 @@ std::string validate(const CameraIntrinsics& intrinsics) {
   return error.str();
 }
 
+CameraIntrinsics scaledTo(const CameraIntrinsics& intrinsics, int width, int height) {
+  CameraIntrinsics scaled = intrinsics;
+  const double sx = static_cast<double>(width) / intrinsics.width, sy = static_cast<double>(height) / intrinsics.height;
+  scaled.fx *= sx;
+  scaled.cx *= sx;
+  scaled.fy *= sy;
+  scaled.cy *= sy;
+  scaled.width = width;
+  scaled.height = height;
+  return scaled;
+}
+
 cv::Point2d project(const CameraIntrinsics& intrinsics, const cv::Point3d& point) {
   return {intrinsics.fx * point.x / point.z + intrinsics.cx, intrinsics.fy * point.y / point.z + intrinsics.cy};
 }

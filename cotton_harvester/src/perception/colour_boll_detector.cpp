@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -9,67 +10,252 @@
 
 namespace cotton_harvester {
 namespace perception {
+namespace {
+
+/// A maximum of a region's distance transform: the centre and radius of a disc inscribed in the region.
+struct Peak {
+  cv::Point2f centre;  ///< region-local pixel
+  float radius = 0.0f;
+};
+
+/// Smallest distance-transform value on the segment between two points: the region's half width at its neck.
+float neckBetween(const cv::Mat& dist, const cv::Point2f& a, const cv::Point2f& b) {
+  const int samples = std::max(2, static_cast<int>(std::ceil(cv::norm(b - a))));
+  float neck = std::numeric_limits<float>::infinity();
+  for (int i = 0; i <= samples; ++i) {
+    const cv::Point2f p = a + (b - a) * (static_cast<float>(i) / samples);
+    neck = std::min(neck, dist.at<float>(cvRound(p.y), cvRound(p.x)));
+  }
+  return neck;
+}
+
+/// Maxima of the distance transform that stand for separate bolls: local maxima at least min_radius deep, strongest
+/// first, kept when they lie outside every kept disc and a neck narrower than neck_ratio of the smaller radius
+/// separates them from every kept one.
+std::vector<Peak> findPeaks(const cv::Mat& dist, double min_radius, double neck_ratio, int window) {
+  cv::Mat dilated;
+  cv::dilate(dist, dilated, cv::getStructuringElement(cv::MORPH_RECT, {window, window}));
+  std::vector<Peak> candidates;
+  for (int v = 0; v < dist.rows; ++v) {
+    const float* d = dist.ptr<float>(v);
+    const float* m = dilated.ptr<float>(v);
+    for (int u = 0; u < dist.cols; ++u)
+      if (d[u] >= m[u] && d[u] >= min_radius) candidates.push_back({cv::Point2f(u, v), d[u]});
+  }
+  std::sort(candidates.begin(), candidates.end(), [](const Peak& a, const Peak& b) { return a.radius > b.radius; });
+  constexpr size_t kMaxCandidates = 64;  // a plateau gives many equal maxima; the strongest few decide
+  if (candidates.size() > kMaxCandidates) candidates.resize(kMaxCandidates);
+  std::vector<Peak> kept;
+  for (const Peak& candidate : candidates) {
+    const bool separate = std::all_of(kept.begin(), kept.end(), [&](const Peak& other) {
+      // Two touching bolls have their centres about the sum of their radii apart; lobes of one boll are closer.
+      if (cv::norm(candidate.centre - other.centre) < 0.8 * (candidate.radius + other.radius)) return false;
+      const float smaller = std::min(candidate.radius, other.radius);
+      return neckBetween(dist, candidate.centre, other.centre) < neck_ratio * smaller;
+    });
+    if (separate) kept.push_back(candidate);
+  }
+  return kept;
+}
+
+}  // namespace
 
 std::string validate(const ColourBollParams& p) {
   std::ostringstream error;
   if (p.value_min < 0 || p.value_min > 255) error << "value_min must be in [0, 255] (got " << p.value_min << "); ";
   if (p.saturation_max < 0 || p.saturation_max > 255)
     error << "saturation_max must be in [0, 255] (got " << p.saturation_max << "); ";
-  if (p.opening_px < 0) error << "opening_px must be >= 0 (got " << p.opening_px << "); ";
-  if (p.min_area_px < 1 || p.max_area_px < p.min_area_px)
-    error << "min_area_px/max_area_px must satisfy 1 <= min <= max (got " << p.min_area_px << ", " << p.max_area_px
-          << "); ";
+  if (!(p.value_contrast >= 1.0 && p.value_contrast <= 5.0))
+    error << "value_contrast must be in [1, 5] (got " << p.value_contrast << "); ";
+  if (p.value_floor < 0 || p.value_floor > p.value_min)
+    error << "value_floor must be in [0, value_min] (got " << p.value_floor << "); ";
+  if (!(p.opening_fraction >= 0.0 && p.opening_fraction <= 2.0))
+    error << "opening_fraction must be in [0, 2] (got " << p.opening_fraction << "); ";
+  if (!(p.closing_fraction >= 0.0 && p.closing_fraction <= 2.0))
+    error << "closing_fraction must be in [0, 2] (got " << p.closing_fraction << "); ";
+  if (!(p.min_visible_fraction > 0.0 && p.min_visible_fraction <= 1.0))
+    error << "min_visible_fraction must be in (0, 1] (got " << p.min_visible_fraction << "); ";
+  if (p.max_cluster_bolls < 1 || p.max_cluster_bolls > 100)
+    error << "max_cluster_bolls must be in [1, 100] (got " << p.max_cluster_bolls << "); ";
   if (!(p.min_circularity >= 0.0 && p.min_circularity <= 1.0))
     error << "min_circularity must be in [0, 1] (got " << p.min_circularity << "); ";
   if (!(p.min_solidity >= 0.0 && p.min_solidity <= 1.0))
     error << "min_solidity must be in [0, 1] (got " << p.min_solidity << "); ";
   if (!(p.max_aspect_ratio >= 1.0)) error << "max_aspect_ratio must be >= 1 (got " << p.max_aspect_ratio << "); ";
+  if (!(p.split_neck_ratio >= 0.0 && p.split_neck_ratio <= 1.0))
+    error << "split_neck_ratio must be in [0, 1] (got " << p.split_neck_ratio << "); ";
   return error.str();
 }
 
 ColourBollDetector::ColourBollDetector(const ColourBollParams& params) : params_(params) {
   const std::string error = validate(params);
   if (!error.empty()) throw std::invalid_argument("colour boll detector parameters: " + error);
+  setGeometry(CameraIntrinsics{}, BollGeometry{});
+}
+
+void ColourBollDetector::setGeometry(const CameraIntrinsics& intrinsics, const BollGeometry& geometry) {
+  const std::string error = validate(intrinsics) + validate(geometry);
+  if (!error.empty()) throw std::invalid_argument("colour boll detector geometry: " + error);
+  const PixelRadiusRange radius = bollRadiusPx(geometry, 0.5 * (intrinsics.fx + intrinsics.fy));
+  scale_.radius_min_px = radius.min_px;
+  scale_.radius_max_px = radius.max_px;
+  const double smallest_disc = CV_PI * radius.min_px * radius.min_px;
+  const double largest_disc = CV_PI * radius.max_px * radius.max_px;
+  scale_.min_area_px = std::max(4.0, params_.min_visible_fraction * smallest_disc);
+  scale_.max_single_area_px = 1.3 * largest_disc;
+  scale_.max_area_px = params_.max_cluster_bolls * largest_disc;
+  // Odd sides, so that the structuring elements are centred and do not move the regions.
+  const auto odd = [](double side) { return 2 * static_cast<int>(std::lround(0.5 * (side - 1.0))) + 1; };
+  scale_.opening_px = odd(params_.opening_fraction * radius.min_px);
+  scale_.closing_px = odd(params_.closing_fraction * radius.min_px);
+}
+
+void ColourBollDetector::detectRegion(const std::vector<cv::Point>& contour, const cv::Mat& bgr, const cv::Mat& mask,
+                                      std::vector<BollDetection>* bolls) const {
+  const double area = cv::contourArea(contour);
+  if (area < scale_.min_area_px || area > scale_.max_area_px) return;
+  const cv::Rect box = cv::boundingRect(contour);
+  const cv::Scalar mean_bgr = cv::mean(bgr(box), mask(box));
+  const double brightness = std::max({mean_bgr[0], mean_bgr[1], mean_bgr[2]}) / 255.0;
+
+  // The region alone, with a border so that the distance transform sees its edge everywhere. Closing it first fills
+  // the dark creases between a boll's lobes, which would otherwise make one boll look like several.
+  const int close_px = std::max(3, 2 * static_cast<int>(0.35 * scale_.radius_min_px) + 1);
+  const int pad = close_px + 1;
+  cv::Mat region = cv::Mat::zeros(box.height + 2 * pad, box.width + 2 * pad, CV_8U);
+  const std::vector<std::vector<cv::Point>> one{contour};
+  cv::drawContours(region, one, 0, cv::Scalar(255), cv::FILLED, cv::LINE_8, cv::noArray(), INT_MAX,
+                   cv::Point(pad - box.x, pad - box.y));
+  cv::Mat closed;
+  cv::morphologyEx(region, closed, cv::MORPH_CLOSE, cv::getStructuringElement(cv::MORPH_ELLIPSE, {close_px, close_px}));
+  cv::Mat dist;
+  cv::distanceTransform(closed, dist, cv::DIST_L2, cv::DIST_MASK_5);
+  const int window = 2 * std::max(1, static_cast<int>(0.5 * scale_.radius_min_px)) + 1;
+  const std::vector<Peak> peaks =
+      findPeaks(dist, std::max(1.5, 0.4 * scale_.radius_min_px), params_.split_neck_ratio, window);
+
+  if (peaks.size() <= 1) {
+    if (area > scale_.max_single_area_px) return;
+    const double perimeter = cv::arcLength(contour, true);
+    const double circularity = perimeter > 0.0 ? std::min(1.0, 4.0 * CV_PI * area / (perimeter * perimeter)) : 0.0;
+    if (circularity < params_.min_circularity) return;
+    std::vector<cv::Point> hull;
+    cv::convexHull(contour, hull);
+    const double hull_area = cv::contourArea(hull);
+    const double solidity = hull_area > 0.0 ? area / hull_area : 0.0;
+    if (solidity < params_.min_solidity) return;
+    // Aspect of the smallest rotated rectangle: a thin glint at 45 degrees has a square bounding box.
+    const cv::Size2f rotated = cv::minAreaRect(contour).size;
+    const double aspect =
+        std::max(rotated.width, rotated.height) / std::max(1.0f, std::min(rotated.width, rotated.height));
+    if (aspect > params_.max_aspect_ratio) return;
+    const cv::Moments m = cv::moments(contour);
+    BollDetection boll;
+    boll.box = box;
+    boll.centroid = {m.m10 / m.m00, m.m01 / m.m00};
+    boll.confidence = std::clamp(circularity * solidity * brightness, 0.0, 1.0);
+    bolls->push_back(boll);
+    return;
+  }
+
+  // Touching bolls: each pixel of the region goes to the peak whose disc edge is nearest.
+  struct Part {
+    double count = 0.0, sum_u = 0.0, sum_v = 0.0;
+    int u_min = INT_MAX, v_min = INT_MAX, u_max = -1, v_max = -1;
+  };
+  std::vector<Part> parts(peaks.size());
+  for (int v = pad; v < pad + box.height; ++v) {
+    const uint8_t* inside = region.ptr<uint8_t>(v);
+    for (int u = pad; u < pad + box.width; ++u) {
+      if (!inside[u]) continue;
+      size_t best = 0;
+      double best_cost = std::numeric_limits<double>::infinity();
+      for (size_t i = 0; i < peaks.size(); ++i) {
+        const double cost = std::hypot(u - peaks[i].centre.x, v - peaks[i].centre.y) - peaks[i].radius;
+        if (cost < best_cost) {
+          best_cost = cost;
+          best = i;
+        }
+      }
+      Part& part = parts[best];
+      part.count += 1.0;
+      part.sum_u += u;
+      part.sum_v += v;
+      part.u_min = std::min(part.u_min, u);
+      part.u_max = std::max(part.u_max, u);
+      part.v_min = std::min(part.v_min, v);
+      part.v_max = std::max(part.v_max, v);
+    }
+  }
+  for (size_t i = 0; i < parts.size(); ++i) {
+    const Part& part = parts[i];
+    if (part.count < scale_.min_area_px || part.count > scale_.max_single_area_px) continue;
+    const int width = part.u_max - part.u_min + 1, height = part.v_max - part.v_min + 1;
+    if (static_cast<double>(std::max(width, height)) / std::min(width, height) > params_.max_aspect_ratio) continue;
+    BollDetection boll;
+    boll.box = cv::Rect2d(box.x + part.u_min - pad, box.y + part.v_min - pad, width, height);
+    boll.centroid = {box.x + part.sum_u / part.count - pad, box.y + part.sum_v / part.count - pad};
+    const double fill = part.count / (CV_PI * peaks[i].radius * peaks[i].radius);
+    boll.confidence = std::clamp(std::min(1.0, fill) * brightness, 0.0, 1.0);
+    bolls->push_back(boll);
+  }
+}
+
+int ColourBollDetector::valueThreshold(const cv::Mat& bgr) const {
+  // Median brightness (HSV value = largest channel) of the scene, from every fourth pixel of every fourth row.
+  int histogram[256] = {0};
+  int count = 0;
+  for (int v = 0; v < bgr.rows; v += 4) {
+    const cv::Vec3b* pixel = bgr.ptr<cv::Vec3b>(v);
+    for (int u = 0; u < bgr.cols; u += 4, ++count) ++histogram[std::max({pixel[u][0], pixel[u][1], pixel[u][2]})];
+  }
+  int median = 0;
+  for (int seen = 0; median < 255; ++median) {
+    seen += histogram[median];
+    if (2 * seen >= count) break;
+  }
+  const int relative = static_cast<int>(std::lround(params_.value_contrast * median));
+  return std::clamp(relative, params_.value_floor, params_.value_min);
+}
+
+cv::Mat ColourBollDetector::whiteMask(const cv::Mat& bgr, int value_min) const {
+  // HSV value V = max(b, g, r) and saturation S = 255 (V - min(b, g, r)) / V without the conversion:
+  // S <= saturation_max  <=>  255 (V - min) <= saturation_max V.
+  cv::Mat mask(bgr.size(), CV_8U);
+  const int saturation_max = params_.saturation_max;
+  for (int v = 0; v < bgr.rows; ++v) {
+    const uint8_t* pixel = bgr.ptr<uint8_t>(v);
+    uint8_t* out = mask.ptr<uint8_t>(v);
+    for (int u = 0; u < bgr.cols; ++u, pixel += 3) {
+      const int high = std::max({pixel[0], pixel[1], pixel[2]});
+      const int low = std::min({pixel[0], pixel[1], pixel[2]});
+      out[u] = (high >= value_min && 255 * (high - low) <= saturation_max * high) ? 255 : 0;
+    }
+  }
+  return mask;
 }
 
 std::vector<BollDetection> ColourBollDetector::detect(const cv::Mat& bgr, const cv::Mat& exclude) {
   std::vector<BollDetection> bolls;
   if (bgr.empty() || bgr.type() != CV_8UC3) return bolls;
 
-  cv::Mat hsv, mask;
-  cv::cvtColor(bgr, hsv, cv::COLOR_BGR2HSV);
-  cv::inRange(hsv, cv::Scalar(0, 0, params_.value_min), cv::Scalar(180, params_.saturation_max, 255), mask);
+  cv::Mat mask = whiteMask(bgr, valueThreshold(bgr));
   if (!exclude.empty() && exclude.size() == mask.size() && exclude.type() == CV_8U) mask.setTo(0, exclude);
-  if (params_.opening_px > 1) {
-    const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_ELLIPSE, {params_.opening_px, params_.opening_px});
+  if (scale_.opening_px > 1) {
+    const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_ELLIPSE, {scale_.opening_px, scale_.opening_px});
     cv::morphologyEx(mask, mask, cv::MORPH_OPEN, kernel);
+  }
+  // A twig or a leaf's edge across a boll cuts it in two: closing over a stem's width joins the pieces (bolls that
+  // are joined this way are split again by their distance-transform maxima).
+  if (scale_.closing_px > 1) {
+    const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_ELLIPSE, {scale_.closing_px, scale_.closing_px});
+    cv::morphologyEx(mask, mask, cv::MORPH_CLOSE, kernel);
+    if (!exclude.empty() && exclude.size() == mask.size() && exclude.type() == CV_8U) mask.setTo(0, exclude);
   }
 
   std::vector<std::vector<cv::Point>> contours;
   cv::findContours(mask, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_SIMPLE);
-  std::vector<cv::Point> hull;
-  for (const std::vector<cv::Point>& contour : contours) {
-    const double area = cv::contourArea(contour);
-    if (area < params_.min_area_px || area > params_.max_area_px) continue;
-    const double perimeter = cv::arcLength(contour, true);
-    const double circularity = perimeter > 0.0 ? std::min(1.0, 4.0 * CV_PI * area / (perimeter * perimeter)) : 0.0;
-    if (circularity < params_.min_circularity) continue;
-    cv::convexHull(contour, hull);
-    const double hull_area = cv::contourArea(hull);
-    const double solidity = hull_area > 0.0 ? area / hull_area : 0.0;
-    if (solidity < params_.min_solidity) continue;
-    const cv::Rect box = cv::boundingRect(contour);
-    const double aspect = static_cast<double>(std::max(box.width, box.height)) / std::min(box.width, box.height);
-    if (aspect > params_.max_aspect_ratio) continue;
-
-    const cv::Moments m = cv::moments(contour);
-    BollDetection boll;
-    boll.box = box;
-    boll.centroid = {m.m10 / m.m00, m.m01 / m.m00};
-    const double brightness = cv::mean(hsv(box), mask(box))[2] / 255.0;
-    boll.confidence = std::clamp(circularity * solidity * brightness, 0.0, 1.0);
-    bolls.push_back(boll);
-  }
+  for (const std::vector<cv::Point>& contour : contours) detectRegion(contour, bgr, mask, &bolls);
   return bolls;
 }
 

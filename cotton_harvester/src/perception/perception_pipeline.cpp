@@ -1,5 +1,6 @@
 #include "cotton_harvester/perception/perception_pipeline.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -40,6 +41,7 @@ std::string validate(const PerceptionParams& params) {
   add("end_effector: ", validate(params.end_effector));
   add("depth: ", validate(params.locator));
   add("reach: ", validate(params.reach));
+  add("geometry: ", validate(params.geometry));
   return error;
 }
 
@@ -48,12 +50,52 @@ PerceptionPipeline::PerceptionPipeline(const PerceptionParams& params, std::uniq
   const std::string error = validate(params);
   if (!error.empty()) throw std::invalid_argument("perception parameters: " + error);
   if (!detector_) throw std::invalid_argument("perception pipeline needs a boll detector");
+  applyGeometry();
+}
+
+void PerceptionPipeline::applyGeometry() {
+  detector_->setGeometry(params_.intrinsics, params_.geometry);
+  end_effector_detector_.setFocalLength(0.5 * (params_.intrinsics.fx + params_.intrinsics.fy));
 }
 
 void PerceptionPipeline::setIntrinsics(const CameraIntrinsics& intrinsics) {
   const std::string error = validate(intrinsics);
   if (!error.empty()) throw std::invalid_argument("camera intrinsics: " + error);
   params_.intrinsics = intrinsics;
+  applyGeometry();
+}
+
+namespace {
+
+/// Depth of the ground below the camera [m]: the 90th percentile of the cloud's depths on a sparse grid (the ground
+/// is the farthest large surface). NaN when the cloud holds too few points.
+double groundDepth(const cv::Mat& cloud) {
+  std::vector<float> depths;
+  depths.reserve(static_cast<size_t>(cloud.rows / 8 + 1) * (cloud.cols / 8 + 1));
+  for (int v = 0; v < cloud.rows; v += 8) {
+    const cv::Vec3f* point = cloud.ptr<cv::Vec3f>(v);
+    for (int u = 0; u < cloud.cols; u += 8)
+      if (std::isfinite(point[u][2]) && point[u][2] > 0.0f) depths.push_back(point[u][2]);
+  }
+  if (depths.size() < 50) return std::numeric_limits<double>::quiet_NaN();
+  const auto at = depths.begin() + static_cast<std::ptrdiff_t>(0.9 * (depths.size() - 1));
+  std::nth_element(depths.begin(), at, depths.end());
+  return *at;
+}
+
+}  // namespace
+
+bool PerceptionPipeline::plausible(const BollDetection& detection, const cv::Point3d& position,
+                                   double ground_depth_m) const {
+  const BollGeometry& g = params_.geometry;
+  // Nothing lower than half the lowest boll's height (stones, pale soil): above the measured ground when the cloud
+  // shows it (terrain and the camera's height vary), else above the nominal one.
+  const double ground = std::isfinite(ground_depth_m) ? ground_depth_m : g.camera_height_m;
+  if (position.z > ground - 0.5 * g.boll_height_min_m) return false;
+  // The visible extent at the measured depth must fit a boll: at least part of the smallest, at most the largest.
+  const double focal = 0.5 * (params_.intrinsics.fx + params_.intrinsics.fy);
+  const double extent_m = 0.5 * std::max(detection.box.width, detection.box.height) * position.z / focal;
+  return extent_m >= 0.4 * g.boll_radius_min_m && extent_m <= 1.5 * g.boll_radius_max_m;
 }
 
 FrameResult PerceptionPipeline::process(const cv::Mat& bgr, const cv::Mat& cloud) {
@@ -72,10 +114,16 @@ FrameResult PerceptionPipeline::process(const cv::Mat& bgr, const cv::Mat& cloud
   }
   const bool has_depth = !cloud.empty() && cloud.type() == CV_32FC3 && cloud.size() == bgr.size();
 
-  // Steps 1-3: end-effector, then bolls outside its region.
+  // Steps 1-3: end-effector, then bolls outside its region and the arm's.
   result.end_effector_image = end_effector_detector_.detect(bgr, &result.end_effector_mask);
   if (result.end_effector_image) {
-    result.boll_exclusion = armBandMask(bgr.size(), *result.end_effector_image, params_.end_effector);
+    if (has_depth)
+      result.end_effector = locateRegion(cloud, result.end_effector_mask, result.end_effector_image->pixel,
+                                         params_.intrinsics, params_.locator);
+    result.boll_exclusion = result.end_effector
+                                ? armMask(bgr.size(), *result.end_effector_image, result.end_effector->position,
+                                          params_.intrinsics, cloud, params_.end_effector)
+                                : armBandMask(bgr.size(), *result.end_effector_image, params_.end_effector);
     result.boll_exclusion |= result.end_effector_mask;
   }
   const std::vector<BollDetection> detections = detector_->detect(bgr, result.boll_exclusion);
@@ -85,15 +133,17 @@ FrameResult PerceptionPipeline::process(const cv::Mat& bgr, const cv::Mat& cloud
     result.bolls_without_depth = result.bolls_detected;
     return result;
   }
-  if (result.end_effector_image)
-    result.end_effector = locateRegion(cloud, result.end_effector_mask, result.end_effector_image->pixel,
-                                       params_.intrinsics, params_.locator);
 
   // Steps 4-5: depth of each centroid; step 7: its position.
+  const double ground_depth_m = detections.empty() ? 0.0 : groundDepth(cloud);
   for (const BollDetection& detection : detections) {
     const std::optional<LocatedPoint> located = locate(cloud, detection.centroid, params_.intrinsics, params_.locator);
     if (!located) {
       ++result.bolls_without_depth;
+      continue;
+    }
+    if (params_.check_plausibility && !plausible(detection, located->position, ground_depth_m)) {
+      ++result.bolls_implausible;
       continue;
     }
     LocatedBoll boll;

@@ -64,10 +64,63 @@ TEST(ColourBollDetector, BadInputGivesNothing) {
 
 TEST(ColourBollDetector, RejectsBadParameters) {
   ColourBollParams params;
-  params.max_area_px = 10;  // below min_area_px
-  EXPECT_NE(validate(params).find("max_area_px"), std::string::npos);
+  params.min_visible_fraction = 0.0;
+  EXPECT_NE(validate(params).find("min_visible_fraction"), std::string::npos);
   EXPECT_THROW(ColourBollDetector{params}, std::invalid_argument);
   params = ColourBollParams{};
   params.max_aspect_ratio = 0.5;
   EXPECT_NE(validate(params).find("max_aspect_ratio"), std::string::npos);
+}
+
+TEST(ColourBollDetector, SplitsTouchingBolls) {
+  cv::Mat image(720, 1280, CV_8UC3, cv::Scalar(40, 120, 50));
+  // Two bolls of radius 15 px whose silhouettes overlap by 2 px, and a pair of different sizes side by side.
+  cv::circle(image, {400, 300}, 15, kWhite, cv::FILLED);
+  cv::circle(image, {428, 300}, 15, kWhite, cv::FILLED);
+  cv::circle(image, {800, 400}, 20, kWhite, cv::FILLED);
+  cv::circle(image, {822, 428}, 14, kWhite, cv::FILLED);
+  ColourBollDetector detector{ColourBollParams{}};
+  const std::vector<BollDetection> bolls = detector.detect(image, cv::Mat());
+  ASSERT_EQ(bolls.size(), 4u);
+  // Each part's centroid lies within a few pixels of its disc's centre (the cut is straight, not the arc).
+  EXPECT_TRUE(hasDetectionNear(bolls, {400, 300}, 3.0));
+  EXPECT_TRUE(hasDetectionNear(bolls, {428, 300}, 3.0));
+  EXPECT_TRUE(hasDetectionNear(bolls, {800, 400}, 3.0));
+  EXPECT_TRUE(hasDetectionNear(bolls, {822, 428}, 3.0));
+}
+
+TEST(ColourBollDetector, OneBollCutByATwigStaysOne) {
+  cv::Mat image(720, 1280, CV_8UC3, cv::Scalar(40, 120, 50));
+  cv::circle(image, {400, 300}, 16, kWhite, cv::FILLED);
+  cv::line(image, {370, 290}, {430, 310}, cv::Scalar(60, 85, 100), 3);  // a brown twig across it
+  ColourBollDetector detector{ColourBollParams{}};
+  const std::vector<BollDetection> bolls = detector.detect(image, cv::Mat());
+  ASSERT_EQ(bolls.size(), 1u);
+  EXPECT_TRUE(hasDetectionNear(bolls, {400, 300}, 2.0));
+}
+
+TEST(ColourBollDetector, SizeThresholdsFollowTheImageSize) {
+  // A boll of radius 4 px: the smallest boll at 640x360 (about 3.4 px), a speck at 1280x720 (about 6.8 px).
+  cv::Mat small(360, 640, CV_8UC3, cv::Scalar(40, 120, 50));
+  cv::circle(small, {300, 200}, 4, kWhite, cv::FILLED);
+  ColourBollDetector detector{ColourBollParams{}};
+  EXPECT_TRUE(detector.detect(small, cv::Mat()).empty());
+  detector.setGeometry(scaledTo(CameraIntrinsics{}, 640, 360), BollGeometry{});
+  EXPECT_NEAR(detector.scale().radius_min_px, 0.5 * ColourBollDetector{ColourBollParams{}}.scale().radius_min_px, 1e-9);
+  const std::vector<BollDetection> bolls = detector.detect(small, cv::Mat());
+  ASSERT_EQ(bolls.size(), 1u);
+  EXPECT_TRUE(hasDetectionNear(bolls, {300, 200}, 1.0));
+  // A higher camera sees smaller bolls: the thresholds shrink with it.
+  BollGeometry high;
+  high.camera_height_m = 3.0;
+  detector.setGeometry(CameraIntrinsics{}, high);
+  EXPECT_LT(detector.scale().min_area_px, ColourBollDetector{ColourBollParams{}}.scale().min_area_px);
+}
+
+TEST(ColourBollDetector, DarkerExposureLowersTheValueThreshold) {
+  // The whole frame at 60% exposure: bolls at value ~143, under the bright-scene threshold of 150.
+  cv::Mat image(720, 1280, CV_8UC3, cv::Scalar(24, 72, 30));
+  cv::circle(image, {300, 200}, 15, cv::Scalar(141, 143, 144), cv::FILLED);
+  ColourBollDetector detector{ColourBollParams{}};
+  EXPECT_EQ(detector.detect(image, cv::Mat()).size(), 1u);
 }

@@ -10,7 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "cotton_harvester/perception/darknet_boll_detector.h"
-#include "cotton_harvester/perception/darknet_net_writer.h"
+#include "cotton_harvester/testing/darknet_net_writer.h"
 
 using namespace cotton_harvester::perception;
 namespace fs = std::filesystem;

@@ -1,3 +1,5 @@
+#include <limits>
+
 #include <gtest/gtest.h>
 
 #include <opencv2/imgproc.hpp>
@@ -101,4 +103,50 @@ TEST(EndEffectorDetector, ArmBandRunsFromTheEndEffectorToTheBorder) {
   EXPECT_EQ(down.at<uint8_t>(100, 630), 0);
   params.arm_direction = {0.0, 0.0};
   EXPECT_EQ(cv::countNonZero(armBandMask({1280, 720}, ee, params)), 0);
+}
+
+TEST(EndEffectorDetector, FoundInSunGlareWhereThePapersRgbWindowFails) {
+  // Glare raises the housing's blue to 90 (paper: B <= 60); hue and saturation still say orange.
+  cv::Mat image(720, 1280, CV_8UC3, cv::Scalar(40, 120, 50));
+  cv::rectangle(image, cv::Rect(600, 300, 60, 40), cv::Scalar(90, 160, 250), cv::FILLED);
+  cv::rectangle(image, cv::Rect(200, 500, 80, 80), cv::Scalar(70, 100, 140), cv::FILLED);  // brown soil: too grey
+  const auto found = EndEffectorDetector(EndEffectorParams{}).detect(image);
+  ASSERT_TRUE(found.has_value());
+  EXPECT_NEAR(found->pixel.x, 629.5, 0.6);
+  EndEffectorParams paper;
+  paper.colour_space = EndEffectorColourSpace::kRgb;
+  EXPECT_FALSE(EndEffectorDetector(paper).detect(image).has_value());
+}
+
+TEST(EndEffectorDetector, MinimumAreaScalesWithTheFocalLength) {
+  EndEffectorDetector detector{EndEffectorParams{}};
+  EXPECT_DOUBLE_EQ(detector.minAreaPx(), 150.0);
+  detector.setFocalLength(0.5 * EndEffectorParams{}.reference_focal_px);
+  EXPECT_NEAR(detector.minAreaPx(), 37.5, 1e-9);
+  EXPECT_THROW(detector.setFocalLength(0.0), std::invalid_argument);
+}
+
+TEST(EndEffectorDetector, ArmMaskEndsAtTheBaseAndOnlyAtTheArmsDepth) {
+  const CameraIntrinsics k;
+  EndEffectorObservation ee;
+  ee.box = cv::Rect(600, 300, 60, 40);
+  ee.pixel = {629.5, 319.5};
+  const double z = 1.5;
+  const cv::Point3d position((ee.pixel.x - k.cx) / k.fx * z, (ee.pixel.y - k.cy) / k.fy * z, z);
+  // Ground at 2 m; the arm at the end-effector's depth from its left edge to u = 450.
+  cv::Mat cloud(720, 1280, CV_32FC3, cv::Scalar(0, 0, 2.0f));
+  cloud(cv::Rect(450, 310, 180, 20)).setTo(cv::Scalar(0, 0, static_cast<float>(z)));
+  cloud.at<cv::Vec3f>(320, 480) = cv::Vec3f(0, 0, std::numeric_limits<float>::quiet_NaN());
+  const EndEffectorParams params;  // arm towards -u, base 0.80 m from the optical axis
+  const cv::Mat mask = armMask(cloud.size(), ee, position, k, cloud, params);
+  EXPECT_EQ(mask.at<uint8_t>(320, 500), 255);  // arm
+  EXPECT_EQ(mask.at<uint8_t>(320, 480), 255);  // no depth inside the band: assumed arm
+  EXPECT_EQ(mask.at<uint8_t>(305, 400), 0);    // in the band but at the ground's depth: a boll there stays
+  // The base: 0.80 m from the axis along -x, i.e. (0.80 + x_ee) z^-1 fx pixels left of the box centre.
+  const double base_u = 630.0 - (0.80 + position.x) * k.fx / z;
+  cloud.setTo(cv::Scalar(0, 0, static_cast<float>(z)));
+  const cv::Mat flat = armMask(cloud.size(), ee, position, k, cloud, params);
+  EXPECT_EQ(flat.at<uint8_t>(320, static_cast<int>(base_u) + 3), 255);
+  EXPECT_EQ(flat.at<uint8_t>(320, static_cast<int>(base_u) - 3), 0);  // beyond the arm's base
+  EXPECT_EQ(flat.at<uint8_t>(320, 700), 0);                           // not on the other side
 }

@@ -19,9 +19,9 @@
 
 #include "cotton_harvester/BollArray.h"
 #include "cotton_harvester/perception/colour_boll_detector.h"
-#include "cotton_harvester/perception/detection_scoring.h"
+#include "cotton_harvester/testing/detection_scoring.h"
 #include "cotton_harvester/perception/perception_pipeline.h"
-#include "cotton_harvester/perception/scene_renderer.h"
+#include "cotton_harvester/testing/scene_renderer.h"
 #include "node_test_helpers.h"
 
 using namespace cotton_harvester;

@@ -35,6 +35,10 @@ std::string toString(DepthModel model);
 /// Checks the intrinsics; returns an empty string when valid, otherwise what is wrong.
 std::string validate(const CameraIntrinsics& intrinsics);
 
+/// The same lens at another image size (a camera mode that scales the sensor): fx, cx by width / old width,
+/// fy, cy by height / old height.
+CameraIntrinsics scaledTo(const CameraIntrinsics& intrinsics, int width, int height);
+
 /// Projects a camera-frame point (x right, y down, z along the optical axis) [m] to a pixel [px].
 /// Requires point.z > 0.
 cv::Point2d project(const CameraIntrinsics& intrinsics, const cv::Point3d& point);

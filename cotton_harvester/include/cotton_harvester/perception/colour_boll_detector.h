@@ -9,31 +9,65 @@ namespace cotton_harvester {
 namespace perception {
 
 /// Thresholds of the colour and shape boll segmenter: open bolls are white (low saturation), bright and
-/// compact.
+/// compact. Sizes are not in pixels: they follow from the BollGeometry and the focal length (setGeometry), so the
+/// same parameters hold at 640x360 and at 1920x1080, and at another camera height.
 struct ColourBollParams {
-  int value_min = 150;            ///< minimum HSV value (brightness) of boll pixels [0, 255]
-  int saturation_max = 70;        ///< maximum HSV saturation of boll pixels [0, 255]
-  int opening_px = 3;             ///< square opening that removes speckle and thin highlights [px]; <= 1: none
-  int min_area_px = 150;          ///< smallest boll region [px^2]
-  int max_area_px = 20000;        ///< largest boll region [px^2]
-  double min_circularity = 0.45;  ///< 4 pi area / perimeter^2 [0, 1]
-  double min_solidity = 0.80;     ///< area / convex hull area [0, 1]
-  double max_aspect_ratio = 2.5;  ///< long side / short side of the bounding box [-]
+  int value_min = 150;      ///< minimum HSV value (brightness) of boll pixels in a well exposed image [0, 255]
+  int saturation_max = 70;  ///< maximum HSV saturation of boll pixels [0, 255]
+  /// Exposure and shade: the value threshold drops to value_contrast times the scene's median value (soil and
+  /// leaves; open bolls reflect about twice as much), but not below value_floor.
+  double value_contrast = 1.35;       ///< [-]
+  int value_floor = 60;               ///< [0, 255]
+  double opening_fraction = 0.45;     ///< side of the speckle-removing opening as a share of the smallest boll
+                                      ///< radius in pixels [-]; a side <= 1 px: no opening
+  double closing_fraction = 1.0;      ///< side of the closing that joins a boll cut by a twig, same unit [-]
+  double min_visible_fraction = 0.4;  ///< smallest region: this share of the smallest boll's disc [0, 1]
+  int max_cluster_bolls = 8;          ///< largest region split into bolls, in largest-boll discs [-]
+  double min_circularity = 0.45;      ///< single bolls: 4 pi area / perimeter^2 [0, 1]
+  double min_solidity = 0.80;         ///< single bolls: area / convex hull area [0, 1]
+  double max_aspect_ratio = 2.5;      ///< long side / short side of the smallest rotated rectangle [-]
+  /// Touching bolls are split where the region narrows: two maxima of the distance transform are two bolls when
+  /// the region's half width between them drops below this share of the smaller one's inscribed radius [0, 1].
+  double split_neck_ratio = 0.75;
 };
 
 /// Returns an empty string when valid, otherwise the bad field and what was expected.
 std::string validate(const ColourBollParams& params);
 
-/// The default detector: HSV threshold for white and bright, opening, external contours, then shape tests
-/// (area, circularity, solidity, aspect ratio). Confidence grows with circularity, solidity and brightness.
+/// The pixel thresholds the detector derives from its parameters, the geometry and the focal length.
+struct ColourBollScale {
+  double radius_min_px = 0.0;       ///< smallest boll [px]
+  double radius_max_px = 0.0;       ///< largest boll [px]
+  double min_area_px = 0.0;         ///< smallest region kept [px^2]
+  double max_single_area_px = 0.0;  ///< largest region taken as one boll without a split [px^2]
+  double max_area_px = 0.0;         ///< largest region considered at all [px^2]
+  int opening_px = 0;               ///< side of the opening [px]
+  int closing_px = 0;               ///< side of the closing [px]
+};
+
+/// The default detector: HSV threshold for white and bright, opening, external contours; each region's distance
+/// transform maxima that are separated by a neck are touching bolls and the region is split between them (each
+/// pixel to the nearest maximum, relative to its inscribed radius); single regions pass shape tests (area,
+/// circularity, solidity, aspect ratio). Confidence grows with circularity, solidity and brightness.
 class ColourBollDetector : public BollDetector {
  public:
+  /// Throws std::invalid_argument on bad parameters. Until setGeometry, the paper's camera at 1280x720 and the
+  /// default BollGeometry set the sizes.
   explicit ColourBollDetector(const ColourBollParams& params);
 
   std::vector<BollDetection> detect(const cv::Mat& bgr, const cv::Mat& exclude) override;
+  void setGeometry(const CameraIntrinsics& intrinsics, const BollGeometry& geometry) override;
+
+  const ColourBollScale& scale() const { return scale_; }
 
  private:
+  int valueThreshold(const cv::Mat& bgr) const;
+  cv::Mat whiteMask(const cv::Mat& bgr, int value_min) const;
+  void detectRegion(const std::vector<cv::Point>& contour, const cv::Mat& bgr, const cv::Mat& mask,
+                    std::vector<BollDetection>* bolls) const;
+
   ColourBollParams params_;
+  ColourBollScale scale_;
 };
 
 }  // namespace perception

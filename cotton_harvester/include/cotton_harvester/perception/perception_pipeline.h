@@ -30,6 +30,10 @@ struct PerceptionParams {
   EndEffectorParams end_effector;
   LocatorParams locator;
   ReachParams reach;
+  BollGeometry geometry;  ///< boll sizes and heights: the detector's pixel thresholds and the 3D plausibility test
+  /// Drop detections on the ground (below half the lowest boll's height over the cloud's ground) or of a size no
+  /// boll has at their measured depth. Off only for scenes without a ground, e.g. a flat test cloud.
+  bool check_plausibility = true;
   NearestBy nearest_by = NearestBy::kCamera;
 };
 
@@ -62,6 +66,7 @@ struct FrameResult {
   int nearest_reachable = -1;      ///< index into bolls, -1 if none
   int bolls_detected = 0;          ///< 2D detections before 3D location
   int bolls_without_depth = 0;     ///< detections dropped for lack of valid cloud points
+  int bolls_implausible = 0;       ///< detections dropped in 3D: on the ground or of a size no boll has
   std::optional<EndEffectorObservation> end_effector_image;  ///< end-effector in the image
   std::optional<LocatedPoint> end_effector;                  ///< end-effector in 3D, when its depth is known
   cv::Mat end_effector_mask;  ///< CV_8U, 255 on the segmented end-effector (empty when not found)
@@ -69,8 +74,9 @@ struct FrameResult {
 };
 
 /// Algorithm 1 up to step 7: end-effector by colour (its depth: the median over its segmented region), bolls by
-/// the detector (the end-effector's region and the arm's band masked out), each boll centroid located in the organised
-/// cloud, reachability, and the nearest reachable boll.
+/// the detector (the end-effector's region and the arm masked out: the band from the end-effector to the arm's
+/// base, at the arm's depth), each boll centroid located in the organised cloud, detections on the ground or of
+/// implausible size dropped, reachability, and the nearest reachable boll.
 class PerceptionPipeline {
  public:
   /// Throws std::invalid_argument on bad parameters or a null detector.
@@ -85,6 +91,9 @@ class PerceptionPipeline {
   void setIntrinsics(const CameraIntrinsics& intrinsics);
 
  private:
+  void applyGeometry();
+  bool plausible(const BollDetection& detection, const cv::Point3d& position, double ground_depth_m) const;
+
   PerceptionParams params_;
   EndEffectorDetector end_effector_detector_;
   std::unique_ptr<BollDetector> detector_;

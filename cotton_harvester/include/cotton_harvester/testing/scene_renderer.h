@@ -4,7 +4,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "cotton_harvester/perception/synthetic_scene.h"
+#include "cotton_harvester/testing/synthetic_scene.h"
 
 namespace cotton_harvester {
 namespace perception {

@@ -1,4 +1,4 @@
-#include "cotton_harvester/perception/detection_scoring.h"
+#include "cotton_harvester/testing/detection_scoring.h"
 
 #include <algorithm>
 #include <cmath>
@@ -38,8 +38,12 @@ FrameScore scoreFrame(const FrameResult& result, const SceneLayout& truth, const
     if (!boll_used[b] && truth.bolls[b].visible_fraction >= params.min_visible_fraction) ++score.false_negatives;
   }
 
-  score.end_effector_expected = truth.end_effector.has_value();
-  score.end_effector_found = result.end_effector.has_value();
+  // The end-effector has to be found when at least half of its top face is in the image and not under leaves.
+  score.end_effector_expected =
+      truth.end_effector && truth.end_effector->visible_fraction >= params.min_visible_fraction;
+  score.end_effector_found = result.end_effector_image.has_value();
+  score.end_effector_located = result.end_effector.has_value();
+  score.end_effector_false = !truth.end_effector && result.end_effector_image.has_value();
   if (truth.end_effector && result.end_effector) {
     const cv::Point3d error = result.end_effector->position - truth.end_effector->top_centre;
     score.end_effector_error_m = std::sqrt(error.dot(error));
@@ -54,7 +58,8 @@ void ScoreSummary::add(const FrameScore& score) {
   errors_3d_m.insert(errors_3d_m.end(), score.errors_3d_m.begin(), score.errors_3d_m.end());
   end_effector_expected += score.end_effector_expected;
   end_effector_found += score.end_effector_expected && score.end_effector_found;
-  if (score.end_effector_expected && score.end_effector_found)
+  end_effector_false += score.end_effector_false;
+  if (score.end_effector_expected && score.end_effector_located)
     end_effector_errors_m.push_back(score.end_effector_error_m);
 }
 

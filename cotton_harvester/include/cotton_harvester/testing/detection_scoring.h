@@ -3,7 +3,7 @@
 #include <vector>
 
 #include "cotton_harvester/perception/perception_pipeline.h"
-#include "cotton_harvester/perception/synthetic_scene.h"
+#include "cotton_harvester/testing/synthetic_scene.h"
 
 namespace cotton_harvester {
 namespace perception {
@@ -19,14 +19,16 @@ struct ScoringParams {
 
 /// The score of one frame.
 struct FrameScore {
-  int true_positives = 0;           ///< detections matched to a boll that had to be found
-  int false_positives = 0;          ///< detections matched to no boll
-  int false_negatives = 0;          ///< visible bolls no detection matched
-  int matched_hidden = 0;           ///< detections matched to a mostly hidden boll (neither true nor false positive)
-  std::vector<double> errors_3d_m;  ///< |position - true surface point| of each matched detection [m]
-  bool end_effector_expected = false;
-  bool end_effector_found = false;
-  double end_effector_error_m = 0.0;  ///< |located - true top centre| when both exist [m]
+  int true_positives = 0;              ///< detections matched to a boll that had to be found
+  int false_positives = 0;             ///< detections matched to no boll
+  int false_negatives = 0;             ///< visible bolls no detection matched
+  int matched_hidden = 0;              ///< detections matched to a mostly hidden boll (neither true nor false positive)
+  std::vector<double> errors_3d_m;     ///< |position - true surface point| of each matched detection [m]
+  bool end_effector_expected = false;  ///< in view and at least min_visible_fraction of its top face visible
+  bool end_effector_found = false;     ///< found in the image
+  bool end_effector_located = false;   ///< found and located in 3D
+  bool end_effector_false = false;     ///< found although there is none in the scene
+  double end_effector_error_m = 0.0;   ///< |located - true top centre| when both exist [m]
 };
 
 /// Matches a frame's located bolls one to one with the true bolls, nearest pairs first.
@@ -36,7 +38,7 @@ FrameScore scoreFrame(const FrameResult& result, const SceneLayout& truth, const
 struct ScoreSummary {
   int true_positives = 0, false_positives = 0, false_negatives = 0;
   std::vector<double> errors_3d_m;
-  int end_effector_expected = 0, end_effector_found = 0;
+  int end_effector_expected = 0, end_effector_found = 0, end_effector_false = 0;
   std::vector<double> end_effector_errors_m;
 
   void add(const FrameScore& score);

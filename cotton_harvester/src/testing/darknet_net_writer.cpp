@@ -1,4 +1,4 @@
-#include "cotton_harvester/perception/darknet_net_writer.h"
+#include "cotton_harvester/testing/darknet_net_writer.h"
 
 #include <cmath>
 #include <cstring>

@@ -16,6 +16,7 @@ namespace perception {
 enum class Lighting {
   kSunny,   ///< strong directional sun with cast shadows and leaf glints
   kCloudy,  ///< diffuse, slightly blue, no shadows
+  kShade,   ///< the row in the shadow of a building or tree line: dim, diffuse and blue
 };
 
 std::optional<Lighting> parseLighting(const std::string& name);
@@ -41,6 +42,17 @@ struct SceneParams {
   int hole_blobs = 4;                     ///< larger patches without depth [-]
   int invalid_left_columns = 24;          ///< left image border the stereo matcher cannot fill [px]
   double pixel_noise = 3.0;               ///< image noise sigma [grey levels]
+  /// Auto-exposure and white balance vary from frame to frame: a gain drawn in [min, max] and a per-channel
+  /// tint within +-white_balance_jitter [-].
+  double exposure_min = 0.75, exposure_max = 1.2;
+  double white_balance_jitter = 0.06;
+  /// Sunny frames: the end-effector's glossy housing reflects the sky, mixing its colour with white by up to
+  /// this share (its blue channel rises well above the paper's B <= 60) [0, 1].
+  double end_effector_sheen_max = 0.35;
+  /// Chance that a boll grows touching the previous boll of its plant (a cluster the segmenter must split) [0, 1].
+  double touching_probability = 0.3;
+  /// Chance that a leaf lies just above a boll, hiding part of it [0, 1].
+  double leaf_over_boll_probability = 0.3;
 };
 
 /// A shape of the scene. Planar shapes are horizontal (facing the camera) at depth centre.z.
@@ -71,8 +83,9 @@ struct TrueBoll {
 
 /// The true end-effector: the centre of the top face of its orange housing.
 struct TrueEndEffector {
-  cv::Point3d top_centre;  ///< [m]
-  cv::Point2d pixel;       ///< [px]
+  cv::Point3d top_centre;         ///< [m]
+  cv::Point2d pixel;              ///< [px]
+  double visible_fraction = 0.0;  ///< share of its top face not hidden by leaves or the image border [0, 1]
 };
 
 /// A random scene: its shapes and its truth (visible fractions are filled in by the renderer).
@@ -80,7 +93,9 @@ struct SceneLayout {
   std::vector<ScenePrimitive> primitives;
   std::vector<TrueBoll> bolls;
   std::optional<TrueEndEffector> end_effector;
-  cv::Point3d sun_direction;  ///< unit vector towards the sun [-]
+  cv::Point3d sun_direction;         ///< unit vector towards the sun [-]
+  double exposure = 1.0;             ///< camera gain of this frame [-]
+  cv::Vec3f white_balance{1, 1, 1};  ///< BGR gains of this frame [-]
 };
 
 /// Returns an empty string when valid, otherwise what is wrong.

@@ -1,4 +1,4 @@
-#include "cotton_harvester/perception/scene_renderer.h"
+#include "cotton_harvester/testing/scene_renderer.h"
 
 #include <algorithm>
 #include <cmath>
@@ -54,7 +54,15 @@ struct Light {
 };
 
 Light lightOf(Lighting lighting) {
-  return lighting == Lighting::kSunny ? Light{0.40, 0.75, {1.0f, 1.0f, 1.0f}} : Light{0.88, 0.0, {1.05f, 1.0f, 0.94f}};
+  switch (lighting) {
+    case Lighting::kSunny:
+      return Light{0.40, 0.75, {1.0f, 1.0f, 1.0f}};
+    case Lighting::kCloudy:
+      return Light{0.88, 0.0, {1.05f, 1.0f, 0.94f}};
+    case Lighting::kShade:
+      return Light{0.55, 0.0, {1.06f, 1.0f, 0.94f}};  // blue sky light, mostly corrected by auto white balance
+  }
+  return Light{0.88, 0.0, {1.0f, 1.0f, 1.0f}};
 }
 
 /// Reflectance of a boll at surface normal n: white lobes with creases, brown bracts at the silhouette.
@@ -153,13 +161,33 @@ SyntheticFrame renderScene(const SceneLayout& layout, const SceneParams& params,
     }
     frame.layout.bolls[p.boll_index].visible_fraction = silhouette > 0 ? double(visible) / silhouette : 0.0;
   }
+  // Truth: how much of the end-effector's top face is visible.
+  for (size_t i = 0; i < layout.primitives.size() && frame.layout.end_effector; ++i) {
+    const ScenePrimitive& p = layout.primitives[i];
+    if (p.kind != Kind::kEndEffector) continue;
+    const cv::Rect box = pixelBounds(p, k, p.centre.z, {0, 0}, false);
+    int face = 0, visible = 0;
+    for (int v = box.y; v < box.y + box.height; ++v) {
+      for (int u = box.x; u < box.x + box.width; ++u) {
+        if (!planeCovers(p, (u - k.cx) / k.fx * p.centre.z, (v - k.cy) / k.fy * p.centre.z, {0, 0})) continue;
+        ++face;
+        if (u >= 0 && v >= 0 && u < width && v < height && label.at<int>(v, u) == static_cast<int>(i)) ++visible;
+      }
+    }
+    frame.layout.end_effector->visible_fraction = face > 0 ? double(visible) / face : 0.0;
+  }
 
   // Colour image: optics blur, white balance, sensor noise.
   cv::GaussianBlur(radiance, radiance, {3, 3}, 0.8);
   cv::Mat noise(height, width, CV_32FC3);
   rng.fill(noise, cv::RNG::NORMAL, 0.0, params.pixel_noise);
   cv::Mat scaled;
-  cv::multiply(radiance, cv::Scalar(255.0 * light.tint[0], 255.0 * light.tint[1], 255.0 * light.tint[2]), scaled);
+  const double gain = 255.0 * layout.exposure;
+  cv::multiply(
+      radiance,
+      cv::Scalar(gain * light.tint[0] * layout.white_balance[0], gain * light.tint[1] * layout.white_balance[1],
+                 gain * light.tint[2] * layout.white_balance[2]),
+      scaled);
   scaled += noise;
   scaled.convertTo(frame.bgr, CV_8UC3);
 

@@ -1,4 +1,4 @@
-#include "cotton_harvester/perception/synthetic_scene.h"
+#include "cotton_harvester/testing/synthetic_scene.h"
 
 #include <cmath>
 #include <random>
@@ -49,10 +49,21 @@ ScenePrimitive bar(Kind kind, const cv::Point2d& from, const cv::Point2d& to, do
 std::optional<Lighting> parseLighting(const std::string& name) {
   if (name == "sunny") return Lighting::kSunny;
   if (name == "cloudy") return Lighting::kCloudy;
+  if (name == "shade") return Lighting::kShade;
   return std::nullopt;
 }
 
-std::string toString(Lighting lighting) { return lighting == Lighting::kSunny ? "sunny" : "cloudy"; }
+std::string toString(Lighting lighting) {
+  switch (lighting) {
+    case Lighting::kSunny:
+      return "sunny";
+    case Lighting::kCloudy:
+      return "cloudy";
+    case Lighting::kShade:
+      return "shade";
+  }
+  return "?";
+}
 
 std::string validate(const SceneParams& p) {
   std::ostringstream error;
@@ -70,6 +81,11 @@ std::string validate(const SceneParams& p) {
   if (!(p.hole_fraction >= 0.0 && p.hole_fraction <= 1.0)) error << "hole_fraction must be in [0, 1]; ";
   if (!(p.end_effector_probability >= 0.0 && p.end_effector_probability <= 1.0))
     error << "end_effector_probability must be in [0, 1]; ";
+  if (!(p.exposure_min > 0.0 && p.exposure_max >= p.exposure_min)) error << "exposure must satisfy 0 < min <= max; ";
+  if (!(p.white_balance_jitter >= 0.0 && p.white_balance_jitter < 0.5))
+    error << "white_balance_jitter must be in [0, 0.5); ";
+  for (const double share : {p.end_effector_sheen_max, p.touching_probability, p.leaf_over_boll_probability})
+    if (!(share >= 0.0 && share <= 1.0)) error << "end_effector_sheen_max and the probabilities must be in [0, 1]; ";
   return error.str();
 }
 
@@ -79,6 +95,10 @@ SceneLayout generateLayout(const SceneParams& params, std::uint32_t seed) {
   const double ground = params.camera_height_m;
   layout.sun_direction = params.lighting == Lighting::kSunny ? cv::Point3d(0.35, -0.25, -1.0) : cv::Point3d(0, 0, -1);
   layout.sun_direction /= std::sqrt(layout.sun_direction.dot(layout.sun_direction));
+  layout.exposure = draw.uniform(params.exposure_min, params.exposure_max);
+  for (int c = 0; c < 3; ++c)
+    layout.white_balance[c] =
+        static_cast<float>(1.0 + draw.uniform(-params.white_balance_jitter, params.white_balance_jitter));
 
   // End-effector first, so that bolls keep clear of it.
   if (draw.chance(params.end_effector_probability)) {
@@ -86,11 +106,14 @@ SceneLayout generateLayout(const SceneParams& params, std::uint32_t seed) {
     const double post_x = -0.80;
     layout.primitives.push_back(
         bar(Kind::kArm, {post_x, top.y}, {top.x - 0.06, top.y}, top.z + 0.004, 0.022, {0.62f, 0.62f, 0.60f}));
-    layout.primitives.push_back(
-        flat(Shape::kRectangle, Kind::kEndEffector, top, 0.06, 0.05, 0.0, {0.02f, 0.47f, 1.0f}));
+    const float sheen = params.lighting == Lighting::kSunny
+                            ? static_cast<float>(draw.uniform(0.0, params.end_effector_sheen_max))
+                            : 0.0f;
+    const cv::Vec3f orange = cv::Vec3f(0.02f, 0.47f, 1.0f) * (1.0f - sheen) + cv::Vec3f(1.0f, 1.0f, 1.0f) * sheen;
+    layout.primitives.push_back(flat(Shape::kRectangle, Kind::kEndEffector, top, 0.06, 0.05, 0.0, orange));
     layout.primitives.push_back(
         flat(Shape::kRectangle, Kind::kPost, {post_x, top.y, 0.6}, 0.035, 0.035, 0.0, {0.12f, 0.12f, 0.12f}));
-    layout.end_effector = TrueEndEffector{top, project(params.intrinsics, top)};
+    layout.end_effector = TrueEndEffector{top, project(params.intrinsics, top), 0.0};
   }
 
   const int plants = draw.integer(params.plants_min, params.plants_max);
@@ -102,17 +125,27 @@ SceneLayout generateLayout(const SceneParams& params, std::uint32_t seed) {
     const double plant_height = draw.uniform(std::max(0.9, params.boll_height_max_m), 1.2);
 
     const int bolls = draw.integer(params.bolls_per_plant_min, params.bolls_per_plant_max);
+    const size_t first_boll = layout.bolls.size();
     for (int i = 0, attempts = 0; i < bolls && attempts < 50 * (bolls + 1); ++attempts) {
       const double radius = draw.uniform(params.boll_radius_min_m, params.boll_radius_max_m);
       const double height = draw.uniform(params.boll_height_min_m, std::min(params.boll_height_max_m, plant_height));
       const double spread = params.canopy_radius_m * 0.9 * std::sqrt(draw.uniform(0.05, 1.0));
       const double heading = draw.uniform(-CV_PI, CV_PI);
-      const cv::Point3d centre(stem.x + spread * std::cos(heading), stem.y + spread * std::sin(heading),
-                               ground - height);
+      cv::Point3d centre(stem.x + spread * std::cos(heading), stem.y + spread * std::sin(heading), ground - height);
+      // A touching neighbour: beside the plant's previous boll, at about its height, the two silhouettes meeting.
+      const bool touching = layout.bolls.size() > first_boll && draw.chance(params.touching_probability);
+      if (touching) {
+        const TrueBoll& previous = layout.bolls.back();
+        const double gap = (previous.radius_m + radius) * draw.uniform(0.92, 1.02);
+        centre = previous.centre +
+                 cv::Point3d(gap * std::cos(heading), gap * std::sin(heading), draw.uniform(-0.3, 0.3) * radius);
+      }
       bool clear = true;
-      for (const TrueBoll& other : layout.bolls) {
+      for (size_t j = 0; j < layout.bolls.size(); ++j) {
+        const TrueBoll& other = layout.bolls[j];
         const cv::Point3d d = other.centre - centre;
-        clear = clear && std::sqrt(d.dot(d)) > other.radius_m + radius + 0.03;
+        const double margin = touching && j + 1 == layout.bolls.size() ? -0.1 * (other.radius_m + radius) : 0.03;
+        clear = clear && std::sqrt(d.dot(d)) > other.radius_m + radius + margin;
       }
       if (layout.end_effector) {
         const cv::Point3d d = layout.end_effector->top_centre - centre;
@@ -140,6 +173,19 @@ SceneLayout generateLayout(const SceneParams& params, std::uint32_t seed) {
       // The branch that carries it, just below the boll.
       layout.primitives.push_back(
           bar(Kind::kStem, stem, {centre.x, centre.y}, centre.z + 0.8 * radius, 0.006, {0.22f, 0.33f, 0.40f}));
+      if (draw.chance(params.leaf_over_boll_probability)) {
+        // A leaf just above the boll, its edge across the boll's silhouette.
+        const double a = draw.uniform(0.04, 0.07);
+        const double offset = a + radius * draw.uniform(-0.4, 0.6);
+        const double towards = draw.uniform(-CV_PI, CV_PI);
+        const cv::Point3d leaf(centre.x + offset * std::cos(towards), centre.y + offset * std::sin(towards),
+                               centre.z - radius - draw.uniform(0.01, 0.05));
+        const cv::Vec3f green(static_cast<float>(draw.uniform(0.08, 0.18)),
+                              static_cast<float>(draw.uniform(0.38, 0.52)),
+                              static_cast<float>(draw.uniform(0.12, 0.24)));
+        layout.primitives.push_back(flat(Shape::kEllipse, Kind::kLeaf, leaf, a, a * draw.uniform(0.6, 0.9),
+                                         draw.uniform(-CV_PI, CV_PI), green));
+      }
     }
 
     for (int leaf = 0; leaf < params.leaves_per_plant; ++leaf) {
