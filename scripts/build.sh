@@ -4,6 +4,7 @@
 #   scripts/build.sh --tests         also build every test target
 #   scripts/build.sh --sanitize PKG… build PKG's unit tests with ASan+UBSan into .ws/build_sanitize
 #   scripts/build.sh --only PKG…     build PKG (and its tests) alone into .ws/build_PKG, .ws/devel_PKG
+#                                    (BUILD_NAME=NAME: into .ws/build_NAME, .ws/devel_NAME instead)
 # Environment: JOBS (default 2), BUILD_TYPE (default Release).
 set -euo pipefail
 src="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -60,8 +61,9 @@ case "$mode" in
   --only)
     shift
     pkgs="$(IFS=';'; echo "$*")"
-    b="$src/.ws/build_$1"; mkdir -p "$b"
-    configure "$b" "$src/.ws/devel_$1" -DCATKIN_WHITELIST_PACKAGES="$pkgs"
+    name="${BUILD_NAME:-$1}"  # BUILD_NAME: a build folder of its own for the same package
+    b="$src/.ws/build_$name"; mkdir -p "$b"
+    configure "$b" "$src/.ws/devel_$name" -DCATKIN_WHITELIST_PACKAGES="$pkgs"
     build "$b" all tests
     ;;
   --tests|"")
