@@ -1,0 +1,73 @@
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "thorvald_navigation/grid2d.h"
+#include "thorvald_navigation/pose2d.h"
+
+namespace thorvald_navigation {
+
+/// What makes a costmap cell impassable.
+enum class Blocker : std::uint8_t { kNone = 0, kWall = 1, kUnknown = 2, kKeepOut = 3, kObstacle = 4 };
+const char* blockerName(Blocker b);
+
+/// Costs as costmap_2d writes them: 254 lethal, 253 inside the planning radius, 1..252 decaying, 0 free.
+constexpr std::uint8_t kLethalCost = 254;
+constexpr std::uint8_t kInscribedCost = 253;
+
+/// The robot's outline in base_link (a polygon, counter-clockwise or not) [m].
+struct Footprint {
+  std::vector<Eigen::Vector2d> polygon;
+  /// Largest distance from base_link to a corner [m].
+  double circumscribedRadius() const;
+  /// Half of the narrowest extent of the polygon's bounding box [m].
+  double halfWidth() const;
+  /// Empty string when the polygon is usable (>= 3 finite points with area), else why not.
+  std::string check() const;
+};
+/// Axis-aligned rectangle around base_link [m].
+Footprint rectangleFootprint(double x_min, double x_max, double y_min, double y_max);
+
+struct CostmapParams {
+  double planning_radius_m = 0.35;  ///< base_link may not come closer than this to a blocked cell [m]
+  double inflation_radius_m = 1.0;  ///< cost decays to 0 at this distance [m]
+  double cost_scaling = 3.0;        ///< exponential decay rate beyond planning_radius [1/m]
+  bool unknown_is_blocked = true;   ///< unknown map cells block (no planning into unexplored space)
+  std::string validate() const;
+};
+
+/// A planning grid on the map's geometry: blocked cells from the map's walls (and unknown cells), a keep-out grid
+/// (any geometry, resampled) and obstacle points, inflated for planning. Remembers what blocked each cell so a
+/// refused goal can say why.
+class Costmap {
+ public:
+  Costmap() = default;
+  /// `keep_out` may be empty (width 0). Cells >= 65 of either grid block.
+  Costmap(const Grid2D& map, const Grid2D& keep_out, const CostmapParams& params);
+
+  /// Replaces the obstacle layer with points seen now (world frame) and re-inflates.
+  void setObstacles(const std::vector<Eigen::Vector2d>& points_world);
+  const Grid2D& geometry() const { return geometry_; }
+  std::uint8_t cost(int cx, int cy) const { return cost_[geometry_.index(cx, cy)]; }
+  Blocker blocker(int cx, int cy) const { return static_cast<Blocker>(blocker_[geometry_.index(cx, cy)]); }
+  /// The first blocked cell under the footprint placed at `pose`, or kNone.
+  Blocker footprintBlocker(const Pose2D& pose, const Footprint& footprint) const;
+  /// Costs as 0..100 occupancy values for display (-1 never).
+  Grid2D toDisplayGrid() const;
+  const CostmapParams& params() const { return params_; }
+
+ private:
+  void inflate();
+
+  CostmapParams params_;
+  Grid2D geometry_;
+  std::vector<std::uint8_t> static_blocker_;
+  std::vector<std::uint8_t> blocker_;
+  std::vector<std::uint8_t> cost_;
+};
+
+}  // namespace thorvald_navigation

@@ -1,0 +1,82 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "thorvald_navigation/distance_field.h"
+#include "thorvald_navigation/grid2d.h"
+#include "thorvald_navigation/pose2d.h"
+#include "thorvald_navigation/scan_matcher.h"
+
+namespace thorvald_navigation {
+
+/// Settings of the localiser; validate() names the bad one.
+struct LocalizerParams {
+  int max_beams = 180;                     ///< beams used per scan (evenly subsampled)
+  double field_max_distance_m = 1.0;       ///< reach of the likelihood field [m]
+  double odom_sigma_xy_m = 0.02;           ///< prior: odometry uncertainty per update, plus...
+  double odom_sigma_per_m = 0.05;          ///< ...this fraction of the distance moved since the last update
+  double odom_sigma_yaw_rad = 0.01;        ///< prior on heading per update, plus...
+  double odom_sigma_yaw_per_rad = 0.05;    ///< ...this fraction of the rotation since the last update
+  double uncertain_inlier_fraction = 0.6;  ///< below: the match is used but reported uncertain
+  double lost_inlier_fraction = 0.35;      ///< below: the match is not used (odometry only)
+  int lost_after_scans = 10;               ///< consecutive unusable scans before reporting lost
+  int confirm_scans = 5;                   ///< good scans needed after a global localisation to be certain
+  double max_jump_m = 0.5;                 ///< a correction larger than this is refused as a wrong match [m]
+  ScanMatcherParams matcher;
+  GlobalSearchParams global;
+  std::string validate() const;
+};
+
+enum class LocalizationStatus { kNoPose, kLocalized, kUncertain, kLost };
+const char* statusName(LocalizationStatus s);
+
+/// One localisation step's outcome.
+struct LocalizationUpdate {
+  bool used = false;  ///< the scan corrected the pose
+  Pose2D pose;        ///< base_link in the map frame
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();
+  double inlier_fraction = 0.0;
+  LocalizationStatus status = LocalizationStatus::kNoPose;
+  std::string message;  ///< why a scan was not used, or what a global search found
+};
+
+/// Localisation in a stored map from odometry and lidar: each scan is matched to the map's likelihood field,
+/// starting from the odometry prediction and held to it by a prior whose width grows with the motion since the
+/// last update (a scan matcher with an odometry prior instead of a particle filter). Tracks the map -> odom
+/// correction, reports lost or uncertain when matches degrade, and can search the whole free map on request.
+class MapLocalizer {
+ public:
+  explicit MapLocalizer(const LocalizerParams& params) : params_(params) {}
+
+  /// Sets the map; an empty string on success, else what is wrong with it.
+  std::string setMap(const Grid2D& map);
+  bool hasMap() const { return !field_.empty(); }
+  /// Sets the pose of base_link in the map at the moment odometry read `odom`.
+  void setPose(const Pose2D& map_pose, const Pose2D& odom);
+  /// The next scan runs a global search over the free map instead of tracking.
+  void requestGlobalLocalization() { global_requested_ = true; }
+  /// One scan: `odom` is base_link in the odometry frame at the scan's time, `points_base` its hits in base_link.
+  LocalizationUpdate update(const Pose2D& odom, const std::vector<Eigen::Vector2d>& points_base);
+
+  /// Pose of the odometry frame in the map frame (what map -> odom on tf carries).
+  Pose2D mapToOdom() const { return map_to_odom_; }
+  LocalizationStatus status() const { return status_; }
+  bool hasPose() const { return status_ != LocalizationStatus::kNoPose; }
+
+ private:
+  LocalizerParams params_;
+  Grid2D map_;
+  DistanceField field_;
+  Pose2D map_to_odom_;
+  Pose2D last_odom_;
+  bool have_last_odom_ = false;
+  bool global_requested_ = false;
+  int bad_scans_ = 0;
+  int confirm_left_ = 0;
+  LocalizationStatus status_ = LocalizationStatus::kNoPose;
+};
+
+}  // namespace thorvald_navigation

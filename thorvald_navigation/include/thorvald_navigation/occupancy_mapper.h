@@ -1,0 +1,78 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "thorvald_navigation/distance_field.h"
+#include "thorvald_navigation/grid2d.h"
+#include "thorvald_navigation/pose2d.h"
+#include "thorvald_navigation/scan_matcher.h"
+
+namespace thorvald_navigation {
+
+/// Settings of the headland mapper; validate() names the bad one.
+struct MapperParams {
+  double resolution_m = 0.05;
+  double initial_size_m = 20.0;       ///< side of the first grid, centred on the start; it grows as needed [m]
+  double max_size_m = 400.0;          ///< bound on either side of the grid [m]
+  double max_range_m = 25.0;          ///< beams longer than this only clear space up to it [m]
+  double hit_log_odds = 0.85;         ///< added at a beam end
+  double miss_log_odds = -0.4;        ///< added along a beam
+  double clamp_log_odds = 4.0;        ///< bounds either way
+  double linear_update_m = 0.1;       ///< integrate a scan when the robot moved this far... [m]
+  double angular_update_rad = 0.05;   ///< ...or turned this much [rad]
+  double field_max_distance_m = 0.5;  ///< reach of the distance field used to match scans [m]
+  double min_inlier_fraction = 0.3;   ///< a match below this is not trusted: odometry alone places the scan
+  ScanMatcherParams matcher;
+  std::string validate() const;
+};
+
+/// What happened to one scan.
+struct MapperUpdate {
+  bool integrated = false;  ///< false: the robot had not moved enough, or the scan was rejected
+  bool matched = false;     ///< the pose came from scan matching (else from odometry)
+  Pose2D pose;              ///< corrected base_link pose in the map frame
+  double inlier_fraction = 0.0;
+  std::string rejected;  ///< why the scan was not used (empty when it was, or when the robot stood still)
+};
+
+/// Incremental occupancy mapping with scan-to-map matching, for a headland driven once (no loop closure): each
+/// scan is aligned to the map built so far starting from the odometry prediction, then traced into a log-odds
+/// grid. The map frame is the pose of the first scan's odometry.
+class OccupancyMapper {
+ public:
+  explicit OccupancyMapper(const MapperParams& params);
+
+  /// `odom`: base_link in the odometry frame; `points_base`: beam ends in base_link [m] (hits);
+  /// `free_ends_base`: ends of beams that returned nothing within range (only clear space).
+  /// `sensor_base`: the sensor's origin in base_link.
+  MapperUpdate addScan(const Pose2D& odom, const Eigen::Vector2d& sensor_base,
+                       const std::vector<Eigen::Vector2d>& points_base,
+                       const std::vector<Eigen::Vector2d>& free_ends_base);
+
+  /// The map as occupancy values (0 free, 100 occupied, -1 unknown), cropped to the observed area.
+  Grid2D occupancyGrid() const;
+  int scansUsed() const { return scans_used_; }
+  /// Area observed as free or occupied [m^2].
+  double knownAreaM2() const;
+  /// map -> odom correction [pose of the odom frame in the map frame].
+  Pose2D mapToOdom() const { return map_to_odom_; }
+
+ private:
+  void ensureInside(const Eigen::Vector2d& p);
+  void trace(const Eigen::Vector2d& from, const Eigen::Vector2d& to, bool hit);
+
+  MapperParams params_;
+  std::vector<float> log_odds_;
+  Grid2D geometry_;  ///< size and origin of log_odds_ (its data is unused)
+  DistanceField field_;
+  bool field_stale_ = true;
+  bool first_ = true;
+  Pose2D map_to_odom_;
+  Pose2D last_integrated_odom_;
+  int scans_used_ = 0;
+};
+
+}  // namespace thorvald_navigation

@@ -1,0 +1,64 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "thorvald_navigation/pose2d.h"
+
+namespace thorvald_navigation {
+
+struct FollowerParams {
+  bool omnidirectional = false;  ///< true: translate in any direction while turning (4WD4WS); false: differential
+  double max_speed_mps = 0.5;
+  double max_yaw_rate_radps = 0.6;
+  double max_accel_mps2 = 0.5;
+  double max_yaw_accel_radps2 = 1.0;
+  double lookahead_m = 0.6;          ///< carrot distance along the path [m]
+  double xy_tolerance_m = 0.02;      ///< goal reached when base_link is this close... [m]
+  double yaw_tolerance_rad = 0.015;  ///< ...and the heading this close [rad]
+  double rotate_in_place_rad = 0.5;  ///< differential: turn on the spot when the carrot is this far off [rad]
+  double position_gain = 1.0;        ///< speed per metre of remaining distance near the goal [1/s]
+  double yaw_gain = 1.5;             ///< yaw rate per radian of heading error [1/s]
+  double min_speed_mps = 0.02;       ///< creep speed for the last centimetres [m/s]
+  std::string validate() const;
+};
+
+/// Velocity command in base_link [m/s, rad/s].
+struct Twist2D {
+  double vx = 0.0, vy = 0.0, wz = 0.0;
+};
+
+enum class FollowState { kFollowing, kFinalTurn, kArrived };
+
+/// Tracks a planned path to a goal pose: pure-pursuit towards a carrot on the path (differential robots turn on
+/// the spot first when the carrot is far off to the side; omnidirectional robots translate towards it and turn
+/// towards the goal heading at the same time), then a final turn on the spot. Speeds are ramped by the
+/// acceleration limits. Once the position is within tolerance it is latched, so the final turn cannot undo it.
+class PathFollower {
+ public:
+  explicit PathFollower(const FollowerParams& params) : params_(params) {}
+
+  void setPath(const std::vector<Eigen::Vector2d>& path, const Pose2D& goal);
+  /// One control step: `pose` of base_link in the path's frame, `dt` since the last step [s].
+  Twist2D step(const Pose2D& pose, double dt);
+  FollowState state() const { return state_; }
+  /// Index of the path segment the robot is closest to so far (progress never goes back).
+  std::size_t progressIndex() const { return progress_; }
+  void stop() { last_ = Twist2D{}; }
+  const Twist2D& lastCommand() const { return last_; }
+
+ private:
+  Eigen::Vector2d carrot(const Eigen::Vector2d& p);
+  Twist2D limit(const Twist2D& wanted, double dt);
+
+  FollowerParams params_;
+  std::vector<Eigen::Vector2d> path_;
+  Pose2D goal_;
+  std::size_t progress_ = 0;
+  FollowState state_ = FollowState::kArrived;
+  Twist2D last_;
+};
+
+}  // namespace thorvald_navigation

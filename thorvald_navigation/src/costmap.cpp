@@ -1,0 +1,165 @@
+#include "thorvald_navigation/costmap.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "thorvald_navigation/distance_field.h"
+
+namespace thorvald_navigation {
+
+const char* blockerName(Blocker b) {
+  switch (b) {
+    case Blocker::kNone:
+      return "free";
+    case Blocker::kWall:
+      return "a wall of the map";
+    case Blocker::kUnknown:
+      return "unmapped space";
+    case Blocker::kKeepOut:
+      return "the keep-out zone beyond the headland edge";
+    case Blocker::kObstacle:
+      return "an obstacle seen by the lidar";
+  }
+  return "?";
+}
+
+double Footprint::circumscribedRadius() const {
+  double r = 0.0;
+  for (const auto& p : polygon) r = std::max(r, p.norm());
+  return r;
+}
+
+double Footprint::halfWidth() const {
+  if (polygon.empty()) return 0.0;
+  Eigen::Vector2d lo = polygon[0], hi = polygon[0];
+  for (const auto& p : polygon) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  return 0.5 * std::min(hi.x() - lo.x(), hi.y() - lo.y());
+}
+
+std::string Footprint::check() const {
+  if (polygon.size() < 3) return "footprint needs at least 3 points";
+  double area2 = 0.0;
+  for (std::size_t i = 0; i < polygon.size(); ++i) {
+    const auto& a = polygon[i];
+    const auto& b = polygon[(i + 1) % polygon.size()];
+    if (!a.allFinite()) return "footprint point " + std::to_string(i) + " is not finite";
+    area2 += a.x() * b.y() - b.x() * a.y();
+  }
+  if (std::abs(area2) < 1e-6) return "footprint has no area";
+  return {};
+}
+
+Footprint rectangleFootprint(double x_min, double x_max, double y_min, double y_max) {
+  return Footprint{{{x_min, y_min}, {x_max, y_min}, {x_max, y_max}, {x_min, y_max}}};
+}
+
+std::string CostmapParams::validate() const {
+  if (!(planning_radius_m >= 0.0) || !std::isfinite(planning_radius_m)) return "planning_radius must be >= 0";
+  if (!(inflation_radius_m >= planning_radius_m) || !std::isfinite(inflation_radius_m))
+    return "inflation_radius must be >= planning_radius";
+  if (!(cost_scaling > 0.0)) return "cost_scaling must be > 0";
+  return {};
+}
+
+Costmap::Costmap(const Grid2D& map, const Grid2D& keep_out, const CostmapParams& params)
+    : params_(params), geometry_(map.width, map.height, map.resolution_m, map.origin_x_m, map.origin_y_m, kFree) {
+  geometry_.data.clear();
+  const std::size_t n = static_cast<std::size_t>(map.width) * map.height;
+  static_blocker_.assign(n, static_cast<std::uint8_t>(Blocker::kNone));
+  const bool use_keep_out = keep_out.width > 0 && keep_out.check().empty();
+  for (int y = 0; y < map.height; ++y) {
+    for (int x = 0; x < map.width; ++x) {
+      const int v = map.at(x, y);
+      Blocker b = Blocker::kNone;
+      if (v >= 65) {
+        b = Blocker::kWall;
+      } else if (v < 0 && params_.unknown_is_blocked) {
+        b = Blocker::kUnknown;
+      }
+      if (b == Blocker::kNone && use_keep_out) {
+        const Eigen::Vector2i k = keep_out.cellOf(geometry_.centerOf(x, y));
+        if (keep_out.inside(k.x(), k.y()) && keep_out.at(k.x(), k.y()) >= 65) b = Blocker::kKeepOut;
+      }
+      static_blocker_[geometry_.index(x, y)] = static_cast<std::uint8_t>(b);
+    }
+  }
+  blocker_ = static_blocker_;
+  inflate();
+}
+
+void Costmap::setObstacles(const std::vector<Eigen::Vector2d>& points_world) {
+  blocker_ = static_blocker_;
+  for (const auto& p : points_world) {
+    if (!p.allFinite()) continue;
+    const Eigen::Vector2i c = geometry_.cellOf(p);
+    if (!geometry_.inside(c.x(), c.y())) continue;
+    auto& b = blocker_[geometry_.index(c.x(), c.y())];
+    if (b == static_cast<std::uint8_t>(Blocker::kNone) || b == static_cast<std::uint8_t>(Blocker::kUnknown))
+      b = static_cast<std::uint8_t>(Blocker::kObstacle);
+  }
+  inflate();
+}
+
+void Costmap::inflate() {
+  Grid2D lethal(geometry_.width, geometry_.height, geometry_.resolution_m, geometry_.origin_x_m, geometry_.origin_y_m,
+                kFree);
+  for (std::size_t i = 0; i < blocker_.size(); ++i)
+    if (blocker_[i] != static_cast<std::uint8_t>(Blocker::kNone)) lethal.data[i] = kOccupied;
+  const DistanceField field(lethal, params_.inflation_radius_m + geometry_.resolution_m);
+  cost_.assign(blocker_.size(), 0);
+  for (int y = 0; y < geometry_.height; ++y) {
+    for (int x = 0; x < geometry_.width; ++x) {
+      const std::size_t i = geometry_.index(x, y);
+      const double d = field.cellDistance(x, y);
+      if (blocker_[i] != static_cast<std::uint8_t>(Blocker::kNone)) {
+        cost_[i] = kLethalCost;
+      } else if (d <= params_.planning_radius_m) {
+        cost_[i] = kInscribedCost;
+      } else if (d < params_.inflation_radius_m) {
+        cost_[i] = static_cast<std::uint8_t>(
+            std::max(1.0, 252.0 * std::exp(-params_.cost_scaling * (d - params_.planning_radius_m))));
+      }
+    }
+  }
+}
+
+Blocker Costmap::footprintBlocker(const Pose2D& pose, const Footprint& footprint) const {
+  if (footprint.polygon.size() < 3 || geometry_.width == 0) return Blocker::kNone;
+  std::vector<Eigen::Vector2d> poly;
+  Eigen::Vector2d lo(1e18, 1e18), hi(-1e18, -1e18);
+  for (const auto& p : footprint.polygon) {
+    poly.push_back(pose.transform(p));
+    lo = lo.cwiseMin(poly.back());
+    hi = hi.cwiseMax(poly.back());
+  }
+  const Eigen::Vector2i c0 = geometry_.cellOf(lo), c1 = geometry_.cellOf(hi);
+  for (int cy = c0.y(); cy <= c1.y(); ++cy) {
+    for (int cx = c0.x(); cx <= c1.x(); ++cx) {
+      const Eigen::Vector2d q = geometry_.centerOf(cx, cy);
+      bool in = false;  // even-odd rule on the cell centre
+      for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+        if ((poly[i].y() > q.y()) != (poly[j].y() > q.y()) &&
+            q.x() < (poly[j].x() - poly[i].x()) * (q.y() - poly[i].y()) / (poly[j].y() - poly[i].y()) + poly[i].x())
+          in = !in;
+      }
+      if (!in) continue;
+      if (!geometry_.inside(cx, cy)) return params_.unknown_is_blocked ? Blocker::kUnknown : Blocker::kNone;
+      const Blocker b = blocker(cx, cy);
+      if (b != Blocker::kNone) return b;
+    }
+  }
+  return Blocker::kNone;
+}
+
+Grid2D Costmap::toDisplayGrid() const {
+  Grid2D g(geometry_.width, geometry_.height, geometry_.resolution_m, geometry_.origin_x_m, geometry_.origin_y_m,
+           kFree);
+  for (std::size_t i = 0; i < cost_.size(); ++i)
+    g.data[i] = static_cast<std::int8_t>(cost_[i] >= kInscribedCost ? 100 : (cost_[i] * 98) / 252);
+  return g;
+}
+
+}  // namespace thorvald_navigation

@@ -1,0 +1,146 @@
+#include "thorvald_navigation/map_localizer.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace thorvald_navigation {
+
+std::string LocalizerParams::validate() const {
+  if (max_beams < 10 || max_beams > 5000) return "max_beams must be in [10, 5000]";
+  if (!(field_max_distance_m > 0.0)) return "likelihood max distance must be > 0";
+  if (!(odom_sigma_xy_m > 0.0) || !(odom_sigma_yaw_rad > 0.0)) return "odometry sigmas must be > 0";
+  if (!(odom_sigma_per_m >= 0.0) || !(odom_sigma_yaw_per_rad >= 0.0)) return "odometry sigma rates must be >= 0";
+  if (!(lost_inlier_fraction >= 0.0 && lost_inlier_fraction <= uncertain_inlier_fraction &&
+        uncertain_inlier_fraction <= 1.0))
+    return "need 0 <= lost_inlier_fraction <= uncertain_inlier_fraction <= 1";
+  if (lost_after_scans < 1 || confirm_scans < 0) return "lost_after_scans must be >= 1, confirm_scans >= 0";
+  if (!(max_jump_m > 0.0)) return "max_jump must be > 0";
+  const std::string m = matcher.validate();
+  return m.empty() ? global.validate() : m;
+}
+
+const char* statusName(LocalizationStatus s) {
+  switch (s) {
+    case LocalizationStatus::kNoPose:
+      return "no pose";
+    case LocalizationStatus::kLocalized:
+      return "localized";
+    case LocalizationStatus::kUncertain:
+      return "uncertain";
+    case LocalizationStatus::kLost:
+      return "lost";
+  }
+  return "?";
+}
+
+std::string MapLocalizer::setMap(const Grid2D& map) {
+  const std::string problem = map.check();
+  if (!problem.empty()) return problem;
+  DistanceField field(map, params_.field_max_distance_m);
+  if (field.occupiedCells() < 10) return "map has fewer than 10 occupied cells: nothing to localise against";
+  map_ = map;
+  field_ = std::move(field);
+  return {};
+}
+
+void MapLocalizer::setPose(const Pose2D& map_pose, const Pose2D& odom) {
+  map_to_odom_ = map_pose * odom.inverse();
+  last_odom_ = odom;
+  have_last_odom_ = true;
+  bad_scans_ = 0;
+  confirm_left_ = 0;
+  global_requested_ = false;
+  status_ = LocalizationStatus::kLocalized;
+}
+
+LocalizationUpdate MapLocalizer::update(const Pose2D& odom, const std::vector<Eigen::Vector2d>& points_base) {
+  LocalizationUpdate u;
+  u.status = status_;
+  u.pose = map_to_odom_ * odom;
+  if (field_.empty()) {
+    u.message = "no map";
+    return u;
+  }
+  if (!odom.finite()) {
+    u.message = "odometry pose is not finite";
+    return u;
+  }
+  const auto pts = subsample(points_base, params_.max_beams);
+  if (pts.size() < 10) {
+    u.message = "fewer than 10 valid beams";
+    return u;
+  }
+  if (global_requested_) {
+    const GlobalResult g = globalSearch(field_, map_, points_base, params_.global, params_.matcher);
+    global_requested_ = false;
+    if (!g.found) {
+      status_ = LocalizationStatus::kLost;
+      u.status = status_;
+      u.message = "global localisation found no candidate pose";
+      return u;
+    }
+    setPose(g.best.pose, odom);
+    confirm_left_ = params_.confirm_scans;
+    status_ = (g.ambiguous || g.best.inlier_fraction < params_.uncertain_inlier_fraction)
+                  ? LocalizationStatus::kUncertain
+                  : LocalizationStatus::kLocalized;
+    if (confirm_left_ > 0) status_ = LocalizationStatus::kUncertain;
+    std::ostringstream msg;
+    msg << "global localisation: " << g.candidates << " poses scored, best (" << g.best.pose.x << ", " << g.best.pose.y
+        << ", " << g.best.pose.yaw << ") with " << g.best.inlier_fraction << " of beams matched"
+        << (g.ambiguous ? ", ambiguous" : "");
+    u.message = msg.str();
+    u.used = true;
+    u.pose = g.best.pose;
+    u.covariance = g.best.covariance;
+    u.inlier_fraction = g.best.inlier_fraction;
+    u.status = status_;
+    return u;
+  }
+  if (status_ == LocalizationStatus::kNoPose) {
+    u.message = "no initial pose: set one (initialpose) or call global_localization";
+    return u;
+  }
+  const Pose2D delta = have_last_odom_ ? last_odom_.inverse() * odom : Pose2D{};
+  const double moved = std::hypot(delta.x, delta.y), turned = std::abs(delta.yaw);
+  ScanMatcherParams mp = params_.matcher;
+  mp.prior_sigma_xy_m = params_.odom_sigma_xy_m + params_.odom_sigma_per_m * moved;
+  mp.prior_sigma_yaw_rad = params_.odom_sigma_yaw_rad + params_.odom_sigma_yaw_per_rad * turned;
+  if (status_ == LocalizationStatus::kLost) {  // odometry has drifted for a while: let the scan pull harder
+    mp.prior_sigma_xy_m *= 5.0;
+    mp.prior_sigma_yaw_rad *= 5.0;
+  }
+  const Pose2D predicted = map_to_odom_ * odom;
+  const MatchResult m = matchScan(field_, pts, predicted, mp);
+  last_odom_ = odom;
+  have_last_odom_ = true;
+  u.inlier_fraction = m.inlier_fraction;
+  const double jump = std::hypot(m.pose.x - predicted.x, m.pose.y - predicted.y);
+  if (m.inlier_fraction < params_.lost_inlier_fraction || jump > params_.max_jump_m || !m.pose.finite()) {
+    ++bad_scans_;
+    std::ostringstream msg;
+    msg << "scan not used: " << m.inlier_fraction << " of beams matched, correction " << jump << " m";
+    u.message = msg.str();
+    if (bad_scans_ >= params_.lost_after_scans) status_ = LocalizationStatus::kLost;
+    u.status = status_;
+    u.pose = predicted;
+    return u;
+  }
+  bad_scans_ = 0;
+  map_to_odom_ = m.pose * odom.inverse();
+  if (m.inlier_fraction < params_.uncertain_inlier_fraction) {
+    status_ = LocalizationStatus::kUncertain;
+  } else if (confirm_left_ > 0) {
+    --confirm_left_;
+    status_ = confirm_left_ == 0 ? LocalizationStatus::kLocalized : LocalizationStatus::kUncertain;
+  } else {
+    status_ = LocalizationStatus::kLocalized;
+  }
+  u.used = true;
+  u.pose = m.pose;
+  u.covariance = m.covariance;
+  u.status = status_;
+  return u;
+}
+
+}  // namespace thorvald_navigation

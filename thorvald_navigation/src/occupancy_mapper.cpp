@@ -1,0 +1,184 @@
+#include "thorvald_navigation/occupancy_mapper.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace thorvald_navigation {
+
+std::string MapperParams::validate() const {
+  if (!(resolution_m >= 0.01 && resolution_m <= 1.0)) return "resolution must be in [0.01, 1] m";
+  if (!(initial_size_m >= 1.0)) return "initial_size must be >= 1 m";
+  if (!(max_size_m >= initial_size_m) || max_size_m / resolution_m > 20000.0)
+    return "max_size must be >= initial_size and at most 20000 cells";
+  if (!(max_range_m > 0.0)) return "max_range must be > 0";
+  if (!(hit_log_odds > 0.0) || !(miss_log_odds < 0.0) || !(clamp_log_odds > 0.0))
+    return "hit_log_odds must be > 0, miss_log_odds < 0, clamp_log_odds > 0";
+  if (!(linear_update_m >= 0.0) || !(angular_update_rad >= 0.0)) return "linear/angular update must be >= 0";
+  if (!(field_max_distance_m > 0.0)) return "field_max_distance must be > 0";
+  if (!(min_inlier_fraction >= 0.0 && min_inlier_fraction <= 1.0)) return "min_inlier_fraction must be in [0, 1]";
+  return matcher.validate();
+}
+
+OccupancyMapper::OccupancyMapper(const MapperParams& params) : params_(params) {}
+
+void OccupancyMapper::ensureInside(const Eigen::Vector2d& p) {
+  const Eigen::Vector2i c = geometry_.cellOf(p);
+  if (geometry_.inside(c.x(), c.y())) return;
+  // Grow by at least half the current size on the side that is short, so growth is amortised.
+  const double res = params_.resolution_m;
+  const double grow = std::max(5.0, 0.5 * std::max(geometry_.width, geometry_.height) * res);
+  double x0 = geometry_.origin_x_m, y0 = geometry_.origin_y_m;
+  double x1 = x0 + geometry_.width * res, y1 = y0 + geometry_.height * res;
+  if (p.x() < x0) x0 = p.x() - grow;
+  if (p.y() < y0) y0 = p.y() - grow;
+  if (p.x() >= x1) x1 = p.x() + grow;
+  if (p.y() >= y1) y1 = p.y() + grow;
+  if (x1 - x0 > params_.max_size_m || y1 - y0 > params_.max_size_m) return;  // caller drops the point
+  const int dx = std::max(0, static_cast<int>(std::ceil((geometry_.origin_x_m - x0) / res)));
+  const int dy = std::max(0, static_cast<int>(std::ceil((geometry_.origin_y_m - y0) / res)));
+  const double new_ox = geometry_.origin_x_m - dx * res, new_oy = geometry_.origin_y_m - dy * res;
+  const int w = std::max(dx + geometry_.width, static_cast<int>(std::ceil((x1 - new_ox) / res)));
+  const int h = std::max(dy + geometry_.height, static_cast<int>(std::ceil((y1 - new_oy) / res)));
+  std::vector<float> grown(static_cast<std::size_t>(w) * h, 0.0f);
+  for (int y = 0; y < geometry_.height; ++y)
+    std::copy_n(log_odds_.begin() + static_cast<std::ptrdiff_t>(y) * geometry_.width, geometry_.width,
+                grown.begin() + static_cast<std::ptrdiff_t>(y + dy) * w + dx);
+  log_odds_.swap(grown);
+  geometry_.width = w;
+  geometry_.height = h;
+  geometry_.origin_x_m -= dx * res;
+  geometry_.origin_y_m -= dy * res;
+}
+
+void OccupancyMapper::trace(const Eigen::Vector2d& from, const Eigen::Vector2d& to, bool hit) {
+  ensureInside(from);
+  ensureInside(to);
+  const Eigen::Vector2i a = geometry_.cellOf(from), b = geometry_.cellOf(to);
+  if (!geometry_.inside(a.x(), a.y()) || !geometry_.inside(b.x(), b.y())) return;
+  const float clamp = static_cast<float>(params_.clamp_log_odds);
+  auto add = [&](int x, int y, double v) {
+    float& l = log_odds_[geometry_.index(x, y)];
+    l = std::clamp(l + static_cast<float>(v), -clamp, clamp);
+  };
+  // Bresenham from a to b, b excluded.
+  int x = a.x(), y = a.y();
+  const int dx = std::abs(b.x() - x), dy = -std::abs(b.y() - y);
+  const int sx = x < b.x() ? 1 : -1, sy = y < b.y() ? 1 : -1;
+  int err = dx + dy;
+  while (x != b.x() || y != b.y()) {
+    add(x, y, params_.miss_log_odds);
+    const int e2 = 2 * err;
+    if (e2 >= dy) {
+      err += dy;
+      x += sx;
+    }
+    if (e2 <= dx) {
+      err += dx;
+      y += sy;
+    }
+  }
+  add(b.x(), b.y(), hit ? params_.hit_log_odds : params_.miss_log_odds);
+}
+
+MapperUpdate OccupancyMapper::addScan(const Pose2D& odom, const Eigen::Vector2d& sensor_base,
+                                      const std::vector<Eigen::Vector2d>& points_base,
+                                      const std::vector<Eigen::Vector2d>& free_ends_base) {
+  MapperUpdate u;
+  if (!odom.finite()) {
+    u.rejected = "odometry pose is not finite";
+    return u;
+  }
+  if (points_base.size() < 10) {
+    u.rejected = "scan has fewer than 10 valid beams";
+    return u;
+  }
+  if (first_) {
+    const double half = 0.5 * params_.initial_size_m;
+    const int n = static_cast<int>(std::ceil(params_.initial_size_m / params_.resolution_m));
+    geometry_ = Grid2D(n, n, params_.resolution_m, odom.x - half, odom.y - half, kUnknown);
+    geometry_.data.clear();
+    log_odds_.assign(static_cast<std::size_t>(n) * n, 0.0f);
+    map_to_odom_ = Pose2D{};
+  } else {
+    const Pose2D delta = last_integrated_odom_.inverse() * odom;
+    if (std::hypot(delta.x, delta.y) < params_.linear_update_m && std::abs(delta.yaw) < params_.angular_update_rad) {
+      u.pose = map_to_odom_ * odom;
+      return u;
+    }
+  }
+  Pose2D pose = map_to_odom_ * odom;
+  if (!first_) {
+    if (field_stale_) {
+      Grid2D g = occupancyGrid();
+      field_ = DistanceField(g, params_.field_max_distance_m);
+      field_stale_ = false;
+    }
+    const MatchResult m = matchScan(field_, points_base, pose, params_.matcher);
+    u.inlier_fraction = m.inlier_fraction;
+    if (m.inlier_fraction >= params_.min_inlier_fraction && m.pose.finite()) {
+      pose = m.pose;
+      u.matched = true;
+      map_to_odom_ = pose * odom.inverse();
+    }
+  }
+  const Eigen::Vector2d origin = pose.transform(sensor_base);
+  for (const auto& p : points_base) {
+    const Eigen::Vector2d rel = p - sensor_base;
+    const double r = rel.norm();
+    if (r > params_.max_range_m) {
+      trace(origin, pose.transform(sensor_base + rel * (params_.max_range_m / r)), false);
+    } else {
+      trace(origin, pose.transform(p), true);
+    }
+  }
+  for (const auto& p : free_ends_base) {
+    const Eigen::Vector2d rel = p - sensor_base;
+    const double r = rel.norm();
+    const Eigen::Vector2d end =
+        r > params_.max_range_m ? Eigen::Vector2d(sensor_base + rel * (params_.max_range_m / r)) : p;
+    trace(origin, pose.transform(end), false);
+  }
+  field_stale_ = true;
+  first_ = false;
+  last_integrated_odom_ = odom;
+  ++scans_used_;
+  u.integrated = true;
+  u.pose = pose;
+  return u;
+}
+
+Grid2D OccupancyMapper::occupancyGrid() const {
+  if (log_odds_.empty()) return Grid2D(1, 1, params_.resolution_m, 0.0, 0.0, kUnknown);
+  int x0 = geometry_.width, y0 = geometry_.height, x1 = -1, y1 = -1;
+  for (int y = 0; y < geometry_.height; ++y)
+    for (int x = 0; x < geometry_.width; ++x)
+      if (log_odds_[geometry_.index(x, y)] != 0.0f) {
+        x0 = std::min(x0, x);
+        y0 = std::min(y0, y);
+        x1 = std::max(x1, x);
+        y1 = std::max(y1, y);
+      }
+  if (x1 < 0) return Grid2D(1, 1, params_.resolution_m, geometry_.origin_x_m, geometry_.origin_y_m, kUnknown);
+  x0 = std::max(0, x0 - 2);
+  y0 = std::max(0, y0 - 2);
+  x1 = std::min(geometry_.width - 1, x1 + 2);
+  y1 = std::min(geometry_.height - 1, y1 + 2);
+  Grid2D g(x1 - x0 + 1, y1 - y0 + 1, params_.resolution_m, geometry_.origin_x_m + x0 * params_.resolution_m,
+           geometry_.origin_y_m + y0 * params_.resolution_m, kUnknown);
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x) {
+      const float l = log_odds_[geometry_.index(x, y)];
+      if (l == 0.0f) continue;
+      const double p = 1.0 - 1.0 / (1.0 + std::exp(static_cast<double>(l)));
+      g.at(x - x0, y - y0) = static_cast<std::int8_t>(std::lround(100.0 * p));
+    }
+  return g;
+}
+
+double OccupancyMapper::knownAreaM2() const {
+  std::size_t n = 0;
+  for (float l : log_odds_) n += l != 0.0f;
+  return static_cast<double>(n) * params_.resolution_m * params_.resolution_m;
+}
+
+}  // namespace thorvald_navigation

@@ -1,0 +1,138 @@
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "thorvald_navigation/costmap.h"
+#include "thorvald_navigation/grid_planner.h"
+#include "thorvald_navigation/testing/synthetic_headland.h"
+
+namespace tn = thorvald_navigation;
+
+namespace {
+
+// A 10 m x 4 m room with a wall from the bottom up to y = 2.5 in the middle (x = 5 m).
+tn::Grid2D roomWithBaffle() {
+  tn::Grid2D g(200, 80, 0.05, 0.0, 0.0, tn::kFree);
+  for (int x = 0; x < 200; ++x) g.at(x, 0) = g.at(x, 79) = tn::kOccupied;
+  for (int y = 0; y < 80; ++y) g.at(0, y) = g.at(199, y) = tn::kOccupied;
+  for (int y = 0; y < 50; ++y) g.at(100, y) = tn::kOccupied;
+  return g;
+}
+
+// Every point of the path keeps at least `r` from every blocked cell.
+double minClearance(const tn::Costmap& cm, const std::vector<Eigen::Vector2d>& path) {
+  const auto& g = cm.geometry();
+  double best = 1e9;
+  for (std::size_t i = 1; i < path.size(); ++i)
+    for (double s = 0.0; s <= 1.0; s += 0.01) {
+      const Eigen::Vector2d p = path[i - 1] + s * (path[i] - path[i - 1]);
+      for (int y = 0; y < g.height; ++y)
+        for (int x = 0; x < g.width; ++x)
+          if (cm.blocker(x, y) != tn::Blocker::kNone) best = std::min(best, (g.centerOf(x, y) - p).norm());
+    }
+  return best;
+}
+
+TEST(GridPlanner, GoesAroundTheWallKeepingThePlanningRadius) {
+  tn::CostmapParams cp;
+  cp.planning_radius_m = 0.4;
+  const tn::Costmap cm(roomWithBaffle(), tn::Grid2D(), cp);
+  const tn::PlanResult r = tn::planPath(cm, {2.0, 1.0}, {8.0, 1.0}, tn::PlannerParams{});
+  ASSERT_TRUE(r.ok) << r.error;
+  // Over the baffle's end (y = 2.5 m + radius): at least twice hypot(3, 1.85), not much more.
+  EXPECT_GT(r.length_m, 2.0 * std::hypot(3.0, 1.85) - 0.05);
+  EXPECT_LT(r.length_m, 2.0 * std::hypot(3.0, 1.85) + 1.0);
+  EXPECT_GT(minClearance(cm, r.path), 0.4 - 0.05);
+  EXPECT_NEAR(r.path.front().x(), 2.0, 1e-12);
+  EXPECT_NEAR(r.path.back().x(), 8.0, 1e-12);
+}
+
+TEST(GridPlanner, RefusesGoalsInKeepOutWallsAndUnknownWithTheReason) {
+  tn::Grid2D map = roomWithBaffle();
+  for (int y = 60; y < 79; ++y)
+    for (int x = 150; x < 199; ++x) map.at(x, y) = tn::kUnknown;
+  tn::Grid2D keep_out(20, 8, 0.5, 0.0, 0.0, tn::kFree);  // coarser grid than the map: resampled
+  for (int x = 0; x < 20; ++x) keep_out.at(x, 6) = keep_out.at(x, 7) = tn::kOccupied;  // y >= 3 m
+  const tn::Costmap cm(map, keep_out, tn::CostmapParams{});
+  const auto behind = tn::planPath(cm, {2.0, 1.0}, {3.0, 3.5}, tn::PlannerParams{});
+  EXPECT_FALSE(behind.ok);
+  EXPECT_NE(behind.error.find("keep-out"), std::string::npos) << behind.error;
+  const auto wall = tn::planPath(cm, {2.0, 1.0}, {5.02, 1.0}, tn::PlannerParams{});
+  EXPECT_NE(wall.error.find("wall"), std::string::npos) << wall.error;
+  const auto near_wall = tn::planPath(cm, {2.0, 1.0}, {5.2, 1.0}, tn::PlannerParams{});
+  EXPECT_NE(near_wall.error.find("planning radius"), std::string::npos) << near_wall.error;
+  const auto outside = tn::planPath(cm, {2.0, 1.0}, {50.0, 1.0}, tn::PlannerParams{});
+  EXPECT_NE(outside.error.find("outside"), std::string::npos);
+  const auto nan = tn::planPath(cm, {2.0, std::nan("")}, {3.0, 1.0}, tn::PlannerParams{});
+  EXPECT_FALSE(nan.ok);
+  const auto blocked = tn::planPath(cm, {2.0, 1.0}, {8.0, 1.0}, tn::PlannerParams{});
+  EXPECT_FALSE(blocked.ok);  // the gap above the baffle (2.5 .. 3 m) is narrower than twice the radius
+  EXPECT_NE(blocked.error.find("no collision-free path"), std::string::npos);
+}
+
+TEST(GridPlanner, ObstaclesBlockAndReplanGoesAround) {
+  tn::Grid2D map(200, 80, 0.05, 0.0, 0.0, tn::kFree);
+  tn::Costmap cm(map, tn::Grid2D(), tn::CostmapParams{});
+  const auto straight = tn::planPath(cm, {1.0, 2.0}, {9.0, 2.0}, tn::PlannerParams{});
+  ASSERT_TRUE(straight.ok);
+  EXPECT_NEAR(straight.length_m, 8.0, 0.05);
+  std::vector<Eigen::Vector2d> person;
+  for (double a = 0.0; a < 2 * tn::kPi; a += 0.1)
+    person.emplace_back(5.0 + 0.25 * std::cos(a), 2.0 + 0.25 * std::sin(a));
+  cm.setObstacles(person);
+  const tn::Footprint fp = tn::rectangleFootprint(-0.5, 0.5, -0.3, 0.3);
+  EXPECT_EQ(cm.footprintBlocker({4.6, 2.0, 0.0}, fp), tn::Blocker::kObstacle);
+  EXPECT_EQ(cm.footprintBlocker({3.0, 2.0, 0.0}, fp), tn::Blocker::kNone);
+  const auto around = tn::planPath(cm, {1.0, 2.0}, {9.0, 2.0}, tn::PlannerParams{});
+  ASSERT_TRUE(around.ok) << around.error;
+  EXPECT_GT(around.length_m, 8.05);
+  EXPECT_GT(minClearance(cm, around.path), 0.35 - 0.05);
+  cm.setObstacles({});  // the person left
+  EXPECT_NEAR(tn::planPath(cm, {1.0, 2.0}, {9.0, 2.0}, tn::PlannerParams{}).length_m, 8.0, 0.05);
+}
+
+TEST(GridPlanner, StartInsideThePlanningRadiusCanLeave) {
+  const tn::Costmap cm(roomWithBaffle(), tn::Grid2D(), tn::CostmapParams{});
+  const auto r = tn::planPath(cm, {0.2, 2.0}, {3.0, 2.0}, tn::PlannerParams{});
+  EXPECT_TRUE(r.ok) << r.error;
+}
+
+TEST(Footprint, GeometryAndChecks) {
+  const tn::Footprint fp = tn::rectangleFootprint(-0.86, 0.18, -0.34, 0.34);
+  EXPECT_NEAR(fp.halfWidth(), 0.34, 1e-12);
+  EXPECT_NEAR(fp.circumscribedRadius(), std::hypot(0.86, 0.34), 1e-12);
+  EXPECT_EQ(fp.check(), "");
+  const tn::Footprint two_points{{{0, 0}, {1, 0}}};
+  EXPECT_NE(two_points.check(), "");
+  const tn::Footprint flat{{{0, 0}, {1, 0}, {2, 0}}};
+  EXPECT_NE(flat.check(), "");
+  tn::CostmapParams bad;
+  bad.inflation_radius_m = 0.1;
+  EXPECT_NE(bad.validate(), "");
+}
+
+TEST(GridPlanner, PlansOnVariedHeadlandsBetweenRandomFloorPoints) {
+  int planned = 0;
+  for (std::uint32_t seed = 1; seed <= 5; ++seed) {
+    tn::testing::HeadlandOptions o;
+    o.seed = seed;
+    o.length_m = 12.0 + 2.0 * seed;
+    const tn::testing::SyntheticHeadland world(o);
+    const tn::Costmap cm(world.truthMap(0.05), tn::Grid2D(), tn::CostmapParams{});
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> x(1.0, o.length_m - 1.0), y(1.0, o.depth_m - 1.0);
+    for (int i = 0; i < 4; ++i) {
+      const Eigen::Vector2d a(x(rng), y(rng)), b(x(rng), y(rng));
+      const Eigen::Vector2i ca = cm.geometry().cellOf(a), cb = cm.geometry().cellOf(b);
+      if (cm.cost(ca.x(), ca.y()) >= tn::kInscribedCost || cm.cost(cb.x(), cb.y()) >= tn::kInscribedCost) continue;
+      const auto r = tn::planPath(cm, a, b, tn::PlannerParams{});
+      ASSERT_TRUE(r.ok) << r.error;
+      EXPECT_GE(r.length_m, (b - a).norm() - 1e-9);
+      ++planned;
+    }
+  }
+  EXPECT_GT(planned, 10);
+}
+
+}  // namespace

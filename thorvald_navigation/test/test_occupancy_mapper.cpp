@@ -1,0 +1,124 @@
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "thorvald_navigation/distance_field.h"
+#include "thorvald_navigation/occupancy_mapper.h"
+#include "thorvald_navigation/testing/synthetic_headland.h"
+
+namespace tn = thorvald_navigation;
+using tn::testing::HeadlandOptions;
+using tn::testing::SyntheticHeadland;
+
+namespace {
+
+const Eigen::Vector2d kSensor(0.45, 0.0);
+
+struct Drive {
+  double final_err_m = 0.0;
+  double wall_err_m = 0.0;  // mean distance of mapped wall cells to the true walls
+  double covered = 0.0;     // fraction of true floor cells mapped free
+  int scans = 0;
+};
+
+// Drives back and forth along the headland; odometry has a yaw-rate bias and scale error (drift of metres over
+// the run), the map is compared to the truth in the first pose's frame.
+Drive mapHeadland(std::uint32_t seed, bool drift) {
+  HeadlandOptions o;
+  o.seed = seed;
+  o.length_m = 14.0 + 2.0 * (seed % 3);
+  const SyntheticHeadland world(o);
+  tn::MapperParams p;
+  tn::OccupancyMapper mapper(p);
+  std::mt19937 rng(seed);
+  const tn::Pose2D start{1.5, o.depth_m - 0.7, 0.0};  // above the clutter band, below the rows
+  tn::Pose2D truth = start, odom{};
+  const double dt = 0.05;
+  Drive result;
+  const double straight_s = (o.length_m - 3.0) / 0.5, turn_s = tn::kPi / 0.5;
+  const double legs[][3] = {{0.5, 0.0, straight_s}, {0.0, 0.5, turn_s}, {0.5, 0.0, straight_s}, {0.0, -0.5, turn_s}};
+  for (const auto& leg : legs) {
+    for (double t = 0.0; t < leg[2] - 1e-9; t += dt) {
+      const double v = leg[0], w = leg[1];
+      truth = truth * tn::Pose2D{v * dt, 0.0, w * dt};
+      const double v_odom = drift ? v * 1.02 : v, w_odom = drift ? w * 1.01 + 0.01 : w;
+      odom = odom * tn::Pose2D{v_odom * dt, 0.0, w_odom * dt};
+      const auto pts = world.scan(truth, kSensor, 541, -2.356, 2.356, 30.0, 0.01, &rng);
+      mapper.addScan(odom, kSensor, pts, {});
+    }
+  }
+  // Truth of the final pose in the map frame (map frame = start pose).
+  const tn::Pose2D truth_in_map = start.inverse() * truth;
+  const tn::Pose2D est = mapper.mapToOdom() * odom;
+  result.final_err_m = std::hypot(est.x - truth_in_map.x, est.y - truth_in_map.y);
+  const tn::Grid2D map = mapper.occupancyGrid();
+  const tn::Grid2D truth_map = world.truthMap(0.05);
+  const tn::DistanceField truth_field(truth_map, 2.0);
+  double sum = 0.0;
+  int walls = 0, free_ok = 0, floor = 0;
+  for (int y = 0; y < map.height; ++y)
+    for (int x = 0; x < map.width; ++x)
+      if (map.at(x, y) >= 65) {
+        sum += truth_field.distance(start.transform(map.centerOf(x, y)));
+        ++walls;
+      }
+  for (int y = 0; y < truth_map.height; ++y)
+    for (int x = 0; x < truth_map.width; ++x) {
+      const Eigen::Vector2d c = truth_map.centerOf(x, y);
+      if (truth_map.at(x, y) != 0 || c.y() > o.depth_m) continue;
+      ++floor;
+      const Eigen::Vector2i m = map.cellOf(start.inverse().transform(c));
+      free_ok += map.inside(m.x(), m.y()) && map.at(m.x(), m.y()) >= 0 && map.at(m.x(), m.y()) < 20;
+    }
+  result.wall_err_m = walls > 0 ? sum / walls : 1e9;
+  result.covered = static_cast<double>(free_ok) / floor;
+  result.scans = mapper.scansUsed();
+  return result;
+}
+
+TEST(OccupancyMapper, ScanMatchingRemovesOdometryDrift) {
+  for (std::uint32_t seed = 1; seed <= 3; ++seed) {
+    const Drive d = mapHeadland(seed, true);
+    EXPECT_LT(d.final_err_m, 0.10) << "seed " << seed;
+    EXPECT_LT(d.wall_err_m, 0.05) << "seed " << seed;
+    EXPECT_GT(d.covered, 0.9) << "seed " << seed;
+    EXPECT_GT(d.scans, 50);
+  }
+}
+
+TEST(OccupancyMapper, SkipsScansWhileStandingAndRejectsBadInput) {
+  tn::OccupancyMapper mapper{tn::MapperParams{}};
+  const SyntheticHeadland world(HeadlandOptions{});
+  std::mt19937 rng(3);
+  const auto pts = world.scan({3, 2, 0}, kSensor, 541, -2.356, 2.356, 30.0, 0.0, &rng);
+  EXPECT_TRUE(mapper.addScan({}, kSensor, pts, {}).integrated);
+  EXPECT_FALSE(mapper.addScan({0.01, 0, 0}, kSensor, pts, {}).integrated);
+  EXPECT_EQ(mapper.scansUsed(), 1);
+  const auto nan = mapper.addScan({std::nan(""), 0, 0}, kSensor, pts, {});
+  EXPECT_FALSE(nan.integrated);
+  EXPECT_NE(nan.rejected, "");
+  EXPECT_NE(mapper.addScan({1, 0, 0}, kSensor, {{1, 0}}, {}).rejected, "");
+  EXPECT_GT(mapper.knownAreaM2(), 10.0);
+  tn::MapperParams bad;
+  bad.resolution_m = 0.0;
+  EXPECT_NE(bad.validate(), "");
+}
+
+TEST(OccupancyMapper, GridGrowsBeyondItsFirstSize) {
+  tn::MapperParams p;
+  p.initial_size_m = 4.0;
+  tn::OccupancyMapper mapper(p);
+  std::vector<Eigen::Vector2d> pts;
+  for (int i = 0; i < 20; ++i) pts.emplace_back(9.025, -0.975 + 0.1 * i);  // a wall 9 m ahead (cell centres)
+  mapper.addScan({}, {0, 0}, pts, {});
+  const tn::Grid2D g = mapper.occupancyGrid();
+  const Eigen::Vector2i c = g.cellOf({9.025, 0.025});
+  ASSERT_TRUE(g.inside(c.x(), c.y()));
+  EXPECT_GE(g.at(c.x(), c.y()), 65);
+  const Eigen::Vector2i f = g.cellOf({4.0, 0.0});
+  EXPECT_LT(g.at(f.x(), f.y()), 50);  // one pass of a beam: more likely free than not
+  EXPECT_GE(g.at(f.x(), f.y()), 0);
+}
+
+}  // namespace

@@ -1,0 +1,95 @@
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "thorvald_navigation/path_follower.h"
+
+namespace tn = thorvald_navigation;
+
+namespace {
+
+struct Outcome {
+  bool arrived = false;
+  double xy_err = 0.0, yaw_err = 0.0, max_lateral = 0.0, time_s = 0.0;
+};
+
+// Runs the follower against a kinematic robot that executes commands with a first-order lag and, for a
+// differential robot, no sideways motion at all.
+Outcome run(const tn::FollowerParams& p, const tn::Pose2D& start, const std::vector<Eigen::Vector2d>& path,
+            const tn::Pose2D& goal) {
+  tn::PathFollower f(p);
+  f.setPath(path, goal);
+  tn::Pose2D pose = start;
+  tn::Twist2D actual;
+  const double dt = 0.05;
+  Outcome o;
+  for (int i = 0; i < 4000; ++i) {
+    const tn::Twist2D cmd = f.step(pose, dt);
+    o.max_lateral = std::max(o.max_lateral, std::abs(cmd.vy));
+    if (f.state() == tn::FollowState::kArrived) {
+      o.arrived = true;
+      o.time_s = i * dt;
+      break;
+    }
+    const double a = 0.5;  // lag
+    actual.vx += a * (cmd.vx - actual.vx);
+    actual.vy += a * (cmd.vy - actual.vy);
+    actual.wz += a * (cmd.wz - actual.wz);
+    pose = pose * tn::Pose2D{actual.vx * dt, actual.vy * dt, actual.wz * dt};
+  }
+  o.xy_err = std::hypot(pose.x - goal.x, pose.y - goal.y);
+  o.yaw_err = std::abs(tn::normalizeAngle(pose.yaw - goal.yaw));
+  return o;
+}
+
+TEST(PathFollower, DifferentialAndOmnidirectionalReachRandomGoalsWithinTolerance) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-4.0, 4.0), yaw(-tn::kPi, tn::kPi);
+  for (bool omni : {false, true}) {
+    tn::FollowerParams p;
+    p.omnidirectional = omni;
+    for (int trial = 0; trial < 20; ++trial) {
+      const tn::Pose2D start{u(rng), u(rng), yaw(rng)}, goal{u(rng), u(rng), yaw(rng)};
+      const Eigen::Vector2d mid(0.5 * (start.x + goal.x) + 1.0, 0.5 * (start.y + goal.y) - 1.0);
+      const Outcome o = run(p, start, {{start.x, start.y}, mid, {goal.x, goal.y}}, goal);
+      ASSERT_TRUE(o.arrived) << (omni ? "omni" : "diff") << " trial " << trial;
+      EXPECT_LT(o.xy_err, p.xy_tolerance_m + 0.005) << trial;
+      EXPECT_LT(o.yaw_err, p.yaw_tolerance_rad + 0.005) << trial;
+      if (!omni) {
+        EXPECT_EQ(o.max_lateral, 0.0);
+      }
+    }
+  }
+}
+
+TEST(PathFollower, OmnidirectionalTranslatesSidewaysWithoutTurning) {
+  tn::FollowerParams p;
+  p.omnidirectional = true;
+  const Outcome o = run(p, {0, 0, 0}, {{0, 0}, {0, 2}}, {0, 2, 0});
+  EXPECT_TRUE(o.arrived);
+  EXPECT_GT(o.max_lateral, 0.3);
+  EXPECT_LT(o.time_s, 10.0);
+}
+
+TEST(PathFollower, RespectsLimitsAndStopsOnBadPose) {
+  tn::FollowerParams p;
+  tn::PathFollower f(p);
+  f.setPath({{0, 0}, {5, 0}}, {5, 0, 0});
+  tn::Twist2D last;
+  for (int i = 0; i < 100; ++i) {
+    const tn::Twist2D t = f.step({0.01 * i, 0, 0}, 0.05);
+    EXPECT_LE(std::abs(t.vx), p.max_speed_mps + 1e-12);
+    EXPECT_LE(std::abs(t.vx - last.vx), p.max_accel_mps2 * 0.05 + 1e-12);
+    last = t;
+  }
+  EXPECT_GT(last.vx, 0.1);
+  // A NaN pose ramps the command down, never up.
+  const tn::Twist2D after_nan = f.step({std::nan(""), 0, 0}, 0.05);
+  EXPECT_LT(after_nan.vx, last.vx);
+  tn::FollowerParams bad;
+  bad.xy_tolerance_m = 0.0;
+  EXPECT_NE(bad.validate(), "");
+}
+
+}  // namespace
