@@ -1,5 +1,7 @@
 #include "thorvald_base/base_driver.h"
 
+#include <algorithm>
+#include <cmath>
 #include <sstream>
 
 namespace thorvald_base {
@@ -16,8 +18,32 @@ const char* toString(StopReason reason) {
       return "safety stop";
     case StopReason::kDriveStop:
       return "drive lost or faulted";
+    case StopReason::kBatteryStop:
+      return "battery policy stop";
   }
   return "unknown";
+}
+
+const char* toString(BatteryAction action) {
+  switch (action) {
+    case BatteryAction::kWarn:
+      return "warn";
+    case BatteryAction::kSlow:
+      return "slow";
+    case BatteryAction::kStop:
+      return "stop";
+  }
+  return "unknown";
+}
+
+bool parseBatteryAction(const std::string& text, BatteryAction* action) {
+  for (BatteryAction a : {BatteryAction::kWarn, BatteryAction::kSlow, BatteryAction::kStop}) {
+    if (text == toString(a)) {
+      *action = a;
+      return true;
+    }
+  }
+  return false;
 }
 
 BaseDriver::BaseDriver(RobotConfig config, std::unique_ptr<BaseCalculator> calculator,
@@ -37,6 +63,23 @@ BaseDriver::BaseDriver(RobotConfig config, std::unique_ptr<BaseCalculator> calcu
   if (!(options_.cmd_vel_timeout_s > 0.0)) {
     throw ConfigError("base_driver", "~cmd_vel_timeout", "must be greater than 0 s");
   }
+  validateTwistLimits(options_.limits, "base_driver");
+  if (!(options_.min_write_interval_s >= 0.0 && options_.min_write_interval_s <= 1.0)) {
+    throw ConfigError("base_driver", "min_write_interval", "must be in [0, 1] s");
+  }
+  const auto& b = options_.battery;
+  const std::pair<const char*, double> battery_values[] = {{"~battery_under_voltage", b.under_voltage_v},
+                                                           {"~battery_over_temperature", b.over_temperature_c},
+                                                           {"~battery_lost_timeout", b.lost_timeout_s},
+                                                           {"~battery_slow_linear_speed", b.slow_linear_mps},
+                                                           {"~battery_slow_angular_speed", b.slow_angular_radps}};
+  for (const auto& v : battery_values) {
+    if (!std::isfinite(v.second) || v.second < 0.0) {
+      throw ConfigError("base_driver", v.first,
+                        "must be finite and >= 0 (0: check off), found " + std::to_string(v.second));
+    }
+  }
+  limiter_.setLimits(options_.limits);
   calculator_->configure(config_.drives, config_.passive_wheels, options_.calculator);
   commands_.resize(drives_.size());
   readDrives();
@@ -61,33 +104,103 @@ void BaseDriver::readDrives() {
   }
 }
 
-void BaseDriver::update(double now_s) {
-  readDrives();
-  for (size_t i = 0; i < status_.size(); ++i) {
-    if (!drive_stop_ && (!status_[i].online || status_[i].fault)) {
-      drive_stop_ = true;
-      drive_stop_text_ = "drive" + std::to_string(i) + ": " + (status_[i].online ? status_[i].text : "lost");
+void BaseDriver::checkBatteries(double now_s) {
+  const BatteryPolicy& p = options_.battery;
+  battery_text_.clear();
+  battery_slow_ = battery_stop_ = false;
+  battery_heard_.resize(batteries_.size(), now_s);
+  const auto act = [&](BatteryAction action, const std::string& what) {
+    battery_text_ += (battery_text_.empty() ? "" : "; ") + what + " (" + toString(action) + ")";
+    battery_slow_ = battery_slow_ || action == BatteryAction::kSlow;
+    battery_stop_ = battery_stop_ || action == BatteryAction::kStop;
+  };
+  for (size_t i = 0; i < batteries_.size(); ++i) {
+    const BatteryReading r = batteries_[i]->reading();
+    if (r.online) battery_heard_[i] = now_s;
+    const double silent_s = r.age_s >= 0.0 ? r.age_s : now_s - battery_heard_[i];
+    if (!r.online) {
+      if (p.lost_timeout_s > 0.0 && silent_s > p.lost_timeout_s) {
+        act(p.lost, batteries_[i]->name() + " not heard from for " + std::to_string(static_cast<int>(silent_s)) + " s");
+      }
+      continue;  // its last values are stale: no threshold checks on them
+    }
+    if (!r.present) continue;
+    if (p.under_voltage_v > 0.0 && std::isfinite(r.voltage_v) && r.voltage_v < p.under_voltage_v) {
+      act(p.under_voltage, batteries_[i]->name() + " under voltage (" + std::to_string(r.voltage_v) + " V)");
+    }
+    double hottest = -INFINITY;
+    for (double t : r.temperatures_c)
+      if (std::isfinite(t)) hottest = std::max(hottest, t);
+    if (p.over_temperature_c > 0.0 && hottest > p.over_temperature_c) {
+      act(p.over_temperature,
+          batteries_[i]->name() + " over temperature (" + std::to_string(static_cast<int>(hottest)) + " degC)");
     }
   }
+}
+
+void BaseDriver::applyCommand(double now_s) {
   Twist2D target;
   if (drive_stop_) {
     stop_reason_ = StopReason::kDriveStop;
   } else if (safety_stop_) {
     stop_reason_ = StopReason::kSafetyStop;
+  } else if (battery_stop_) {
+    stop_reason_ = StopReason::kBatteryStop;
   } else if (command_time_ < 0.0) {
     stop_reason_ = StopReason::kNoCommand;
   } else if (now_s - command_time_ > options_.cmd_vel_timeout_s) {
     stop_reason_ = StopReason::kCommandTimeout;
   } else {
     stop_reason_ = StopReason::kNone;
-    target = command_;
+    target = calculator_->achievable(command_);
   }
-  commands_ = calculator_->computeCommands(target, feedback_, commands_);
+  const double dt = last_write_ >= 0.0 ? now_s - last_write_ : 0.0;
+  Twist2D executed;
+  if (stop_reason_ == StopReason::kNone) {
+    if (battery_slow_) {
+      SpeedLimiter slow({options_.battery.slow_linear_mps, options_.battery.slow_angular_radps, 0.0, 0.0});
+      target = slow.limit(target, 0.0);
+    }
+    executed = limiter_.limit(target, dt);
+  }
+  // A stop is never slowed by the acceleration limit: zero is sent at once.
+  commands_ = calculator_->computeCommands(executed, feedback_, commands_);
+  wheel_factor_ = desaturate(config_.drives, &commands_);
+  limiter_.executed({wheel_factor_ * executed.vx, wheel_factor_ * executed.vy, wheel_factor_ * executed.wz});
+  last_write_ = now_s;
   for (size_t i = 0; i < drives_.size(); ++i) {
     drives_[i]->setCommand(commands_[i]);
     drives_[i]->update(now_s);
   }
+}
+
+bool BaseDriver::writeThrough(double now_s) {
+  if (last_write_ >= 0.0 && now_s - last_write_ < options_.min_write_interval_s) return false;
+  applyCommand(now_s);
+  return true;
+}
+
+void BaseDriver::update(double now_s) {
+  readDrives();
+  if (clear_requested_) {
+    if (clear_deadline_ < 0.0) clear_deadline_ = now_s + kClearWindowS;
+    bool all_ok = true;
+    for (const auto& s : status_) all_ok = all_ok && s.online && !s.fault;
+    if (all_ok) {
+      drive_stop_ = false;
+      drive_stop_text_.clear();
+    }
+    if (all_ok || now_s > clear_deadline_) clear_requested_ = false;
+  }
+  for (size_t i = 0; i < status_.size(); ++i) {
+    if (!drive_stop_ && (!status_[i].online || status_[i].fault)) {
+      drive_stop_ = true;
+      drive_stop_text_ = "drive" + std::to_string(i) + ": " + (status_[i].online ? status_[i].text : "lost");
+    }
+  }
   for (auto& battery : batteries_) battery->update(now_s);
+  checkBatteries(now_s);
+  applyCommand(now_s);
   readDrives();
 
   const VelocityEstimate previous = velocity_;
@@ -105,13 +218,24 @@ void BaseDriver::update(double now_s) {
 
 bool BaseDriver::clearDriveStop(std::string* message) {
   readDrives();
+  std::string bad;
   for (size_t i = 0; i < status_.size(); ++i) {
     if (!status_[i].online || status_[i].fault) {
       drives_[i]->clearFault();
-      if (message) *message = "drive" + std::to_string(i) + " still " + (status_[i].online ? status_[i].text : "lost");
-      return false;
+      bad += (bad.empty() ? "" : "; ") + ("drive" + std::to_string(i) + " still ") +
+             (status_[i].online ? status_[i].text : "lost");
     }
   }
+  if (!bad.empty()) {
+    clear_requested_ = true;
+    clear_deadline_ = -1.0;
+    if (message) {
+      *message = bad + ": fault reset sent to each; the drive stop is released as soon as every drive reports ok " +
+                 "(within " + std::to_string(static_cast<int>(kClearWindowS)) + " s)";
+    }
+    return false;
+  }
+  clear_requested_ = false;
   drive_stop_ = false;
   drive_stop_text_.clear();
   if (message) *message = "drive stop cleared";

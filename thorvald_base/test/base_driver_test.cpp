@@ -1,6 +1,7 @@
 #include <gmock/gmock.h>
 
 #include <cmath>
+#include <random>
 
 #include "test_robots.h"
 #include "thorvald_base/base_driver.h"
@@ -92,15 +93,75 @@ TEST(BaseDriver, FaultedDriveStopsAllPropulsionAtOnceAndLatches) {
   EXPECT_FALSE(rig.driver->clearDriveStop(&why));
   EXPECT_THAT(why, testing::HasSubstr("drive2"));
 
-  // The fault goes away: still stopped until cleared.
-  testing::Mock::VerifyAndClearExpectations(rig.drives[2]);
+  // The fault goes away after the clear request: the stop is released in that cycle, no second call needed.
+  for (auto* d : rig.drives) testing::Mock::VerifyAndClearExpectations(d);
   ON_CALL(*rig.drives[2], status()).WillByDefault(Return(rig.ok));
+  for (auto* d : rig.drives) EXPECT_CALL(*d, setCommand(speed(2.5)));
+  rig.driver->setCommand({0.5, 0.0, 0.0}, 1.02);
+  rig.driver->update(1.02);
+  EXPECT_EQ(rig.driver->stopReason(), StopReason::kNone);
+  EXPECT_FALSE(rig.driver->driveStop());
+}
+
+TEST(BaseDriver, AFaultThatGoesAwayWithoutAClearRequestStaysLatched) {
+  Rig rig;
+  DriveStatus fault;
+  fault.fault = true;
+  fault.text = "stall";
+  EXPECT_CALL(*rig.drives[1], status()).WillRepeatedly(Return(fault));
+  rig.driver->setCommand({0.5, 0.0, 0.0}, 1.0);
+  rig.driver->update(1.0);
+  testing::Mock::VerifyAndClearExpectations(rig.drives[1]);
+  ON_CALL(*rig.drives[1], status()).WillByDefault(Return(rig.ok));
   rig.driver->setCommand({0.5, 0.0, 0.0}, 1.02);
   rig.driver->update(1.02);
   EXPECT_EQ(rig.driver->stopReason(), StopReason::kDriveStop);
+  std::string why;
   EXPECT_TRUE(rig.driver->clearDriveStop(&why));
   for (auto* d : rig.drives) EXPECT_CALL(*d, setCommand(speed(2.5)));
   rig.driver->update(1.04);
+}
+
+TEST(BaseDriver, OneClearRequestClearsEveryFaultedDrive) {
+  Rig rig;
+  DriveStatus fault, lost;
+  fault.fault = true;
+  fault.text = "over current";
+  lost.online = false;
+  ON_CALL(*rig.drives[0], status()).WillByDefault(Return(fault));
+  ON_CALL(*rig.drives[3], status()).WillByDefault(Return(lost));
+  rig.driver->setCommand({0.5, 0.0, 0.0}, 1.0);
+  rig.driver->update(1.0);
+  ASSERT_TRUE(rig.driver->driveStop());
+  EXPECT_CALL(*rig.drives[0], clearFault());
+  EXPECT_CALL(*rig.drives[3], clearFault());
+  EXPECT_CALL(*rig.drives[1], clearFault()).Times(0);
+  std::string why;
+  EXPECT_FALSE(rig.driver->clearDriveStop(&why));
+  EXPECT_THAT(why, testing::HasSubstr("drive0 still over current"));
+  EXPECT_THAT(why, testing::HasSubstr("drive3 still lost"));
+  // Both recover; one cycle later the base drives again.
+  ON_CALL(*rig.drives[0], status()).WillByDefault(Return(rig.ok));
+  ON_CALL(*rig.drives[3], status()).WillByDefault(Return(rig.ok));
+  rig.driver->setCommand({0.5, 0.0, 0.0}, 1.02);
+  rig.driver->update(1.02);
+  EXPECT_FALSE(rig.driver->driveStop());
+  EXPECT_EQ(rig.driver->stopReason(), StopReason::kNone);
+}
+
+TEST(BaseDriver, AClearRequestExpires) {
+  Rig rig;
+  DriveStatus fault;
+  fault.fault = true;
+  ON_CALL(*rig.drives[2], status()).WillByDefault(Return(fault));
+  rig.driver->update(1.0);
+  std::string why;
+  EXPECT_FALSE(rig.driver->clearDriveStop(&why));
+  rig.driver->update(1.02);
+  rig.driver->update(3.5);  // past the 2 s window, still faulted
+  ON_CALL(*rig.drives[2], status()).WillByDefault(Return(rig.ok));
+  rig.driver->update(3.52);
+  EXPECT_TRUE(rig.driver->driveStop());
 }
 
 TEST(BaseDriver, LostDriveStopsPropulsion) {
@@ -198,4 +259,280 @@ TEST(BaseDriver, DriveCountMustMatchTheRobotFile) {
   std::vector<std::unique_ptr<MotorDrive>> drives;
   drives.push_back(std::make_unique<NiceMock<MockDrive>>());
   EXPECT_THROW(BaseDriver(config, std::make_unique<StandardCalculator>(), std::move(drives), {}, {}), ConfigError);
+}
+
+// ---- Speed limits that keep the geometry ----
+
+namespace {
+
+/// A drive that does at once what it is told: its feedback is its last command.
+class IdealDrive : public MotorDrive {
+ public:
+  void setCommand(const DriveCommand& c) override { command_ = c; }
+  void update(double) override {}
+  DriveFeedback feedback() const override {
+    DriveFeedback f;
+    f.valid = true;
+    f.wheel_speed_radps = command_.wheel_speed_radps;
+    f.steering_rad = command_.steering_rad;
+    return f;
+  }
+  DriveStatus status() const override { return {}; }
+  void reconfigure(const DriveConfig&) override {}
+
+ private:
+  DriveCommand command_;
+};
+
+std::unique_ptr<BaseCalculator> calculatorFor(const RobotConfig& config) {
+  if (config.base_calculator.find("2WDiff") != std::string::npos ||
+      config.base_calculator.find("DiffDrive") != std::string::npos)
+    return std::make_unique<DiffDriveCalculator>();
+  if (config.base_calculator.find("OneWheel") != std::string::npos) return std::make_unique<OneWheelCalculator>();
+  return std::make_unique<StandardCalculator>();
+}
+
+std::unique_ptr<BaseDriver> idealDriver(const RobotConfig& config, const BaseDriverOptions& options = {}) {
+  std::vector<std::unique_ptr<MotorDrive>> drives;
+  for (size_t i = 0; i < config.drives.size(); ++i) drives.push_back(std::make_unique<IdealDrive>());
+  return std::make_unique<BaseDriver>(config, calculatorFor(config), std::move(drives),
+                                      std::vector<std::unique_ptr<Battery>>{}, options);
+}
+
+/// Sends `cmd` for a few cycles (steering settles on ideal drives) and returns the twist the wheels perform.
+Twist2D perform(BaseDriver& driver, const Twist2D& cmd, double* t) {
+  for (int k = 0; k < 4; ++k) {
+    *t += 0.02;
+    driver.setCommand(cmd, *t);
+    driver.update(*t);
+  }
+  std::vector<DriveFeedback> fb;
+  for (const auto& c : driver.commands()) {
+    DriveFeedback f;
+    f.valid = true;
+    f.wheel_speed_radps = c.wheel_speed_radps;
+    f.steering_rad = c.steering_rad;
+    fb.push_back(f);
+  }
+  std::unique_ptr<BaseCalculator> calc = calculatorFor(driver.config());
+  calc->configure(driver.config().drives, driver.config().passive_wheels, {});
+  return calc->estimateTwist(fb).twist;
+}
+
+double norm(const Twist2D& t) { return std::sqrt(t.vx * t.vx + t.vy * t.vy + t.wz * t.wz); }
+
+}  // namespace
+
+TEST(SpeedLimiter, VelocityLimitScalesTheWholeTwist) {
+  SpeedLimiter limiter({1.0, 0.5, 0.0, 0.0});
+  const Twist2D out = limiter.limit({2.0, 0.0, 0.5}, 0.0);  // linear 2x over, angular at its limit
+  EXPECT_NEAR(out.vx, 1.0, 1e-12);
+  EXPECT_NEAR(out.wz, 0.25, 1e-12);  // same factor: the turning radius (vx / wz = 4 m) is kept
+  const Twist2D turn = limiter.limit({0.1, 0.0, 2.0}, 0.0);
+  EXPECT_NEAR(turn.wz, 0.5, 1e-12);
+  EXPECT_NEAR(turn.vx, 0.025, 1e-12);
+  const Twist2D free = SpeedLimiter{}.limit({100.0, -50.0, 9.0}, 0.1);  // no limits set
+  EXPECT_DOUBLE_EQ(free.vx, 100.0);
+  EXPECT_DOUBLE_EQ(free.wz, 9.0);
+}
+
+TEST(SpeedLimiter, AccelerationLimitApproachesAlongTheCommand) {
+  SpeedLimiter limiter({0.0, 0.0, 1.0, 2.0});
+  const Twist2D target{1.0, 0.5, 1.0};
+  double t = 0.0;
+  Twist2D out;
+  while (t < 2.0 && norm(Twist2D{out.vx - target.vx, out.vy - target.vy, out.wz - target.wz}) > 1e-12) {
+    out = limiter.limit(target, 0.02);
+    limiter.executed(out);
+    t += 0.02;
+    // Every intermediate twist is a multiple of the target: the centre of rotation does not wander.
+    EXPECT_NEAR(out.vy, 0.5 * out.vx, 1e-12);
+    EXPECT_NEAR(out.wz, out.vx, 1e-12);
+  }
+  EXPECT_NEAR(t, 1.0, 0.021);  // vx and wz need 1 s at 1 m/s^2 and 2 rad/s^2 (vx binds)
+  EXPECT_THROW(validateTwistLimits({-1.0, 0.0, 0.0, 0.0}, "test"), ConfigError);
+  EXPECT_THROW(validateTwistLimits({0.0, NAN, 0.0, 0.0}, "test"), ConfigError);
+}
+
+TEST(SpeedLimits, EveryBringupRobotKeepsItsWheelsInLimitAndTheCommandedCentreOfRotation) {
+  const char* files[] = {"a_4wd4ws_wide",
+                         "b_4wd2ws_tall_frame",
+                         "c_6wd6ws_suspension",
+                         "d_1wd1ws_rear_drive",
+                         "e_2wd_custom_frame",
+                         "f_4wd4ws_slim",
+                         "figure5",
+                         "figure7_6wd6ws_asymmetric",
+                         "g_1wd1ws_front_drive",
+                         "greenhouse_rail_robot",
+                         "h_9wd9ws"};
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> lin(-4.0, 4.0), ang(-6.0, 6.0), unit(0.0, 1.0);
+  for (const char* name : files) {
+    SCOPED_TRACE(name);
+    const RobotConfig config = loadRobotConfigFile(std::string("../../thorvald_bringup/config/") + name + ".yaml");
+    RobotConfig unlimited_config = config;
+    for (auto& d : unlimited_config.drives) d.prp_max_rpm = 0.0;  // no wheel limit: what the geometry asks for
+    auto driver = idealDriver(config);
+    auto unlimited = idealDriver(unlimited_config);
+    double t = 0.0, t_free = 0.0;
+    int feasible = 0, saturated = 0;
+    for (int n = 0; n < 60; ++n) {
+      // Mostly large commands (1000 m/s among them), some small ones.
+      const double scale = n == 0 ? 250.0 : (unit(rng) < 0.2 ? 0.05 : 1.0);
+      const Twist2D cmd{scale * lin(rng), scale * lin(rng), scale * ang(rng)};
+      const Twist2D wanted = driver->calculator().achievable(cmd);
+      const Twist2D free = perform(*unlimited, cmd, &t_free);
+      const Twist2D done = perform(*driver, cmd, &t);
+      for (size_t i = 0; i < config.drives.size(); ++i) {
+        EXPECT_LE(std::fabs(driver->commands()[i].wheel_speed_radps), maxWheelSpeed(config.drives[i]) * (1 + 1e-9))
+            << "drive" << i;
+      }
+      // Only where the geometry (steering limits) can perform the command is the direction checked.
+      if (norm(Twist2D{free.vx - wanted.vx, free.vy - wanted.vy, free.wz - wanted.wz}) > 1e-6 * (1 + norm(wanted)))
+        continue;
+      ++feasible;
+      const double k = driver->wheelFactor();
+      saturated += k < 1.0 ? 1 : 0;
+      EXPECT_GT(k, 0.0);
+      EXPECT_LE(k, 1.0);
+      const double tol = 1e-6 * (1.0 + norm(wanted));
+      EXPECT_NEAR(done.vx, k * wanted.vx, tol) << "cmd " << cmd.vx << " " << cmd.vy << " " << cmd.wz;
+      EXPECT_NEAR(done.vy, k * wanted.vy, tol);
+      EXPECT_NEAR(done.wz, k * wanted.wz, tol);
+    }
+    EXPECT_GE(feasible, 20);
+    EXPECT_GE(saturated, 10);
+  }
+}
+
+TEST(SpeedLimits, BodyLimitsApplyInSimulationToo) {
+  BaseDriverOptions options;
+  options.limits = {1.0, 0.5, 0.0, 0.0};
+  const RobotConfig config = test::paperRobots()[0].config;
+  auto driver = idealDriver(config, options);
+  double t = 0.0;
+  perform(*driver, {1000.0, 0.0, 0.0}, &t);
+  EXPECT_NEAR(driver->executedTwist().vx, 1.0, 1e-9);
+  for (const auto& c : driver->commands()) EXPECT_NEAR(c.wheel_speed_radps, 1.0 / 0.2, 1e-9);
+  BaseDriverOptions bad;
+  bad.limits.max_linear_mps = -1.0;
+  EXPECT_THROW(idealDriver(config, bad), ConfigError);
+}
+
+TEST(BaseDriver, ANewCommandIsWrittenThroughAtOnce) {
+  Rig rig;
+  for (auto* d : rig.drives) {
+    EXPECT_CALL(*d, setCommand(speed(0.0)));
+    EXPECT_CALL(*d, update(1.0));
+  }
+  rig.driver->update(1.0);
+  for (auto* d : rig.drives) {
+    testing::Mock::VerifyAndClearExpectations(d);
+    EXPECT_CALL(*d, setCommand(speed(2.5)));
+    EXPECT_CALL(*d, update(1.005));
+  }
+  ASSERT_TRUE(rig.driver->setCommand({0.5, 0.0, 0.0}, 1.005));
+  EXPECT_TRUE(rig.driver->writeThrough(1.005));
+  // A burst faster than min_write_interval waits for the next write or cycle.
+  for (auto* d : rig.drives) testing::Mock::VerifyAndClearExpectations(d);
+  for (auto* d : rig.drives) EXPECT_CALL(*d, setCommand(_)).Times(0);
+  ASSERT_TRUE(rig.driver->setCommand({0.3, 0.0, 0.0}, 1.006));
+  EXPECT_FALSE(rig.driver->writeThrough(1.006));
+  // The same stop checks: with the safety stop engaged a write-through sends zero.
+  for (auto* d : rig.drives) testing::Mock::VerifyAndClearExpectations(d);
+  rig.driver->setSafetyStop(true);
+  for (auto* d : rig.drives) EXPECT_CALL(*d, setCommand(speed(0.0)));
+  ASSERT_TRUE(rig.driver->setCommand({0.5, 0.0, 0.0}, 1.01));
+  EXPECT_TRUE(rig.driver->writeThrough(1.01));
+}
+
+// ---- Battery policy ----
+
+namespace {
+
+struct BatteryRig {
+  std::unique_ptr<BaseDriver> driver;
+  NiceMock<MockBattery>* battery = nullptr;
+  BatteryReading reading;
+  std::string name = "bat0";
+
+  explicit BatteryRig(const BatteryPolicy& policy) {
+    const RobotConfig config = test::paperRobots()[0].config;
+    std::vector<std::unique_ptr<MotorDrive>> drives;
+    for (size_t i = 0; i < config.drives.size(); ++i) drives.push_back(std::make_unique<IdealDrive>());
+    auto b = std::make_unique<NiceMock<MockBattery>>();
+    battery = b.get();
+    ON_CALL(*battery, name()).WillByDefault(testing::ReturnRef(name));
+    ON_CALL(*battery, reading()).WillByDefault(testing::ReturnPointee(&reading));
+    std::vector<std::unique_ptr<Battery>> batteries;
+    batteries.push_back(std::move(b));
+    BaseDriverOptions options;
+    options.battery = policy;
+    driver = std::make_unique<BaseDriver>(config, std::make_unique<StandardCalculator>(), std::move(drives),
+                                          std::move(batteries), options);
+    reading.online = true;
+    reading.voltage_v = 50.0;
+    reading.temperatures_c = {25.0, 26.0};
+    reading.age_s = 0.0;
+  }
+  void cycle(double t) {
+    driver->setCommand({1.0, 0.0, 0.0}, t);
+    driver->update(t);
+  }
+};
+
+}  // namespace
+
+TEST(BatteryPolicy, OverTemperatureStopsByDefault) {
+  BatteryRig rig(BatteryPolicy{});
+  rig.cycle(1.0);
+  EXPECT_EQ(rig.driver->stopReason(), StopReason::kNone);
+  rig.reading.temperatures_c[1] = 71.0;
+  rig.cycle(1.02);
+  EXPECT_EQ(rig.driver->stopReason(), StopReason::kBatteryStop);
+  EXPECT_THAT(rig.driver->batteryText(), testing::HasSubstr("bat0 over temperature (71 degC) (stop)"));
+  for (const auto& c : rig.driver->commands()) EXPECT_DOUBLE_EQ(c.wheel_speed_radps, 0.0);
+  rig.reading.temperatures_c[1] = 40.0;
+  rig.cycle(1.04);
+  EXPECT_EQ(rig.driver->stopReason(), StopReason::kNone);
+}
+
+TEST(BatteryPolicy, ALostBatteryStopsAfterItsTimeoutAndStaleValuesAreNotChecked) {
+  BatteryPolicy policy;
+  policy.lost_timeout_s = 1.0;
+  BatteryRig rig(policy);
+  rig.cycle(1.0);
+  rig.reading.online = false;
+  rig.reading.temperatures_c[0] = 90.0;  // stale: not acted on
+  rig.reading.age_s = 0.5;
+  rig.cycle(1.5);
+  EXPECT_EQ(rig.driver->stopReason(), StopReason::kNone);
+  rig.reading.age_s = 1.2;
+  rig.cycle(2.2);
+  EXPECT_EQ(rig.driver->stopReason(), StopReason::kBatteryStop);
+  EXPECT_THAT(rig.driver->batteryText(), testing::HasSubstr("bat0 not heard from"));
+}
+
+TEST(BatteryPolicy, UnderVoltageCanSlowOrOnlyWarn) {
+  BatteryPolicy policy;
+  policy.under_voltage_v = 44.0;
+  policy.under_voltage = BatteryAction::kSlow;
+  policy.slow_linear_mps = 0.3;
+  BatteryRig rig(policy);
+  rig.reading.voltage_v = 43.0;
+  rig.cycle(1.0);
+  EXPECT_EQ(rig.driver->stopReason(), StopReason::kNone);
+  EXPECT_TRUE(rig.driver->batterySlow());
+  EXPECT_NEAR(rig.driver->executedTwist().vx, 0.3, 1e-9);
+  policy.under_voltage = BatteryAction::kWarn;
+  BatteryRig warn(policy);
+  warn.reading.voltage_v = 43.0;
+  warn.cycle(1.0);
+  EXPECT_THAT(warn.driver->batteryText(), testing::HasSubstr("under voltage"));
+  EXPECT_NEAR(warn.driver->executedTwist().vx, 1.0, 1e-9);
+  BatteryAction a;
+  EXPECT_TRUE(parseBatteryAction("slow", &a));
+  EXPECT_EQ(a, BatteryAction::kSlow);
+  EXPECT_FALSE(parseBatteryAction("ignore", &a));
 }

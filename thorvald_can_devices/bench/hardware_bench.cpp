@@ -2,7 +2,9 @@
 //  - latency from a twist_mux/cmd_vel message to the last drive's command frame on the bus (p50, p99);
 //  - frames per second the virtual bus carries between two processes;
 //  - base_driver's CPU at 50 Hz with 9 drives (from /proc/<pid>/stat, pid asked from the node itself).
+// When done it asks base_driver and can_device_sim to shut down, so the launch ends by itself, cleanly.
 //   roslaunch thorvald_can_devices hardware_bench.launch
+//   (the node's options: --bus NAME --samples N --last-node N; --help lists them)
 #include <geometry_msgs/Twist.h>
 #include <ros/master.h>
 #include <ros/network.h>
@@ -10,6 +12,7 @@
 #include <unistd.h>
 #include <xmlrpcpp/XmlRpcClient.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
@@ -25,20 +28,27 @@ using namespace thorvald_can_devices;
 
 namespace {
 
-int nodePid(const std::string& node) {
+/// Calls `method` (getPid, shutdown) of a node's XML-RPC API; false when the node or the call failed.
+bool callNode(const std::string& node, const std::string& method, const std::string& argument,
+              XmlRpc::XmlRpcValue* reply) {
   XmlRpc::XmlRpcValue args, result, payload;
   args[0] = ros::this_node::getName();
   args[1] = node;
-  if (!ros::master::execute("lookupNode", args, result, payload, false)) return -1;
+  if (!ros::master::execute("lookupNode", args, result, payload, false)) return false;
   std::string uri = static_cast<std::string>(payload);
   std::string host;
   uint32_t port = 0;
-  if (!ros::network::splitURI(uri, host, port)) return -1;
+  if (!ros::network::splitURI(uri, host, port)) return false;
   XmlRpc::XmlRpcClient client(host.c_str(), port, "/");
-  XmlRpc::XmlRpcValue a, r;
+  XmlRpc::XmlRpcValue a;
   a[0] = ros::this_node::getName();
-  if (!client.execute("getPid", a, r) || r.size() < 3) return -1;
-  return static_cast<int>(r[2]);
+  if (!argument.empty()) a[1] = argument;
+  return client.execute(method.c_str(), a, *reply) && reply->size() >= 3;
+}
+
+int nodePid(const std::string& node) {
+  XmlRpc::XmlRpcValue r;
+  return callNode(node, "getPid", "", &r) ? static_cast<int>(r[2]) : -1;
 }
 
 double cpuSeconds(int pid) {
@@ -65,10 +75,24 @@ double percentile(std::vector<double> v, double p) {
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "hardware_bench");
-  ros::NodeHandle nh, pnh("~");
-  const std::string bus_name = pnh.param<std::string>("bus", "bench");
-  const int samples = pnh.param("samples", 200);
-  const int last_node = pnh.param("last_node", 9);
+  std::vector<std::string> args;
+  ros::removeROSArgs(argc, argv, args);
+  CLI::App app{
+      "hardware_bench: cmd_vel -> CAN frame latency, bus throughput and base_driver's CPU (run it through "
+      "hardware_bench.launch)"};
+  std::string bus_name = "bench";
+  int samples = 200, last_node = 9;
+  app.add_option("--bus", bus_name, "virtual bus base_driver and can_device_sim use");
+  app.add_option("--samples", samples, "latency samples")->check(CLI::Range(1, 100000));
+  app.add_option("--last-node", last_node, "node id of the drive whose command frame ends a sample")
+      ->check(CLI::Range(1, 127));
+  std::vector<std::string> rest(args.rbegin(), args.rend() - 1);  // CLI11 takes them reversed, without argv[0]
+  try {
+    app.parse(rest);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;  // --help: 0; an unknown option or a bad value: 2
+  }
+  ros::NodeHandle nh;
   VirtualCanBus spy(bus_name);
   auto pub = nh.advertise<geometry_msgs::Twist>("twist_mux/cmd_vel", 1);
   const ros::WallTime wait_end = ros::WallTime::now() + ros::WallDuration(30.0);
@@ -123,5 +147,13 @@ int main(int argc, char** argv) {
       "RESULT {\"cmd_to_frame_p50_ms\": %.2f, \"cmd_to_frame_p99_ms\": %.2f, \"virtual_bus_fps\": %.0f, "
       "\"base_driver_cpu_pct_9_drives\": %.1f}\n",
       percentile(latency_ms, 0.5), percentile(latency_ms, 0.99), bus.fps, cpu_pct);
+  std::fflush(stdout);
+  // End the launch cleanly: the other nodes shut down on request, roslaunch exits once every node is gone.
+  for (const char* node : {"/base_driver", "/can_device_sim"}) {
+    XmlRpc::XmlRpcValue reply;
+    if (!callNode(ros::this_node::getNamespace() + node, "shutdown", "hardware_bench finished", &reply)) {
+      std::fprintf(stderr, "hardware_bench: could not ask %s to shut down\n", node);
+    }
+  }
   return latency_ms.size() > 0 ? 0 : 1;
 }

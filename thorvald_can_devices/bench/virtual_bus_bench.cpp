@@ -1,17 +1,28 @@
 // Frames per second the virtual bus carries between two processes.
-//   rosrun thorvald_can_devices virtual_bus_bench [frames]
+//   rosrun thorvald_can_devices virtual_bus_bench [--frames N] [--runs N]
+#include <CLI/CLI.hpp>
 #include <cstdio>
-#include <cstdlib>
 
 #include "bus_throughput.h"
 
 int main(int argc, char** argv) {
-  const long frames = argc > 1 ? std::atol(argv[1]) : 200000;
+  CLI::App app{"virtual_bus_bench: frames per second the virtual CAN bus carries between two processes"};
+  long frames = 200000;
+  int runs = 3;
+  app.add_option("--frames", frames, "frames per run")->check(CLI::Range(1000L, 100000000L));
+  app.add_option("--runs", runs, "runs; the best is reported")->check(CLI::Range(1, 100));
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;  // --help: 0; an unknown option or a bad value: 2
+  }
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress shows when piped
   std::printf("%-10s %12s %10s %14s\n", "run", "frames", "time [s]", "frames/s");
   double best = 0;
-  for (int run = 1; run <= 3; ++run) {
+  for (int run = 1; run <= runs; ++run) {
     const auto r = thorvald_can_devices::measureThroughput(frames);
     std::printf("%-10d %12ld %10.3f %14.0f\n", run, r.received, r.seconds, r.fps);
+    std::fflush(stdout);
     if (r.fps > best) best = r.fps;
   }
   std::printf("RESULT {\"virtual_bus_fps\": %.0f}\n", best);

@@ -66,6 +66,8 @@ void CanBaseHardware::initializeOnBus(const thorvald_base::RobotConfig& config, 
                                                " outside 1..126 (a steered drive's steering axis is node + 64)");
         }
         axes.push_back(std::make_shared<Cia402Axis>(bus_.get(), setup));
+        axes.back()->setFeedbackTimeout(options_.feedback_timeout_s);
+        cia402_axes_.push_back(axes.back().get());
         addDevice(axes.back(), config.source);
       }
       drives_.push_back(std::make_unique<Cia402Drive>(d, axes[0], axes.size() > 1 ? axes[1] : nullptr));
@@ -81,6 +83,7 @@ void CanBaseHardware::initializeOnBus(const thorvald_base::RobotConfig& config, 
       channels.push_back(drives[i + 1]);  // a two-channel propulsion pair on one controller
     }
     auto controller = std::make_shared<ThorvaldController>(bus_.get(), channels);
+    controller->setFeedbackTimeout(options_.feedback_timeout_s);
     addDevice(controller, config.source);
     for (size_t c = 0; c < channels.size(); ++c) drives_.push_back(std::make_unique<ThorvaldDrive>(controller, c));
     i += channels.size() - 1;
@@ -126,7 +129,12 @@ std::vector<std::unique_ptr<thorvald_base::Battery>> CanBaseHardware::takeBatter
 
 void CanBaseHardware::readBus(double now_s) {
   CanFrame f;
-  while (bus_->receive(&f)) {
+  for (size_t n = 0;; ++n) {
+    if (n >= options_.max_frames_per_poll) {
+      if (bus_->waitReadable(0.0)) ++read_bound_hits_;
+      break;
+    }
+    if (!bus_->receive(&f)) break;
     if (!f.isExtended() && !f.isRemote()) {
       auto it = routes_.find(f.stdId());
       if (it != routes_.end()) {
@@ -151,6 +159,7 @@ void CanBaseHardware::poll(double) {
   const double t = now();
   if (has_cia402_) {
     bus_->send(encodeSync());  // the CiA 402 drives answer with their TPDOs
+    for (auto* axis : cia402_axes_) axis->syncSent();
     if (t - last_host_heartbeat_s_ >= kHostHeartbeatPeriodS) {
       last_host_heartbeat_s_ = t;
       bus_->send(makeFrame(canopen_ids::kHeartbeat + kHostNode, {0x05}));
@@ -213,6 +222,7 @@ std::vector<std::pair<std::string, std::string>> CanBaseHardware::diagnostics() 
   out.emplace_back("CAN arbitration lost", std::to_string(s.arbitration_lost));
   out.emplace_back("CAN malformed frames rejected", std::to_string(malformedFrames() + s.malformed));
   out.emplace_back("CAN relay queue overflow", std::to_string(relay_overflow_));
+  out.emplace_back("CAN polls at the read bound", std::to_string(read_bound_hits_));
   if (!s.last_error.empty()) out.emplace_back("CAN last error", s.last_error);
   std::string missing;
   for (const auto& m : not_answering_) missing += (missing.empty() ? "" : ", ") + m;

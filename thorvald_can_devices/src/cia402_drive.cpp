@@ -71,6 +71,10 @@ void Cia402Axis::sendNextSdo(double now_s) {
 
 bool Cia402Axis::online() const { return heard_ && now_s_ - last_heartbeat_s_ <= kHeartbeatTimeoutS; }
 
+bool Cia402Axis::feedbackSilent() const {
+  return feedback_seen_ && syncs_unanswered_ > 3 && now_s_ - last_tpdo_s_ > feedback_timeout_s_;
+}
+
 bool Cia402Axis::operational() const {
   return online() && nmt_state_ == 0x05 && state_ == Cia402State::kOperationEnabled;
 }
@@ -94,6 +98,8 @@ void Cia402Axis::handle(const CanFrame& f, double now_s) {
       state_ = stateOf(statusword_);
       actual_velocity_ = p->actual_velocity;
       feedback_seen_ = true;
+      last_tpdo_s_ = now_s;
+      syncs_unanswered_ = 0;
       if (setpoint_pending_ && (statusword_ & cia402::kSwSetPointAck)) setpoint_pending_ = false;
     }
   } else if (base == canopen_ids::kTpdo2) {
@@ -263,6 +269,12 @@ thorvald_base::DriveStatus Cia402Drive::status() const {
   if (s.online && !s.fault) {
     for (const Cia402Axis* a : axes)
       if (!a->operational()) s.online = false;
+  }
+  for (const Cia402Axis* a : axes) {
+    if (a->operational() && a->feedbackSilent()) {
+      s.online = false;
+      text += "; " + a->label() + ": no PDO answer to SYNC";
+    }
   }
   s.text = text;
   return s;

@@ -124,7 +124,9 @@ bool SocketCanBus::send(const CanFrame& frame) {
 
 bool SocketCanBus::receive(CanFrame* frame) {
   if (down_) tryReopen();
-  while (true) {
+  // Error and malformed frames are consumed here; a bounded number per call, so that a storm of them cannot hold
+  // the caller (the next call goes on).
+  for (int skipped = 0; skipped < kMaxSkippedPerReceive; ++skipped) {
     can_frame f{};
     const ssize_t n = ::read(fd_, &f, sizeof(f));
     if (n < 0) {
@@ -151,6 +153,7 @@ bool SocketCanBus::receive(CanFrame* frame) {
     *frame = out;
     return true;
   }
+  return false;
 }
 
 bool SocketCanBus::waitReadable(double timeout_s) {

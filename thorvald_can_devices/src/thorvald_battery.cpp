@@ -57,6 +57,7 @@ void ThorvaldBattery::handle(const CanFrame& f, double now_s) {
 thorvald_base::BatteryReading ThorvaldBattery::reading() const {
   thorvald_base::BatteryReading r = reading_;
   r.online = operational();
+  r.age_s = heard_ ? now_s_ - last_frame_s_ : -1.0;
   return r;
 }
 

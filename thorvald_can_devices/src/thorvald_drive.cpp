@@ -1,5 +1,6 @@
 #include "thorvald_can_devices/thorvald_drive.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "thorvald_can_devices/canopen_protocol.h"
@@ -60,6 +61,7 @@ void ThorvaldController::handle(const CanFrame& f, double now_s) {
         ok = true;
         heard_ = true;
         last_heartbeat_s_ = now_s;
+        if (*hb == kHeartbeatOperational && nmt_state_ != kHeartbeatOperational) operational_since_s_ = now_s;
         nmt_state_ = *hb;
       }
       break;
@@ -171,6 +173,13 @@ thorvald_base::DriveStatus ThorvaldController::status(size_t) const {
   if (nmt_state_ != kHeartbeatOperational) {
     s.online = false;
     s.text = "not operational (NMT state 0x" + std::string(nmt_state_ == kHeartbeatBootUp ? "00" : "7F") + ")";
+    return s;
+  }
+  // Heartbeats alone do not keep a drive: its feedback must keep coming (a heartbeat can be sent by anyone).
+  const double silent_s = now_s_ - std::max(last_feedback_s_, operational_since_s_);
+  if (silent_s > feedback_timeout_s_) {
+    s.online = false;
+    s.text = "no feedback for " + std::to_string(static_cast<int>(silent_s * 1000.0)) + " ms";
     return s;
   }
   std::string fault;

@@ -2,7 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <errno.h>
+#include <sys/fsuid.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <sys/un.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -163,6 +165,139 @@ TEST(VirtualBus, RefusesBadNames) {
   EXPECT_THROW(VirtualCanBus("../etc"), CanBusError);
   EXPECT_THROW(VirtualCanBus(std::string(49, 'a')), CanBusError);
   EXPECT_THROW(openCanBus("vcan", "x"), CanBusError);
+}
+
+bool throwsWith(const std::string& name, const std::string& needle, std::string* what) {
+  try {
+    VirtualCanBus bus(name);
+  } catch (const CanBusError& e) {
+    *what = e.what();
+    return std::string(e.what()).find(needle) != std::string::npos;
+  }
+  *what = "no error";
+  return false;
+}
+
+TEST(VirtualBusSecurity, RefusesABusFolderThatIsASymlinkAndTouchesNothingBehindIt) {
+  const std::string name = uniqueBus("symlink");
+  char target[] = "/tmp/thorvald_can_target.XXXXXX";
+  ASSERT_NE(::mkdtemp(target), nullptr);
+  const std::string victim = std::string(target) + "/123-0";  // named like an endpoint, a plain file
+  std::ofstream(victim) << "keep me";
+  ::close(openPrivateFolder(VirtualCanBus::rootFolder()));
+  ASSERT_EQ(::symlink(target, VirtualCanBus::busFolder(name).c_str()), 0);
+  std::string what;
+  EXPECT_TRUE(throwsWith(name, "symbolic link", &what)) << what;
+  EXPECT_NE(what.find(VirtualCanBus::busFolder(name)), std::string::npos) << what;
+  EXPECT_EQ(::access(victim.c_str(), F_OK), 0);
+  ::unlink(VirtualCanBus::busFolder(name).c_str());
+  ::unlink(victim.c_str());
+  ::rmdir(target);
+}
+
+TEST(VirtualBusSecurity, RefusesAFolderWritableByOthers) {
+  const std::string name = uniqueBus("mode");
+  ::close(openPrivateFolder(VirtualCanBus::rootFolder()));
+  const std::string folder = VirtualCanBus::busFolder(name);
+  ASSERT_EQ(::mkdir(folder.c_str(), 0700), 0);
+  ASSERT_EQ(::chmod(folder.c_str(), 0777), 0);
+  std::string what;
+  EXPECT_TRUE(throwsWith(name, "mode 0777", &what)) << what;
+  ASSERT_EQ(::chmod(folder.c_str(), 0730), 0);
+  EXPECT_TRUE(throwsWith(name, "group or others write", &what)) << what;
+  ASSERT_EQ(::chmod(folder.c_str(), 0700), 0);
+  EXPECT_NO_THROW(VirtualCanBus bus(name));
+  ::rmdir(folder.c_str());
+}
+
+TEST(VirtualBusSecurity, RefusesAFolderOfAnotherUser) {
+  if (::geteuid() != 0) GTEST_SKIP() << "needs root to give a folder to another user";
+  const std::string name = uniqueBus("owner");
+  ::close(openPrivateFolder(VirtualCanBus::rootFolder()));
+  const std::string folder = VirtualCanBus::busFolder(name);
+  ASSERT_EQ(::mkdir(folder.c_str(), 0700), 0);
+  ASSERT_EQ(::chown(folder.c_str(), 65534, 65534), 0);
+  std::string what;
+  EXPECT_TRUE(throwsWith(name, "belongs to uid 65534", &what)) << what;
+  ::rmdir(folder.c_str());
+}
+
+TEST(VirtualBusSecurity, NeverRemovesWhatIsNotOneOfItsSockets) {
+  const std::string name = uniqueBus("foreignfiles");
+  VirtualCanBus a(name);
+  const std::string folder = VirtualCanBus::busFolder(name);
+  const std::string plain = folder + "/4242-0";  // endpoint name, but a plain file
+  std::ofstream(plain) << "x";
+  const std::string other_socket = folder + "/not-an-endpoint";  // a socket nobody listens on, other name
+  {
+    const int fd = ::socket(AF_UNIX, SOCK_SEQPACKET, 0);
+    sockaddr_un addr{};
+    addr.sun_family = AF_UNIX;
+    std::strncpy(addr.sun_path, other_socket.c_str(), sizeof(addr.sun_path) - 1);
+    ASSERT_EQ(::bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof(addr)), 0);
+    ::close(fd);
+  }
+  EXPECT_TRUE(a.send(makeFrame(0x100, {})));
+  EXPECT_EQ(a.peerCount(), 0u);
+  EXPECT_EQ(::access(plain.c_str(), F_OK), 0);
+  EXPECT_EQ(::access(other_socket.c_str(), F_OK), 0);
+  ::unlink(plain.c_str());
+  ::unlink(other_socket.c_str());
+}
+
+TEST(VirtualBusSecurity, RefusesConnectionsFromAnotherUser) {
+  if (::geteuid() != 0) GTEST_SKIP() << "needs root to connect as another user";
+  const std::string name = uniqueBus("peercred");
+  VirtualCanBus host(name);
+  const std::string path = host.endpointPath();
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    // Another user (euid 65534) that can still reach the socket file (fsuid 0): only SO_PEERCRED stops it.
+    if (::setegid(65534) != 0 || ::seteuid(65534) != 0) ::_exit(3);
+    ::setfsuid(0);
+    const int fd = ::socket(AF_UNIX, SOCK_SEQPACKET, 0);
+    sockaddr_un a{};
+    a.sun_family = AF_UNIX;
+    std::strncpy(a.sun_path, path.c_str(), sizeof(a.sun_path) - 1);
+    if (::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof(a)) != 0) ::_exit(4);
+    unsigned char rec[16];
+    encodeRecord(makeFrame(0x000, {0x01, 0x00}), rec);  // NMT start all
+    ::send(fd, rec, sizeof(rec), 0);
+    ::_exit(0);
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status));
+  ASSERT_EQ(WEXITSTATUS(status), 0);
+  CanFrame f;
+  EXPECT_FALSE(receiveWithin(host, &f, 0.2));
+  EXPECT_EQ(host.foreignPeersRefused(), 1u);
+  EXPECT_NE(host.status().last_error.find("uid 65534"), std::string::npos) << host.status().last_error;
+}
+
+TEST(VirtualBusSecurity, CapsEndpointsPerBus) {
+  const std::string name = uniqueBus("cap");
+  VirtualBusOptions o;
+  o.max_endpoints = 3;
+  VirtualCanBus a(name, o), b(name, o), c(name, o);
+  std::string what;
+  try {
+    VirtualCanBus d(name, o);
+    ADD_FAILURE() << "a fourth endpoint was accepted";
+  } catch (const CanBusError& e) {
+    what = e.what();
+  }
+  EXPECT_NE(what.find("already has 3 endpoints"), std::string::npos) << what;
+  ASSERT_TRUE(a.send(makeFrame(0x10, {})));
+  CanFrame f;
+  EXPECT_TRUE(receiveWithin(c, &f, 1.0));
+}
+
+TEST(VirtualBusSecurity, LastEndpointRemovesTheBusFolder) {
+  const std::string name = uniqueBus("tidy");
+  { VirtualCanBus a(name), b(name); }
+  EXPECT_NE(::access(VirtualCanBus::busFolder(name).c_str(), F_OK), 0);
 }
 
 TEST(SocketCan, SaysClearlyWhenTheKernelRefusesCanSockets) {

@@ -11,7 +11,7 @@ using namespace thorvald_can_devices;
 
 namespace {
 
-TEST(BaseOnCan, DrivesStraightAndStopsAtOnceWhenADriveIsLost) {
+TEST(BaseOnCan, DrivesStraightAndStopsWithin100msWhenADriveGoesSilent) {
   Rig rig("robots/4wd4ws.yaml");
   rig.run(0.3);
   thorvald_base::BaseDriver driver(rig.config, std::make_unique<thorvald_base::StandardCalculator>(),
@@ -41,7 +41,7 @@ TEST(BaseOnCan, DrivesStraightAndStopsAtOnceWhenADriveIsLost) {
   }
   ASSERT_TRUE(driver.driveStop());
   EXPECT_EQ(driver.driveStopText(), "drive2: lost");
-  EXPECT_NEAR(cycles * 0.02, 2.0, 0.11);
+  EXPECT_LE(cycles * 0.02, 0.1 + 1e-9);  // feedback timeout (60 ms) plus at most two cycles
   // In that same cycle every remaining drive got a zero propulsion command.
   for (size_t i = 0; i < 4; ++i) EXPECT_DOUBLE_EQ(driver.commands()[i].wheel_speed_radps, 0.0);
   std::string why;

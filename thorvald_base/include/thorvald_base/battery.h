@@ -19,6 +19,7 @@ struct BatteryReading {
   uint16_t alarms = 0;                 ///< enclosure alarm bits
   bool charging_enabled = false;
   bool discharging_enabled = false;
+  double age_s = -1.0;  ///< time since the last frame [s]; -1 when unknown (the values are stale when !online)
 };
 
 /// A battery enclosure on the robot: a device on the bus or a simulated pack.

@@ -1,9 +1,17 @@
 #include <ros/ros.h>
 
+#include <csignal>
+
 #include "base_driver_ros.h"
+
+namespace {
+// SIGTERM ends the node as SIGINT does: the bus is closed (a virtual bus endpoint removes its socket file).
+void onTerminate(int) { ros::requestShutdown(); }
+}  // namespace
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "base_driver");
+  std::signal(SIGTERM, onTerminate);
   ros::NodeHandle nh;
   ros::NodeHandle pnh("~");
   std::unique_ptr<thorvald_base::BaseDriverRos> node;

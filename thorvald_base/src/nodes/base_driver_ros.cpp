@@ -2,6 +2,7 @@
 
 #include <sensor_msgs/BatteryState.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -50,6 +51,7 @@ BaseDriverRos::BaseDriverRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh),
   options.cmd_vel_timeout_s = param(pnh_, "cmd_vel_timeout", 0.5);
   options.calculator.estimator = param<std::string>(pnh_, "odometry_estimator", "least_squares");
   options.calculator.seed = static_cast<unsigned>(param(pnh_, "estimator_seed", 1));
+  readLimitsAndBatteryPolicy(options);
 
   calculator_loader_ =
       std::make_unique<pluginlib::ClassLoader<BaseCalculator>>("thorvald_base", "thorvald_base::BaseCalculator");
@@ -101,6 +103,7 @@ BaseDriverRos::BaseDriverRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh),
   }
   cmd_sub_ = nh_.subscribe("twist_mux/cmd_vel", 1, &BaseDriverRos::onCommand, this);
   if (hardware_) {
+    readRelayAllowList();
     relay_pub_ = nh_.advertise<CANFrame>("can_frames_device_r", 100);
     relay_sub_ = nh_.subscribe("can_frames_device_t", 100, &BaseDriverRos::onRelayFrame, this);
     services_.push_back(pnh_.advertiseService("mute_relay", &BaseDriverRos::onMuteRelay, this));
@@ -115,6 +118,7 @@ BaseDriverRos::BaseDriverRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh),
   diagnostics_.add("base", this, &BaseDriverRos::diagnoseBase);
   diagnostics_.add("drives", this, &BaseDriverRos::diagnoseDrives);
   if (!driver_->batteryDevices().empty()) diagnostics_.add("batteries", this, &BaseDriverRos::diagnoseBatteries);
+  period_s_ = 1.0 / rate;
   timer_ = nh_.createTimer(ros::Duration(1.0 / rate), &BaseDriverRos::onTimer, this);
   ROS_INFO_STREAM("base_driver: " << driver_->config().drives.size() << " drives, model "
                                   << driver_->calculator().name() << ", odometry " << options.calculator.estimator
@@ -125,19 +129,52 @@ std::string BaseDriverRos::frame(const std::string& name) const {
   return tf_prefix_.empty() ? name : tf_prefix_ + "/" + name;
 }
 
+void BaseDriverRos::readLimitsAndBatteryPolicy(BaseDriverOptions& options) {
+  options.limits.max_linear_mps = param(pnh_, "max_linear_speed", 0.0);
+  options.limits.max_angular_radps = param(pnh_, "max_angular_speed", 0.0);
+  options.limits.max_linear_mps2 = param(pnh_, "max_linear_acceleration", 0.0);
+  options.limits.max_angular_radps2 = param(pnh_, "max_angular_acceleration", 0.0);
+  BatteryPolicy& b = options.battery;
+  b.under_voltage_v = param(pnh_, "battery_under_voltage", b.under_voltage_v);
+  b.over_temperature_c = param(pnh_, "battery_over_temperature", b.over_temperature_c);
+  b.lost_timeout_s = param(pnh_, "battery_lost_timeout", b.lost_timeout_s);
+  b.slow_linear_mps = param(pnh_, "battery_slow_linear_speed", b.slow_linear_mps);
+  b.slow_angular_radps = param(pnh_, "battery_slow_angular_speed", b.slow_angular_radps);
+  const std::pair<const char*, BatteryAction*> actions[] = {{"battery_under_voltage_action", &b.under_voltage},
+                                                            {"battery_over_temperature_action", &b.over_temperature},
+                                                            {"battery_lost_action", &b.lost}};
+  for (const auto& a : actions) {
+    const std::string text = param<std::string>(pnh_, a.first, toString(*a.second));
+    if (!parseBatteryAction(text, a.second)) {
+      throw ConfigError("base_driver", std::string("~") + a.first, "must be warn, slow or stop, found '" + text + "'");
+    }
+  }
+}
+
 void BaseDriverRos::onCommand(const geometry_msgs::Twist& msg) {
   const Twist2D cmd{msg.linear.x, msg.linear.y, msg.angular.z};
-  if (!driver_->setCommand(cmd, ros::Time::now().toSec())) {
+  const double now = ros::Time::now().toSec();
+  if (!driver_->setCommand(cmd, now)) {
     ROS_WARN_THROTTLE(1.0, "base_driver: rejected a non-finite command (%lu so far); the base keeps the last valid one",
                       driver_->rejectedCommands());
+    return;
   }
+  // Written through at once (same limits and stop checks as a cycle); the periodic cycle refreshes it.
+  if (driver_->writeThrough(now)) ++write_throughs_;
 }
 
 void BaseDriverRos::onTimer(const ros::TimerEvent&) {
   const ros::Time now = ros::Time::now();
-  if (!last_cycle_.isZero() && now > last_cycle_) {
-    cycle_rate_hz_ = 0.9 * cycle_rate_hz_ + 0.1 / (now - last_cycle_).toSec();
+  // Real cycle gaps on the wall clock: the rate alone hides a stalled cycle.
+  const ros::WallTime wall = ros::WallTime::now();
+  if (!last_cycle_wall_.isZero()) {
+    const double gap = (wall - last_cycle_wall_).toSec();
+    if (gap > 0.0) cycle_rate_hz_ = cycle_rate_hz_ > 0.0 ? 0.9 * cycle_rate_hz_ + 0.1 / gap : 1.0 / gap;
+    gap_max_window_s_ = std::max(gap_max_window_s_, gap);
+    gap_max_total_s_ = std::max(gap_max_total_s_, gap);
+    if (gap > 1.5 * period_s_) missed_cycles_ += static_cast<unsigned long>(gap / period_s_ - 0.5);
   }
+  last_cycle_wall_ = wall;
   last_cycle_ = now;
   const bool was_stopped = driver_->driveStop();
   if (hardware_) hardware_->poll(now.toSec());
@@ -225,12 +262,14 @@ void BaseDriverRos::publish(const ros::Time& now) {
     const auto& r = readings[i];
     sensor_msgs::BatteryState b;
     b.header.stamp = now;
-    b.voltage = r.voltage_v;
-    b.current = r.current_a;
+    // A silent battery's last values are stale: published as unknown (NaN), never as fresh readings.
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    b.voltage = r.online ? r.voltage_v : nan;
+    b.current = r.online ? r.current_a : nan;
     b.charge = std::numeric_limits<float>::quiet_NaN();
     b.capacity = std::numeric_limits<float>::quiet_NaN();
     b.design_capacity = std::numeric_limits<float>::quiet_NaN();
-    b.percentage = r.charge_pct / 100.0;
+    b.percentage = r.online ? r.charge_pct / 100.0 : nan;
     b.power_supply_status = r.current_a > 0.05 ? sensor_msgs::BatteryState::POWER_SUPPLY_STATUS_CHARGING
                                                : sensor_msgs::BatteryState::POWER_SUPPLY_STATUS_DISCHARGING;
     b.power_supply_health = r.alarms ? sensor_msgs::BatteryState::POWER_SUPPLY_HEALTH_UNSPEC_FAILURE
@@ -238,7 +277,7 @@ void BaseDriverRos::publish(const ros::Time& now) {
     b.power_supply_technology = sensor_msgs::BatteryState::POWER_SUPPLY_TECHNOLOGY_LION;
     b.present = r.present && r.online;
     b.location = driver_->batteryDevices()[i]->name();
-    for (double t : r.temperatures_c) b.cell_temperature.push_back(t);
+    for (double t : r.temperatures_c) b.cell_temperature.push_back(r.online ? t : nan);
     battery_pubs_[i].publish(b);
   }
 }
@@ -254,7 +293,39 @@ void BaseDriverRos::relayFromBus() {
   }
 }
 
-void BaseDriverRos::onRelayFrame(const CANFrame& msg) {
+void BaseDriverRos::readRelayAllowList() {
+  if (!pnh_.hasParam("relay_allowed_ids")) return;
+  XmlRpc::XmlRpcValue ids;
+  pnh_.getParam("relay_allowed_ids", ids);
+  if (ids.getType() != XmlRpc::XmlRpcValue::TypeArray) {
+    throw ConfigError("base_driver", "~relay_allowed_ids", "must be a list of 11-bit CAN ids, e.g. [0x123, 0x124]");
+  }
+  for (int i = 0; i < ids.size(); ++i) {
+    if (ids[i].getType() != XmlRpc::XmlRpcValue::TypeInt || static_cast<int>(ids[i]) < 1 ||
+        static_cast<int>(ids[i]) > 0x7FF) {
+      throw ConfigError("base_driver", "~relay_allowed_ids[" + std::to_string(i) + "]",
+                        "must be an integer CAN id in 0x001..0x7FF");
+    }
+    relay_allowed_.insert(static_cast<uint32_t>(static_cast<int>(ids[i])));
+  }
+}
+
+void BaseDriverRos::refuseRelay(const std::string& sender, uint32_t id, const std::string& why) {
+  ++relay_refused_;
+  auto it = relay_refused_by_.find(sender);
+  if (it == relay_refused_by_.end()) {
+    // Bounded: past kMaxRelaySenders callers, the rest are counted together.
+    it = relay_refused_by_.size() < kMaxRelaySenders ? relay_refused_by_.emplace(sender, 0).first
+                                                     : relay_refused_by_.emplace("(other senders)", 0).first;
+  }
+  ++it->second;
+  ROS_WARN_THROTTLE(1.0, "base_driver: relay refused frame 0x%03X from %s: %s (%lu refused from it so far)", id,
+                    sender.c_str(), why.c_str(), it->second);
+}
+
+void BaseDriverRos::onRelayFrame(const ros::MessageEvent<const CANFrame>& event) {
+  const CANFrame& msg = *event.getConstMessage();
+  const std::string sender = event.getPublisherName();
   if (relay_muted_) {
     ++relay_dropped_;
     return;
@@ -264,14 +335,17 @@ void BaseDriverRos::onRelayFrame(const CANFrame& msg) {
     ROS_WARN_THROTTLE(1.0, "base_driver: relay limited to %d frames per cycle; frames dropped", relay_max_per_cycle_);
     return;
   }
+  if (!relay_allowed_.count(msg.id)) {
+    refuseRelay(sender, msg.id, "id not in ~relay_allowed_ids");
+    return;
+  }
   CanFrameData f;
   f.id = msg.id;
   f.length = msg.length;
   for (size_t i = 0; i < 8; ++i) f.data[i] = msg.data[i];
   std::string why;
   if (!hardware_->sendRelayFrame(f, &why)) {
-    ++relay_refused_;
-    ROS_WARN_THROTTLE(1.0, "base_driver: relay refused frame 0x%03X: %s", msg.id, why.c_str());
+    refuseRelay(sender, msg.id, why);
     return;
   }
   ++relay_sent_;
@@ -329,6 +403,8 @@ void BaseDriverRos::diagnoseBase(diagnostic_updater::DiagnosticStatusWrapper& st
     stat.summary(DiagnosticStatus::ERROR, "propulsion stopped: " + driver_->driveStopText());
   } else if (reason == StopReason::kSafetyStop) {
     stat.summary(DiagnosticStatus::WARN, "safety stop engaged");
+  } else if (reason == StopReason::kBatteryStop) {
+    stat.summary(DiagnosticStatus::ERROR, "propulsion stopped by the battery policy: " + driver_->batteryText());
   } else if (hardware_ && !hardware_->busOk()) {
     stat.summary(DiagnosticStatus::ERROR, "bus not usable");
   } else {
@@ -337,6 +413,18 @@ void BaseDriverRos::diagnoseBase(diagnostic_updater::DiagnosticStatusWrapper& st
   stat.add("mode", simple_sim_ ? "simulation" : "hardware");
   stat.add("kinematics", driver_->calculator().name());
   stat.add("cycle rate [Hz]", cycle_rate_hz_);
+  stat.add("longest cycle gap since last report [ms]", 1000.0 * gap_max_window_s_);
+  stat.add("longest cycle gap [ms]", 1000.0 * gap_max_total_s_);
+  stat.add("missed cycles", missed_cycles_);
+  stat.add("commands written through", write_throughs_);
+  stat.add("wheel limit factor", driver_->wheelFactor());
+  if (!driver_->batteryText().empty()) stat.add("battery policy", driver_->batteryText());
+  if (gap_max_window_s_ > 3.0 * period_s_) {
+    stat.mergeSummary(
+        diagnostic_msgs::DiagnosticStatus::WARN,
+        "control cycle stalled for " + std::to_string(static_cast<int>(1000.0 * gap_max_window_s_)) + " ms");
+  }
+  gap_max_window_s_ = 0.0;
   stat.add("cycles", driver_->cycles());
   stat.add("rejected commands", driver_->rejectedCommands());
   stat.add("distance travelled [m]", driver_->odometry().distance());
@@ -345,6 +433,7 @@ void BaseDriverRos::diagnoseBase(diagnostic_updater::DiagnosticStatusWrapper& st
     stat.add("relay frames sent", relay_sent_);
     stat.add("relay frames received", relay_received_);
     stat.add("relay frames refused", relay_refused_);
+    for (const auto& kv : relay_refused_by_) stat.add("relay frames refused from " + kv.first, kv.second);
     stat.add("relay frames dropped", relay_dropped_);
     stat.add("relay muted", relay_muted_);
   }
@@ -369,13 +458,20 @@ void BaseDriverRos::diagnoseDrives(diagnostic_updater::DiagnosticStatusWrapper& 
 void BaseDriverRos::diagnoseBatteries(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   using diagnostic_msgs::DiagnosticStatus;
   stat.summary(DiagnosticStatus::OK, "batteries ok");
+  if (!driver_->batteryText().empty()) {
+    stat.mergeSummary(
+        driver_->stopReason() == StopReason::kBatteryStop ? DiagnosticStatus::ERROR : DiagnosticStatus::WARN,
+        driver_->batteryText());
+  }
   const auto readings = driver_->batteries();
   for (size_t i = 0; i < readings.size(); ++i) {
     const auto& r = readings[i];
     const std::string name = driver_->batteryDevices()[i]->name();
-    stat.add(name + " voltage [V]", r.voltage_v);
-    stat.add(name + " charge [%]", r.charge_pct);
-    if (!r.online) stat.mergeSummary(DiagnosticStatus::ERROR, name + " not heard from");
+    const std::string stale = r.online ? "" : " (stale)";
+    stat.add(name + " voltage [V]" + stale, r.voltage_v);
+    stat.add(name + " charge [%]" + stale, r.charge_pct);
+    if (r.age_s >= 0.0) stat.add(name + " last heard [s ago]", r.age_s);
+    if (!r.online) stat.mergeSummary(DiagnosticStatus::ERROR, name + " not heard from: values are stale");
     if (r.alarms) stat.mergeSummary(DiagnosticStatus::WARN, name + " reports alarms");
   }
 }

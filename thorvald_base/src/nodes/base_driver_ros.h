@@ -10,7 +10,9 @@
 #include <std_srvs/Trigger.h>
 #include <tf2_ros/transform_broadcaster.h>
 
+#include <map>
 #include <memory>
+#include <set>
 #include <string>
 
 #include "thorvald_base/BaseState.h"
@@ -30,8 +32,11 @@ class BaseDriverRos {
   BaseDriverRos(ros::NodeHandle nh, ros::NodeHandle pnh);
 
  private:
+  void readLimitsAndBatteryPolicy(BaseDriverOptions& options);
   void onCommand(const geometry_msgs::Twist& msg);
-  void onRelayFrame(const thorvald_base::CANFrame& msg);
+  void onRelayFrame(const ros::MessageEvent<const thorvald_base::CANFrame>& event);
+  void readRelayAllowList();
+  void refuseRelay(const std::string& sender, uint32_t id, const std::string& why);
   void onTimer(const ros::TimerEvent& event);
   bool onSetDriveParams(SetDriveParams::Request& req, SetDriveParams::Response& res);
   bool onResetOdom(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
@@ -54,6 +59,9 @@ class BaseDriverRos {
   int relay_max_per_cycle_ = 20;
   unsigned long relay_refused_ = 0, relay_sent_ = 0, relay_received_ = 0, relay_dropped_ = 0;
   int relay_sent_this_cycle_ = 0;
+  std::set<uint32_t> relay_allowed_;                       ///< ids users may send; everything else is refused
+  std::map<std::string, unsigned long> relay_refused_by_;  ///< per sender (caller id), at most kMaxRelaySenders
+  static constexpr size_t kMaxRelaySenders = 32;
   std::unique_ptr<pluginlib::ClassLoader<BaseCalculator>> calculator_loader_;
   std::unique_ptr<pluginlib::ClassLoader<BaseHardware>> hardware_loader_;
   std::shared_ptr<BaseHardware> hardware_;
@@ -68,7 +76,11 @@ class BaseDriverRos {
   diagnostic_updater::Updater diagnostics_;
   std::vector<std::string> joint_names_;
   ros::Time last_cycle_;
+  ros::WallTime last_cycle_wall_;
+  double period_s_ = 0.02;
   double cycle_rate_hz_ = 0.0;
+  double gap_max_window_s_ = 0.0, gap_max_total_s_ = 0.0;
+  unsigned long missed_cycles_ = 0, write_throughs_ = 0;
 };
 
 }  // namespace thorvald_base

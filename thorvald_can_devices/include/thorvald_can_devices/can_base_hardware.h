@@ -12,6 +12,7 @@
 #include "thorvald_base/base_hardware.h"
 #include "thorvald_can_devices/can_bus.h"
 #include "thorvald_can_devices/can_device.h"
+#include "thorvald_can_devices/cia402_drive.h"
 
 namespace thorvald_can_devices {
 
@@ -20,6 +21,11 @@ struct CanBaseOptions {
   double startup_timeout_s = 3.0;   ///< initialize() waits this long for every device to reach operation [s]
   std::string log_path;             ///< candump -l log of all traffic; "" for none
   size_t relay_queue_limit = 1000;  ///< received frames kept for the relay between two takeRelayFrames()
+  /// Frames read from the bus in one poll at most: a flood cannot stall the control cycle; the rest waits in the
+  /// socket (and a flooding sender's own frames overflow there).
+  size_t max_frames_per_poll = 400;
+  /// A drive whose feedback (Thorvald TPDOs, CiA 402 answers to SYNC) stops for this long is lost [s].
+  double feedback_timeout_s = 0.06;
 };
 
 /// The base's CAN hardware (paper §3.1 `base_handle`): one bus, one device per drive controller (Thorvald or
@@ -52,6 +58,8 @@ class CanBaseHardware : public thorvald_base::BaseHardware {
   const std::set<uint32_t>& ownedIds() const { return owned_ids_; }
   CanBus& bus() { return *bus_; }
   unsigned long malformedFrames() const;
+  /// Polls that stopped reading at max_frames_per_poll with frames still waiting.
+  unsigned long readBoundHits() const { return read_bound_hits_; }
 
   CanBaseOptions& options() { return options_; }
 
@@ -75,6 +83,8 @@ class CanBaseHardware : public thorvald_base::BaseHardware {
   std::vector<std::string> not_answering_;
   bool was_bus_ok_ = true;
   unsigned long bus_off_events_ = 0;
+  unsigned long read_bound_hits_ = 0;
+  std::vector<Cia402Axis*> cia402_axes_;
 };
 
 }  // namespace thorvald_can_devices

@@ -35,6 +35,9 @@ struct BusStatus {
   std::string last_error;  ///< the last problem, in words ("" when none)
 };
 
+/// Error or malformed records one receive() call consumes at most before it returns false.
+constexpr int kMaxSkippedPerReceive = 64;
+
 /// A CAN bus as the devices use it: non-blocking send and receive of classic frames. A frame sent is not
 /// received back by the same CanBus object, but by every other one on the bus (as a SocketCAN raw socket).
 /// Error frames are decoded into status() and never returned by receive(). Not thread-safe: one thread uses it.

@@ -55,6 +55,11 @@ class Cia402Axis : public CanDevice {
   std::string fault() const;
   std::string describe() const;
   void clearFault() { fault_reset_pending_ = true; }
+  /// The host sent a SYNC: the axis owes a TPDO1 answer.
+  void syncSent() { ++syncs_unanswered_; }
+  /// Running, but its TPDOs stopped: more than 3 SYNCs unanswered and none for the feedback timeout.
+  bool feedbackSilent() const;
+  void setFeedbackTimeout(double timeout_s) { feedback_timeout_s_ = timeout_s; }
 
  private:
   enum class Phase { kConfiguring, kStarting, kRunning, kFailed };
@@ -76,6 +81,9 @@ class Cia402Axis : public CanDevice {
   uint16_t statusword_ = 0;
   int32_t actual_velocity_ = 0, actual_position_ = 0;
   bool feedback_seen_ = false;
+  double last_tpdo_s_ = -1e9;
+  int syncs_unanswered_ = 0;
+  double feedback_timeout_s_ = 0.06;
   int32_t target_ = 0, sent_target_ = 0;
   bool setpoint_pending_ = false;
   bool fault_reset_pending_ = false;

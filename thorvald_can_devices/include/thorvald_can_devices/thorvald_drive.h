@@ -40,6 +40,8 @@ class ThorvaldController : public CanDevice {
   bool startHoming();
   void clearFault();
   int32_t sequence() const { return sequence_; }
+  /// A drive whose feedback frames stop for this long is lost (it may still send heartbeats) [s].
+  void setFeedbackTimeout(double timeout_s) { feedback_timeout_s_ = timeout_s; }
   const ThorvaldStatus& lastStatus() const { return status_frame_; }
 
  private:
@@ -59,6 +61,8 @@ class ThorvaldController : public CanDevice {
   double last_heartbeat_s_ = -1e9;
   double last_feedback_s_ = -1e9;
   double last_start_sent_s_ = -1e9;
+  double operational_since_s_ = -1e9;
+  double feedback_timeout_s_ = 0.06;
   uint8_t nmt_state_ = kHeartbeatBootUp;
   bool heard_ = false;
   bool status_seen_ = false;

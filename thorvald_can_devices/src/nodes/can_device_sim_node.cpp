@@ -4,10 +4,11 @@
 #include <std_msgs/String.h>
 
 #include <chrono>
+#include <csignal>
 #include <memory>
 #include <sstream>
 
-#include "robot_params.h"
+#include "thorvald_base/ros/robot_config_params.h"
 #include "thorvald_can_devices/InjectFault.h"
 #include "thorvald_can_devices/candump_log.h"
 #include "thorvald_can_devices/device_sim.h"
@@ -20,7 +21,7 @@ double steadyS() { return std::chrono::duration<double>(std::chrono::steady_cloc
 class CanDeviceSimNode {
  public:
   CanDeviceSimNode(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh) {
-    const thorvald_base::RobotConfig config = robotConfigFromParams(nh);
+    const thorvald_base::RobotConfig config = thorvald_base::robotConfigFromParams(nh);
     const std::string type = pnh.param<std::string>("can_interface_type", "socketcan");
     const std::string name = pnh.param<std::string>("can_interface_name", "can0");
     const std::string log = pnh.param<std::string>("can_log", "");
@@ -88,8 +89,14 @@ class CanDeviceSimNode {
 }  // namespace
 }  // namespace thorvald_can_devices
 
+namespace {
+// SIGTERM (as SIGINT) ends the loop, so the bus endpoint is closed and its socket file removed.
+void onTerminate(int) { ros::requestShutdown(); }
+}  // namespace
+
 int main(int argc, char** argv) {
   ros::init(argc, argv, "can_device_sim");
+  std::signal(SIGTERM, onTerminate);
   ros::NodeHandle nh, pnh("~");
   std::unique_ptr<thorvald_can_devices::CanDeviceSimNode> node;
   try {
