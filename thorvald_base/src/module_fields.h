@@ -10,7 +10,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <functional>
+#include <limits>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -71,26 +73,56 @@ class ScalarReader {
   std::string where_;
 };
 
+/// The physical range of a numeric key, closed at both ends; `unit` goes into messages and the reference.
+struct Bounds {
+  double min = -std::numeric_limits<double>::infinity();
+  double max = std::numeric_limits<double>::infinity();
+  const char* unit = "";
+
+  bool contains(double v) const { return v >= min && v <= max; }
+  std::string text() const {
+    std::ostringstream s;
+    s << "[" << min << ", " << max << "]" << (*unit ? " " : "") << unit;
+    return s.str();
+  }
+};
+
+/// Throws a ConfigError naming the key when `value` lies outside `bounds`.
+inline void checkBounds(double value, const Bounds& bounds, const std::string& source, const std::string& where) {
+  if (bounds.contains(value)) return;
+  std::ostringstream s;
+  s << "is " << value << ", outside its physical range " << bounds.text();
+  throw ConfigError(source, where, s.str());
+}
+
 /// One key of a module: how to read it into the struct T. Tables of these replace if/else chains.
 template <typename T>
 struct Field {
   std::vector<std::string> names;  ///< first is the canonical name, the rest aliases
   bool required;
   std::function<void(T&, const ScalarReader&, const YAML::Node&, const std::string&)> read;
+  Bounds bounds{};                          ///< numeric keys: accepted values
+  std::function<double(const T&)> value{};  ///< numeric keys: the value as read, to check it again later
 };
 
 template <typename T, typename M>
-Field<T> numberField(std::vector<std::string> names, bool required, M T::*member) {
-  return {std::move(names), required, [member](T& t, const ScalarReader& r, const YAML::Node& n, const std::string& k) {
+Field<T> numberField(std::vector<std::string> names, bool required, M T::*member, Bounds bounds = {}) {
+  return {std::move(names), required,
+          [member, bounds](T& t, const ScalarReader& r, const YAML::Node& n, const std::string& k) {
             t.*member = r.number(n, k);
-          }};
+            checkBounds(t.*member, bounds, r.source(), r.where() + "." + k);
+          },
+          bounds, [member](const T& t) { return static_cast<double>(t.*member); }};
 }
 
 template <typename T>
-Field<T> intField(std::vector<std::string> names, bool required, int T::*member) {
-  return {std::move(names), required, [member](T& t, const ScalarReader& r, const YAML::Node& n, const std::string& k) {
+Field<T> intField(std::vector<std::string> names, bool required, int T::*member, Bounds bounds = {}) {
+  return {std::move(names), required,
+          [member, bounds](T& t, const ScalarReader& r, const YAML::Node& n, const std::string& k) {
             t.*member = r.integer(n, k);
-          }};
+            checkBounds(t.*member, bounds, r.source(), r.where() + "." + k);
+          },
+          bounds, [member](const T& t) { return static_cast<double>(t.*member); }};
 }
 
 template <typename T>

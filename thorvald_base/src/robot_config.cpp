@@ -2,11 +2,14 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <Eigen/Dense>
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <functional>
 #include <set>
+#include <sstream>
 
 #include "module_fields.h"
 #include "thorvald_base/angles.h"
@@ -14,6 +17,8 @@
 namespace thorvald_base {
 namespace {
 
+using detail::Bounds;
+using detail::checkBounds;
 using detail::Field;
 using detail::intField;
 using detail::numberField;
@@ -21,24 +26,31 @@ using detail::readFields;
 using detail::ScalarReader;
 using detail::textField;
 
+// Physical ranges (docs/robot_file.md lists the same). Positions: any Thorvald module sits within a few metres of
+// base_link; kMaxModuleOffset_m leaves room for the largest frames and refuses typing slips such as 1e6.
+constexpr double kPos = kMaxModuleOffset_m;
+constexpr Bounds kPosition{-kPos, kPos, "m"};
+constexpr Bounds kHeight{-2.0, 5.0, "m"};
+constexpr Bounds kMesh{0, 9, ""};
+
 const std::vector<Field<DriveConfig>>& driveFields() {
   using D = DriveConfig;
   static const std::vector<Field<D>> fields = {
-      intField<D>({"node"}, true, &D::node),
-      numberField<D>({"x"}, true, &D::x),
-      numberField<D>({"y"}, true, &D::y),
-      intField<D>({"type"}, false, &D::type),
-      intField<D>({"leg_mesh"}, false, &D::leg_mesh),
-      numberField<D>({"r_wheel"}, true, &D::r_wheel),
-      numberField<D>({"w_wheel"}, false, &D::w_wheel),
-      numberField<D>({"prp_gr_rt"}, true, &D::prp_gr_rt),
-      numberField<D>({"prp_enc_ppr"}, true, &D::prp_enc_ppr),
-      numberField<D>({"prp_max_rpm"}, true, &D::prp_max_rpm),
-      numberField<D>({"prp_sim_a"}, false, &D::prp_sim_a),
-      numberField<D>({"str_gr_rt"}, true, &D::str_gr_rt),
-      numberField<D>({"str_enc_ppr"}, true, &D::str_enc_ppr),
-      numberField<D>({"str_lim", "str_llm"}, true, &D::str_lim),
-      numberField<D>({"str_sim_v", "str_stm_v"}, false, &D::str_sim_v),
+      intField<D>({"node"}, true, &D::node, {1, 127, "(CAN node id)"}),
+      numberField<D>({"x"}, true, &D::x, kPosition),
+      numberField<D>({"y"}, true, &D::y, kPosition),
+      intField<D>({"type"}, false, &D::type, {0, 1, "(0 steered, 1 fixed)"}),
+      intField<D>({"leg_mesh"}, false, &D::leg_mesh, kMesh),
+      numberField<D>({"r_wheel"}, true, &D::r_wheel, {0.02, 1.0, "m"}),
+      numberField<D>({"w_wheel"}, false, &D::w_wheel, {0.01, 0.5, "m"}),
+      numberField<D>({"prp_gr_rt"}, true, &D::prp_gr_rt, {0.1, 1000.0, "(motor turns per wheel turn)"}),
+      numberField<D>({"prp_enc_ppr"}, true, &D::prp_enc_ppr, {1.0, 1e6, "(pulses per motor turn)"}),
+      numberField<D>({"prp_max_rpm"}, true, &D::prp_max_rpm, {10.0, 30000.0, "rpm"}),
+      numberField<D>({"prp_sim_a"}, false, &D::prp_sim_a, {0.01, 20.0, "m/s^2"}),
+      numberField<D>({"str_gr_rt"}, true, &D::str_gr_rt, {0.1, 1000.0, "(motor turns per steering turn)"}),
+      numberField<D>({"str_enc_ppr"}, true, &D::str_enc_ppr, {1.0, 1e6, "(pulses per turn)"}),
+      numberField<D>({"str_lim", "str_llm"}, true, &D::str_lim, {0.01, 3.1416, "rad"}),
+      numberField<D>({"str_sim_v", "str_stm_v"}, false, &D::str_sim_v, {0.01, 50.0, "rad/s"}),
       textField<D>({"protocol"}, false, &D::protocol),
   };
   return fields;
@@ -53,13 +65,13 @@ bool driveKeyRequired(const DriveConfig& d, const Field<DriveConfig>& f) {
 const std::vector<Field<BatteryConfig>>& batteryFields() {
   using B = BatteryConfig;
   static const std::vector<Field<B>> fields = {
-      intField<B>({"id"}, false, &B::id),
-      intField<B>({"type"}, false, &B::type),
-      numberField<B>({"x"}, false, &B::x),
-      numberField<B>({"y"}, false, &B::y),
-      numberField<B>({"z"}, false, &B::z),
-      numberField<B>({"yaw"}, false, &B::yaw),
-      intField<B>({"bat_mesh"}, false, &B::bat_mesh),
+      intField<B>({"id"}, false, &B::id, {-1, 127, "(-1: no battery)"}),
+      intField<B>({"type"}, false, &B::type, {0, 1, "(0 empty enclosure, 1 battery)"}),
+      numberField<B>({"x"}, false, &B::x, kPosition),
+      numberField<B>({"y"}, false, &B::y, kPosition),
+      numberField<B>({"z"}, false, &B::z, kHeight),
+      numberField<B>({"yaw"}, false, &B::yaw, {-2 * kPi, 2 * kPi, "rad"}),
+      intField<B>({"bat_mesh"}, false, &B::bat_mesh, kMesh),
       {{"with_battery"},
        false,
        [](B& b, const ScalarReader& r, const YAML::Node& n, const std::string& k) {
@@ -79,9 +91,12 @@ const std::vector<Field<BatteryConfig>>& batteryFields() {
 const std::vector<Field<PipeConfig>>& pipeFields() {
   using P = PipeConfig;
   static const std::vector<Field<P>> fields = {
-      numberField<P>({"x1"}, true, &P::x1),          numberField<P>({"y1"}, true, &P::y1),
-      numberField<P>({"x2"}, true, &P::x2),          numberField<P>({"y2"}, true, &P::y2),
-      numberField<P>({"height"}, false, &P::height), numberField<P>({"space"}, false, &P::space),
+      numberField<P>({"x1"}, true, &P::x1, kPosition),
+      numberField<P>({"y1"}, true, &P::y1, kPosition),
+      numberField<P>({"x2"}, true, &P::x2, kPosition),
+      numberField<P>({"y2"}, true, &P::y2, kPosition),
+      numberField<P>({"height"}, false, &P::height, {0.0, 5.0, "m"}),
+      numberField<P>({"space"}, false, &P::space, {0.0, 2.0, "m"}),
   };
   return fields;
 }
@@ -89,13 +104,13 @@ const std::vector<Field<PipeConfig>>& pipeFields() {
 const std::vector<Field<CornerConfig>>& cornerFields() {
   using C = CornerConfig;
   static const std::vector<Field<C>> fields = {
-      intField<C>({"type"}, false, &C::type),
-      intField<C>({"corner_mesh"}, false, &C::corner_mesh),
-      numberField<C>({"x"}, true, &C::x),
-      numberField<C>({"y"}, true, &C::y),
-      numberField<C>({"z"}, false, &C::z),
-      numberField<C>({"space"}, false, &C::space),
-      numberField<C>({"susp_ang"}, false, &C::susp_ang),
+      intField<C>({"type"}, false, &C::type, kMesh),
+      intField<C>({"corner_mesh"}, false, &C::corner_mesh, kMesh),
+      numberField<C>({"x"}, true, &C::x, kPosition),
+      numberField<C>({"y"}, true, &C::y, kPosition),
+      numberField<C>({"z"}, false, &C::z, kHeight),
+      numberField<C>({"space"}, false, &C::space, {0.0, 2.0, "m"}),
+      numberField<C>({"susp_ang"}, false, &C::susp_ang, {-kPi, kPi, "rad"}),
   };
   return fields;
 }
@@ -110,12 +125,12 @@ const std::vector<Field<BeamConfig>>& beamFields() {
 const std::vector<Field<PassiveWheelConfig>>& passiveWheelFields() {
   using W = PassiveWheelConfig;
   static const std::vector<Field<W>> fields = {
-      numberField<W>({"x"}, true, &W::x),
-      numberField<W>({"y"}, true, &W::y),
-      numberField<W>({"z_top"}, false, &W::z_top),
-      numberField<W>({"r_wheel"}, false, &W::r_wheel),
-      numberField<W>({"w_wheel"}, false, &W::w_wheel),
-      numberField<W>({"offset"}, false, &W::offset),
+      numberField<W>({"x"}, true, &W::x, kPosition),
+      numberField<W>({"y"}, true, &W::y, kPosition),
+      numberField<W>({"z_top"}, false, &W::z_top, {0.0, 5.0, "m"}),
+      numberField<W>({"r_wheel"}, false, &W::r_wheel, {0.01, 1.0, "m"}),
+      numberField<W>({"w_wheel"}, false, &W::w_wheel, {0.005, 0.5, "m"}),
+      numberField<W>({"offset"}, false, &W::offset, {-1.0, 1.0, "m"}),
   };
   return fields;
 }
@@ -123,10 +138,10 @@ const std::vector<Field<PassiveWheelConfig>>& passiveWheelFields() {
 const std::vector<Field<IoConfig>>& ioFields() {
   using I = IoConfig;
   static const std::vector<Field<I>> fields = {
-      intField<I>({"id"}, true, &I::id),
-      intField<I>({"type"}, false, &I::type),
-      intField<I>({"rl0_init_state"}, false, &I::rl0_init_state),
-      intField<I>({"rl1_init_state"}, false, &I::rl1_init_state),
+      intField<I>({"id"}, true, &I::id, {0, 127, "(bus id)"}),
+      intField<I>({"type"}, false, &I::type, kMesh),
+      intField<I>({"rl0_init_state"}, false, &I::rl0_init_state, {0, 1, "(off, on)"}),
+      intField<I>({"rl1_init_state"}, false, &I::rl1_init_state, {0, 1, "(off, on)"}),
   };
   return fields;
 }
@@ -139,6 +154,11 @@ std::vector<T> readGroup(const YAML::Node& root, const std::string& group, const
   const YAML::Node node = root[group];
   if (!node.IsDefined() || node.IsNull()) return out;
   if (!node.IsMap()) throw ConfigError(source, group, "expected a map of modules, e.g. { name: {...}, }");
+  if (node.size() > kMaxModulesPerGroup) {
+    throw ConfigError(source, group,
+                      "has " + std::to_string(node.size()) + " modules, more than " +
+                          std::to_string(kMaxModulesPerGroup) + " (a robot file of a real robot has a few)");
+  }
   for (const auto& kv : node) {
     T module;
     module.name = kv.first.Scalar();
@@ -162,9 +182,18 @@ int numberedName(const std::string& name, const std::string& prefix) {
 std::vector<DriveConfig> readDrives(const YAML::Node& root, const std::string& source,
                                     std::vector<std::string>& warnings) {
   const YAML::Node node = root["motor_drives"];
-  if (!node.IsDefined() || node.IsNull()) throw ConfigError(source, "motor_drives", "is required (a map drive0, ...)");
-  if (!node.IsMap() || node.size() == 0) {
-    throw ConfigError(source, "motor_drives", "expected a non-empty map { drive0: {...}, drive1: {...}, }");
+  if (!node.IsDefined()) throw ConfigError(source, "motor_drives", "is required (a map drive0, ...)");
+  if (node.IsNull() || (node.IsMap() && node.size() == 0)) {
+    throw ConfigError(source, "motor_drives", "is empty: a robot needs at least drive0 { node, x, y, r_wheel, ... }");
+  }
+  if (!node.IsMap()) {
+    throw ConfigError(source, "motor_drives",
+                      std::string("is a ") + (node.IsSequence() ? "list" : "single value") +
+                          ", expected a map { drive0: {...}, drive1: {...}, }");
+  }
+  if (node.size() > kMaxDrives) {
+    throw ConfigError(source, "motor_drives",
+                      "has " + std::to_string(node.size()) + " drives, more than " + std::to_string(kMaxDrives));
   }
   std::map<int, DriveConfig> by_index;
   for (const auto& kv : node) {
@@ -183,13 +212,28 @@ std::vector<DriveConfig> readDrives(const YAML::Node& root, const std::string& s
   std::vector<DriveConfig> drives;
   for (const auto& [index, drive] : by_index) {
     if (index != static_cast<int>(drives.size())) {
-      throw ConfigError(
-          source, "motor_drives",
-          "drives must be numbered from drive0 without gaps; drive" + std::to_string(drives.size()) + " is missing");
+      std::string found;
+      for (const auto& kv : by_index) found += (found.empty() ? "drive" : ", drive") + std::to_string(kv.first);
+      throw ConfigError(source, "motor_drives",
+                        "drives must be numbered from drive0 without gaps; drive" + std::to_string(drives.size()) +
+                            " is missing (found " + found +
+                            "; a drive name written twice in a file keeps only its last entry once loaded)");
     }
     drives.push_back(drive);
   }
   return drives;
+}
+
+/// The path of a `ros__parameters` map within the first two levels ("base_driver/ros__parameters"), or "".
+std::string findRos2Parameters(const YAML::Node& root) {
+  for (const auto& kv : root) {
+    if (kv.first.Scalar() == "ros__parameters") return "ros__parameters";
+    if (!kv.second.IsMap()) continue;
+    for (const auto& inner : kv.second) {
+      if (inner.first.Scalar() == "ros__parameters") return kv.first.Scalar() + "/ros__parameters";
+    }
+  }
+  return "";
 }
 
 std::string normalisePluginName(const std::string& name) {
@@ -204,29 +248,77 @@ std::string normalisePluginName(const std::string& name) {
 }  // namespace
 
 void validateDrive(const DriveConfig& d, const std::string& source, const std::string& where) {
-  auto positive = [&](double v, const char* key) {
-    if (!(v > 0.0)) throw ConfigError(source, where + "." + key, "must be greater than 0, found " + std::to_string(v));
-  };
   if (d.type != 0 && d.type != 1) {
     throw ConfigError(source, where + ".type", "must be 0 (steering + propulsion) or 1 (propulsion only)");
   }
-  if (d.node < 0 || d.node > 127) throw ConfigError(source, where + ".node", "must be a CAN node id 0..127");
-  positive(d.r_wheel, "r_wheel");
-  positive(d.w_wheel, "w_wheel");
-  positive(d.prp_gr_rt, "prp_gr_rt");
-  positive(d.prp_enc_ppr, "prp_enc_ppr");
-  positive(d.prp_max_rpm, "prp_max_rpm");
-  positive(d.prp_sim_a, "prp_sim_a");
+  // The same ranges as at load time, so a run-time change (set_drive_params) is held to them too.
+  for (const auto& field : driveFields()) {
+    if (!field.value) continue;
+    if (!d.steered() && field.names[0].rfind("str_", 0) == 0) continue;  // unused by a fixed drive
+    checkBounds(field.value(d), field.bounds, source, where + "." + field.names[0]);
+  }
   if (d.protocol != "thorvald" && d.protocol != "cia402") {
     throw ConfigError(source, where + ".protocol", "must be 'thorvald' or 'cia402', found '" + d.protocol + "'");
   }
-  if (!d.steered()) return;
-  positive(d.str_gr_rt, "str_gr_rt");
-  positive(d.str_enc_ppr, "str_enc_ppr");
-  positive(d.str_sim_v, "str_sim_v");
-  if (!(d.str_lim > 0.0) || d.str_lim > kPi + 1e-9) {
-    throw ConfigError(source, where + ".str_lim",
-                      "must be in (0, pi] rad (the cable allows about +-176 deg), found " + std::to_string(d.str_lim));
+}
+
+void validateCanNodeIds(const std::vector<DriveConfig>& drives, const std::string& source) {
+  std::map<int, size_t> user;  // node id -> index into drives of the first drive using it
+  for (size_t i = 0; i < drives.size(); ++i) {
+    const DriveConfig& d = drives[i];
+    std::vector<std::pair<int, std::string>> ids = {{d.node, "node id"}};
+    if (d.protocol == "cia402" && d.steered()) ids.push_back({d.node + 64, "steering axis id (node + 64)"});
+    for (const auto& [id, what] : ids) {
+      const auto [it, fresh] = user.emplace(id, i);
+      if (fresh) continue;
+      const DriveConfig& other = drives[it->second];
+      // Two consecutive propulsion-only drives on one two-channel Thorvald controller share its node id.
+      const bool channel_pair = it->second + 1 == i && what == "node id" && d.type == 1 && other.type == 1 &&
+                                d.protocol == "thorvald" && other.protocol == "thorvald" &&
+                                (it->second == 0 || drives[it->second - 1].node != id);
+      if (channel_pair) continue;
+      throw ConfigError(source, "motor_drives.drive" + std::to_string(d.index) + ".node",
+                        "its CAN " + what + " " + std::to_string(id) + " is already used by drive" +
+                            std::to_string(other.index) +
+                            "; every controller needs its own node id (only two consecutive type-1 drives may share "
+                            "one, as the two channels of one controller)");
+    }
+  }
+}
+
+void validateDriveSpacing(const std::vector<DriveConfig>& drives, const std::string& source) {
+  for (size_t j = 0; j < drives.size(); ++j) {
+    for (size_t i = 0; i < j; ++i) {
+      const double gap = std::hypot(drives[j].x - drives[i].x, drives[j].y - drives[i].y);
+      const double needed = 0.5 * (drives[i].w_wheel + drives[j].w_wheel);
+      if (gap < needed) {
+        std::ostringstream s;
+        s << "at (" << drives[j].x << ", " << drives[j].y << ") m, only " << gap << " m from drive" << drives[i].index
+          << ": the wheels would overlap (expected at least " << needed << " m apart)";
+        throw ConfigError(source, "motor_drives.drive" + std::to_string(drives[j].index), s.str());
+      }
+    }
+  }
+}
+
+void validateObservability(const std::vector<DriveConfig>& drives, const std::vector<PassiveWheelConfig>& passive,
+                           const std::string& source) {
+  // Every wheel sees the velocity of its contact point, (vx - wz*y, vy + wz*x), a passive wheel only its sideways
+  // part. Odometry needs these equations to determine (vx, vy, wz): the stacked rows must have rank 3.
+  double extent = 1.0;
+  for (const auto& d : drives) extent = std::max({extent, std::fabs(d.x), std::fabs(d.y)});
+  Eigen::MatrixXd rows(2 * drives.size() + passive.size(), 3);
+  int r = 0;
+  for (const auto& d : drives) {
+    rows.row(r++) << 1.0, 0.0, -d.y / extent;
+    rows.row(r++) << 0.0, 1.0, d.x / extent;
+  }
+  for (const auto& p : passive) rows.row(r++) << 0.0, 1.0, p.x / extent;
+  const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXd>(rows).singularValues();
+  if (sv.size() < 3 || sv(2) < 1e-6 * sv(0)) {
+    throw ConfigError(source, "motor_drives",
+                      "the drives (and passive_wheels) leave the robot's motion undetermined: odometry needs at least "
+                      "two drives at different places, or one drive and a passive wheel off its axle");
   }
 }
 
@@ -257,7 +349,22 @@ bool setDriveKey(DriveConfig& drive, const std::string& key, double value) {
 RobotConfig parseRobotConfig(const YAML::Node& root, const std::string& source) {
   RobotConfig config;
   config.source = source;
-  if (!root.IsMap()) throw ConfigError(source, "<top level>", "expected a map of module groups");
+  if (!root.IsDefined() || root.IsNull()) {
+    throw ConfigError(source, "<top level>", "is empty: expected a map of module groups (motor_drives, ...)");
+  }
+  if (!root.IsMap()) {
+    throw ConfigError(source, "<top level>",
+                      std::string("is a ") + (root.IsSequence() ? "list" : "single value") +
+                          ", expected a map of module groups (base_calculator, motor_drives, batteries, ...)");
+  }
+  if (!root["motor_drives"].IsDefined()) {
+    const std::string ros2 = findRos2Parameters(root);
+    if (!ros2.empty()) {
+      throw ConfigError(source, "<top level>",
+                        "is a ROS 2 parameters file (node: ros__parameters: ...); the robot file is its sub-tree '" +
+                            ros2 + "': load that sub-tree (its motor_drives, batteries, ...) instead");
+    }
+  }
   static const std::set<std::string> known = {"base_calculator", "motor_drives", "batteries",      "pipes", "corners",
                                               "beams",           "casters",      "passive_wheels", "io"};
   for (const auto& kv : root) {
@@ -278,6 +385,8 @@ RobotConfig parseRobotConfig(const YAML::Node& root, const std::string& source) 
   config.casters = readGroup(root, "casters", passiveWheelFields(), source, config.warnings);
   config.passive_wheels = readGroup(root, "passive_wheels", passiveWheelFields(), source, config.warnings);
   config.io = readGroup(root, "io", ioFields(), source, config.warnings);
+  validateCanNodeIds(config.drives, source);
+  validateDriveSpacing(config.drives, source);
   for (const auto& beam : config.beams) {
     for (const auto& end : {beam.start, beam.end}) {
       const int index = numberedName(end, "drive");

@@ -20,6 +20,14 @@ void StandardCalculator::configure(const std::vector<DriveConfig>& drives,
     throw ConfigError("base_driver", "~odometry_estimator",
                       "expected 'least_squares' or 'random_pairs', found '" + options.estimator + "'");
   }
+  const bool any_steered = std::any_of(drives.begin(), drives.end(), [](const DriveConfig& d) { return d.steered(); });
+  if (options.estimator == "random_pairs" && !any_steered) {
+    throw ConfigError("base_driver", "~odometry_estimator",
+                      "'random_pairs' cannot see rotation on a robot without steered drives (the normals of fixed "
+                      "wheels never intersect); use 'least_squares'");
+  }
+  validateDriveSpacing(drives, "base_calculator");
+  validateObservability(drives, passive, "base_calculator");
   drives_ = drives;
   passive_ = passive;
   options_ = options;
@@ -105,7 +113,15 @@ void OneWheelCalculator::configure(const std::vector<DriveConfig>& drives,
 
 void DiffDriveCalculator::configure(const std::vector<DriveConfig>& drives,
                                     const std::vector<PassiveWheelConfig>& /*passive*/,
-                                    const CalculatorOptions& /*options*/) {
+                                    const CalculatorOptions& options) {
+  // Its closed form is the least-squares fit of two wheels on one axle; random pairs of two parallel wheels
+  // never intersect and would report no rotation.
+  if (options.estimator != "least_squares") {
+    throw ConfigError("base_driver", "~odometry_estimator",
+                      "the two-wheel differential model estimates odometry in closed form (least squares); "
+                      "expected 'least_squares', found '" +
+                          options.estimator + "'");
+  }
   if (drives.size() != 2) {
     throw ConfigError(
         "base_calculator", "motor_drives",
@@ -117,6 +133,7 @@ void DiffDriveCalculator::configure(const std::vector<DriveConfig>& drives,
   if (std::fabs(drives[0].x - drives[1].x) > 1e-3) {
     throw ConfigError("base_calculator", "motor_drives", "the two differential wheels must share one axle (same x)");
   }
+  validateDriveSpacing(drives, "base_calculator");
   drives_ = drives;
   axle_x_ = 0.5 * (drives[0].x + drives[1].x);
 }

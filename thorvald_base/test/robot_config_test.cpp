@@ -89,15 +89,16 @@ TEST(RobotConfig, PropulsionOnlyDrivesNeedNoSteeringKeys) {
 }
 
 TEST(RobotConfig, ErrorsNameTheKey) {
-  expectError(withDrive0("r_wheel: 0.2", "r_wheel: -0.2"), "motor_drives.drive0.r_wheel", "greater than 0");
-  expectError(withDrive0("prp_gr_rt: 42", "prp_gr_rt: 0"), "motor_drives.drive0.prp_gr_rt", "greater than 0");
-  expectError(withDrive0("str_lim: 3.07", "str_lim: 3.5"), "motor_drives.drive0.str_lim", "(0, pi]");
+  expectError(withDrive0("r_wheel: 0.2", "r_wheel: -0.2"), "motor_drives.drive0.r_wheel",
+              "outside its physical range [0.02, 1] m");
+  expectError(withDrive0("prp_gr_rt: 42", "prp_gr_rt: 0"), "motor_drives.drive0.prp_gr_rt", "physical range");
+  expectError(withDrive0("str_lim: 3.07", "str_lim: 3.5"), "motor_drives.drive0.str_lim", "[0.01, 3.1416] rad");
   expectError(withDrive0("r_wheel: 0.2, ", ""), "motor_drives.drive0.r_wheel", "required");
   expectError(withDrive0("x: 0.5", "x: abc"), "motor_drives.drive0.x", "finite number");
   expectError(withDrive0("x: 0.5", "x: .nan"), "motor_drives.drive0.x", "finite number");
   expectError(withDrive0("node: 1", "node: 1.5"), "motor_drives.drive0.node", "integer");
   expectError(withDrive0("x: 0.5", "x: [1, 2]"), "motor_drives.drive0.x", "number");
-  expectError(withDrive0("node: 1", "node: 1, type: 2"), "motor_drives.drive0.type", "0 (steering");
+  expectError(withDrive0("node: 1", "node: 1, type: 2"), "motor_drives.drive0.type", "(0 steered, 1 fixed)");
   expectError(withDrive0("str_lim: 3.07", "str_lim: 3.07, str_llm: 3.0"), "motor_drives.drive0.str_llm", "given twice");
   expectError(std::string("motor_drives: {drive0: ") + kDrive + ", drive00: " + kDrive + "}", "motor_drives.drive00",
               "given twice");
@@ -105,7 +106,7 @@ TEST(RobotConfig, ErrorsNameTheKey) {
               "drive1 is missing");
   expectError(std::string("motor_drives: {wheel0: ") + kDrive + "}", "motor_drives.wheel0", "driveN");
   expectError("batteries: {}", "motor_drives", "required");
-  expectError("motor_drives: { }", "motor_drives", "non-empty");
+  expectError("motor_drives: { }", "motor_drives", "is empty");
   expectError(std::string("motor_drives: {drive0: ") + kDrive + "}\nbeams: {b: {start: drive0, end: drive7}}",
               "beams.b", "drive7");
 }
@@ -128,4 +129,95 @@ TEST(RobotConfig, SetDriveKeyByFieldName) {
   EXPECT_DOUBLE_EQ(c.drives[0].str_lim, 2.0);
   EXPECT_FALSE(thorvald_base::setDriveKey(c.drives[0], "node", 3));
   EXPECT_FALSE(thorvald_base::setDriveKey(c.drives[0], "r_wheel", std::nan("")));
+}
+
+namespace {
+
+std::string driveAt(const std::string& name, int node, double x, double y) {
+  return name + ": {node: " + std::to_string(node) + ", x: " + std::to_string(x) + ", y: " + std::to_string(y) +
+         ", r_wheel: 0.2, prp_gr_rt: 42, prp_enc_ppr: 1024, prp_max_rpm: 3000, str_gr_rt: 42.86, str_enc_ppr: 1024, "
+         "str_lim: 3.07}";
+}
+
+std::string fourDrives(double x3 = -0.5, double y3 = 0.3, int node3 = 4) {
+  return "motor_drives: {" + driveAt("drive0", 1, -0.5, -0.3) + ", " + driveAt("drive1", 2, 0.5, -0.3) + ", " +
+         driveAt("drive2", 3, 0.5, 0.3) + ", " + driveAt("drive3", node3, x3, y3) + "}";
+}
+
+}  // namespace
+
+TEST(RobotConfig, ImplausibleValuesAreRefusedWithTheirRange) {
+  expectError(withDrive0("r_wheel: 0.2", "r_wheel: 1e-9"), "motor_drives.drive0.r_wheel", "[0.02, 1] m");
+  expectError(withDrive0("prp_max_rpm: 3000", "prp_max_rpm: 1e-6"), "motor_drives.drive0.prp_max_rpm", "rpm");
+  expectError(withDrive0("x: 0.5", "x: 1e300"), "motor_drives.drive0.x", "[-10, 10] m");
+  expectError(fourDrives(-1e6), "motor_drives.drive3.x", "physical range");
+  expectError(withDrive0("node: 1", "node: 200"), "motor_drives.drive0.node", "CAN node id");
+  expectError(std::string("motor_drives: {drive0: ") + kDrive + "}\ncasters: {c0: {x: 0.1, y: 0.2, r_wheel: 50}}",
+              "casters.c0.r_wheel", "physical range");
+  expectError(std::string("motor_drives: {drive0: ") + kDrive + "}\nbatteries: {bat0: {id: 1, z: -100}}",
+              "batteries.bat0.z", "physical range");
+  // Drives in the thousands are refused before any of them is read.
+  std::string many = "motor_drives: {";
+  for (int i = 0; i < 10000; ++i) many += driveAt("drive" + std::to_string(i), 1 + i % 127, 0.0, 0.0) + ", ";
+  expectError(many + "}", "motor_drives", "10000 drives, more than 64");
+}
+
+TEST(RobotConfig, RunTimeChangesAreHeldToTheSameRanges) {
+  RobotConfig c = parse(std::string("motor_drives: {drive0: ") + kDrive + "}");
+  ASSERT_TRUE(thorvald_base::setDriveKey(c.drives[0], "r_wheel", 1e9));
+  EXPECT_THROW(thorvald_base::validateDrive(c.drives[0], "set_drive_params", "drive0"), ConfigError);
+  ASSERT_TRUE(thorvald_base::setDriveKey(c.drives[0], "r_wheel", 0.3));
+  EXPECT_NO_THROW(thorvald_base::validateDrive(c.drives[0], "set_drive_params", "drive0"));
+  ASSERT_TRUE(thorvald_base::setDriveKey(c.drives[0], "x", -1e6));
+  EXPECT_THROW(thorvald_base::validateDrive(c.drives[0], "set_drive_params", "drive0"), ConfigError);
+}
+
+TEST(RobotConfig, DegenerateGeometryIsRefused) {
+  EXPECT_NO_THROW(parse(fourDrives()));
+  expectError(fourDrives(0.5, 0.3), "motor_drives.drive3", "only 0 m from drive2");
+  expectError("motor_drives: {" + driveAt("drive0", 1, 0.2, 0.2) + ", " + driveAt("drive1", 2, 0.2, 0.2) + "}",
+              "motor_drives.drive1", "overlap");
+}
+
+TEST(RobotConfig, DuplicateCanNodeIdsAreRefused) {
+  expectError(fourDrives(-0.5, 0.3, 2), "motor_drives.drive3.node", "CAN node id 2 is already used by drive1");
+  // Two consecutive fixed drives may be the two channels of one controller; a third on it may not.
+  auto fixedAt = [&](const std::string& name, int node, double y) {
+    std::string d = driveAt(name, node, 0.0, y);
+    return d.substr(0, d.size() - 1) + ", type: 1}";
+  };
+  EXPECT_NO_THROW(parse("motor_drives: {" + fixedAt("drive0", 1, -0.35) + ", " + fixedAt("drive1", 1, 0.35) + "}"));
+  expectError("motor_drives: {" + fixedAt("drive0", 1, -0.7) + ", " + fixedAt("drive1", 1, 0.0) + ", " +
+                  fixedAt("drive2", 1, 0.7) + "}",
+              "motor_drives.drive2.node", "already used by drive0");
+  // A steered CiA 402 drive also occupies node + 64.
+  std::string cia = driveAt("drive0", 3, 0.5, 0.0);
+  cia = cia.substr(0, cia.size() - 1) + ", protocol: cia402}";
+  expectError("motor_drives: {" + cia + ", " + driveAt("drive1", 67, -0.5, 0.0) + "}", "motor_drives.drive1.node",
+              "already used by drive0");
+}
+
+TEST(RobotConfig, MessagesSayWhatWasFound) {
+  expectError("", "<top level>", "is empty");
+  expectError("# only a comment\n", "<top level>", "is empty");
+  expectError("- drive0\n- drive1\n", "<top level>", "is a list");
+  expectError("motor_drives: {}", "motor_drives", "is empty");
+  expectError("motor_drives: [1, 2]", "motor_drives", "is a list");
+  expectError(std::string("base_driver:\n  ros__parameters:\n    motor_drives: {drive0: ") + kDrive + "}\n",
+              "<top level>", "ROS 2 parameters file");
+  expectError(std::string("base_driver:\n  ros__parameters:\n    motor_drives: {drive0: ") + kDrive + "}\n",
+              "<top level>", "'base_driver/ros__parameters'");
+  // A drive written twice in one file (copy and paste) is named as such, not as a missing drive.
+  expectError(std::string("motor_drives:\n  drive0: ") + kDrive + "\n  drive0: " + kDrive + "\n", "motor_drives.drive0",
+              "given twice");
+  expectError(std::string("motor_drives: {drive0: ") + kDrive + ", drive2: " + kDrive + "}", "motor_drives",
+              "found drive0, drive2");
+}
+
+TEST(RobotConfig, UnknownKeysAreWarnedAtEveryLevel) {
+  const RobotConfig c = parse(std::string("motor_drives: {drive0: ") + kDrive + "}\ncaster: {c0: {x: -0.5, y: 0.0}}\n" +
+                              "casters: {c1: {x: -0.5, y: 0.1, radius: 0.1}}\n");
+  EXPECT_THAT(c.warnings, testing::Contains(testing::HasSubstr("caster: unknown top-level key")));
+  EXPECT_THAT(c.warnings, testing::Contains(testing::HasSubstr("casters.c1.radius: unknown key")));
+  EXPECT_TRUE(c.casters.size() == 1u);
 }

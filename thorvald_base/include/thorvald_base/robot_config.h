@@ -104,6 +104,13 @@ struct RobotConfig {
   std::vector<std::string> warnings;  ///< unknown keys and other things worth one log line each
 };
 
+/// Largest |x| or |y| of any module relative to base_link [m]; beyond it a position is a typing slip.
+constexpr double kMaxModuleOffset_m = 10.0;
+/// Most drives a robot file may declare (CAN node ids 1..127 must stay unique).
+constexpr size_t kMaxDrives = 64;
+/// Most modules in any other group (batteries, pipes, ...).
+constexpr size_t kMaxModulesPerGroup = 256;
+
 /// Plugin name used when a robot file names none.
 constexpr const char* kDefaultBaseCalculator = "pltf_clc_std::PltfClcStd";
 
@@ -113,8 +120,24 @@ RobotConfig parseRobotConfig(const YAML::Node& root, const std::string& source);
 /// Reads and parses a robot file. Throws ConfigError (also for an unreadable file or broken YAML).
 RobotConfig loadRobotConfigFile(const std::string& path);
 
-/// Checks the values of one drive (ranges, ratios). `where` prefixes the key in errors. Throws ConfigError.
+/// Checks the values of one drive against the physical range of every key (docs/robot_file.md). `where` prefixes the
+/// key in errors. Throws ConfigError.
 void validateDrive(const DriveConfig& drive, const std::string& source, const std::string& where);
+
+/// Refuses CAN node ids used twice (a CiA 402 steered drive also uses node + 64), in every mode, so the mistake
+/// shows before the robot. Only two consecutive type-1 drives of protocol `thorvald` may share a node id: the two
+/// channels of one controller. parseRobotConfig calls it. Throws ConfigError.
+void validateCanNodeIds(const std::vector<DriveConfig>& drives, const std::string& source);
+
+/// Refuses drives closer to each other than their wheels allow (e.g. every drive at one point). Parsing and
+/// every kinematics plugin's configure call it. Throws ConfigError.
+void validateDriveSpacing(const std::vector<DriveConfig>& drives, const std::string& source);
+
+/// Refuses drives and passive wheels whose equations leave (vx, vy, wz) undetermined, so odometry would report no
+/// motion while the wheels turn (one drive alone, or one drive with passive wheels on its own axle line). The
+/// kinematics plugins call it in configure. Throws ConfigError.
+void validateObservability(const std::vector<DriveConfig>& drives, const std::vector<PassiveWheelConfig>& passive,
+                           const std::string& source);
 
 /// Sets one drive key by the name used in the robot file (aliases accepted). Returns false for a key that
 /// cannot be changed this way. The caller validates the result with validateDrive.
