@@ -14,6 +14,7 @@
 #include <std_srvs/Trigger.h>
 
 #include "teleop_params.h"
+#include "thorvald_teleop/stop_signals.h"
 #include "thorvald_teleop/joy_teleop.h"
 
 namespace thorvald_teleop {
@@ -44,7 +45,8 @@ class JoyTeleopNode {
     double check_rate_hz = 50.0;
     pnh_.param("deadman_check_rate", check_rate_hz, check_rate_hz);
     if (!(check_rate_hz > 0.0)) throw std::runtime_error("~deadman_check_rate must be > 0 [Hz]");
-    cmd_pub_ = nh_.advertise<geometry_msgs::Twist>("cmd_vel", 1);
+    // Latched as in teleop_twist_joy: a subscriber connecting late (a restarted mux) gets the last command.
+    cmd_pub_ = nh_.advertise<geometry_msgs::Twist>("cmd_vel", 1, true);
     priority_pub_ = nh_.advertise<std_msgs::Bool>("teleop_joy/joy_priority", 1, true);
     // Queue of 10, not 1: button presses are edges, so no Joy message may be dropped.
     joy_sub_ = nh_.subscribe("joy", 10, &JoyTeleopNode::onJoy, this, ros::TransportHints().tcpNoDelay());
@@ -158,7 +160,9 @@ class JoyTeleopNode {
 }  // namespace thorvald_teleop
 
 int main(int argc, char** argv) {
-  ros::init(argc, argv, "joy_teleop");
+  ros::init(argc, argv, "joy_teleop", ros::init_options::NoSigintHandler);
+  // SIGTERM stops as cleanly as SIGINT, and both within a second in every state; destroyed last.
+  thorvald_teleop::StopSignals stop_signals(ros::requestShutdown, 0.7);
   ros::NodeHandle nh;  // outlives the try block: the last handle's destruction shuts logging down
   ros::NodeHandle pnh("~");
   try {

@@ -11,6 +11,7 @@
 #include <ros/ros.h>
 #include <sensor_msgs/Joy.h>
 
+#include "thorvald_teleop/stop_signals.h"
 #include "thorvald_teleop/joystick_device.h"
 #include "thorvald_teleop/joystick_state.h"
 
@@ -182,7 +183,9 @@ class JoystickNode {
 }  // namespace thorvald_teleop
 
 int main(int argc, char** argv) {
-  ros::init(argc, argv, "joystick");
+  ros::init(argc, argv, "joystick", ros::init_options::NoSigintHandler);
+  // SIGTERM stops as cleanly as SIGINT, and both within a second in every state; destroyed last.
+  thorvald_teleop::StopSignals stop_signals(ros::requestShutdown, 0.7);
   ros::NodeHandle nh;  // outlives the try block: the last handle's destruction shuts logging down
   ros::NodeHandle pnh("~");
   try {

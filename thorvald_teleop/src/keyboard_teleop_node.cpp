@@ -3,8 +3,6 @@
 #include <termios.h>
 #include <unistd.h>
 
-#include <atomic>
-#include <csignal>
 #include <cstdio>
 #include <exception>
 #include <stdexcept>
@@ -15,13 +13,10 @@
 
 #include "thorvald_teleop/key_decoder.h"
 #include "thorvald_teleop/keyboard_command.h"
+#include "thorvald_teleop/stop_signals.h"
 
 namespace thorvald_teleop {
 namespace {
-
-std::atomic<bool> g_stop_requested{false};  // set by SIGINT/SIGTERM; the only state a signal handler may touch
-
-void onSignal(int) { g_stop_requested = true; }
 
 /// Puts a terminal in raw mode (no echo, no line buffering, Ctrl-C as a byte) and restores it on destruction.
 class RawTerminal {
@@ -75,7 +70,12 @@ void print(const std::string& text) {
   std::fflush(stdout);
 }
 
-int run(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
+bool stopping() { return StopSignals::requested() || !ros::ok(); }
+
+int run(ros::NodeHandle& nh, ros::NodeHandle& pnh, StopSignals& stop_signals) {
+  if (stopping()) return 0;  // stopped while roscpp was still waiting for the master: nothing was published
+  // From here on the loop watches the signal flag and publishes a final stop while roscpp still runs.
+  stop_signals.setOnSignal(nullptr);
   const KeyboardConfig config = loadConfig(pnh);
   double repeat_rate_hz = 10.0;
   pnh.param("repeat_rate", repeat_rate_hz, repeat_rate_hz);
@@ -93,7 +93,7 @@ int run(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
     last_publish = ros::WallTime::now();
   };
   bool quit = false;
-  while (!quit && !g_stop_requested && ros::ok()) {
+  while (!quit && !stopping()) {
     pollfd pfd{STDIN_FILENO, POLLIN, 0};
     if (poll(&pfd, 1, 20) > 0) {  // 20 ms: resolution of the key timeout and the repeat
       char buffer[64];
@@ -135,12 +135,14 @@ int run(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "keyboard_teleop", ros::init_options::NoSigintHandler);
-  std::signal(SIGINT, thorvald_teleop::onSignal);
-  std::signal(SIGTERM, thorvald_teleop::onSignal);
-  ros::NodeHandle nh;  // outlives the try block: the last handle's destruction shuts logging down
+  // SIGINT and SIGTERM end any wait for the master, then the key loop (with a final stop); destroyed last.
+  thorvald_teleop::StopSignals stop_signals(ros::requestShutdown, 0.7);
+  // Waits for the master until it answers or a signal arrives; outlives the try block: the last handle's
+  // destruction shuts logging down.
+  ros::NodeHandle nh;
   ros::NodeHandle pnh("~");
   try {
-    return thorvald_teleop::run(nh, pnh);
+    return thorvald_teleop::run(nh, pnh, stop_signals);
   } catch (const std::exception& e) {
     ROS_FATAL("keyboard_teleop cannot start: %s", e.what());
     return 1;

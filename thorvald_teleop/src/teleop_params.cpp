@@ -1,7 +1,9 @@
 #include "teleop_params.h"
 
 #include <map>
+#include <optional>
 #include <stdexcept>
+#include <string>
 
 namespace thorvald_teleop {
 namespace {
@@ -42,72 +44,94 @@ bool readBool(const ParamLookup& lookup, const std::string& key, bool fallback) 
   return static_cast<bool>(v);
 }
 
-/// Reads `key` as a scalar (applies to `scalar_field`) or as a map over `keys`; calls `set` per field given.
+std::string keyList(const std::map<std::string, TwistField>& keys) {
+  std::string names;
+  for (const auto& k : keys) names += (names.empty() ? "" : ", ") + k.first;
+  return names;
+}
+
+/// Reads `key`, which must be a map over `keys` (map form of teleop_twist_joy); calls `set` per field given.
 /// Returns false when the parameter is not set.
 template <typename Set>
-bool readFieldParam(const ParamLookup& lookup, const std::string& key, const std::map<std::string, TwistField>& keys,
-                    TwistField scalar_field, bool integer, Set set) {
+bool readFieldMap(const ParamLookup& lookup, const std::string& key, const std::map<std::string, TwistField>& keys,
+                  bool integer, const std::string& form_reason, Set set) {
   XmlRpcValue v;
   if (!lookup(key, v)) return false;
   const std::string expected = integer ? "an axis index" : "a number";
-  auto check = [&](XmlRpcValue& item, const std::string& where) {
-    if (integer ? item.getType() != XmlRpcValue::TypeInt : !isNumber(item)) {
-      throw std::runtime_error(where + " must be " + expected);
-    }
-  };
-  if (v.getType() == XmlRpcValue::TypeStruct) {
-    for (auto& item : v) {
-      const auto field = keys.find(item.first);
-      if (field == keys.end()) {
-        std::string names;
-        for (const auto& k : keys) names += (names.empty() ? "" : ", ") + k.first;
-        throw std::runtime_error("~" + key + " has key '" + item.first + "', expected one of " + names);
-      }
-      check(item.second, "~" + key + "/" + item.first);
-      set(field->second, item.second);
-    }
-    return true;
+  if (v.getType() != XmlRpcValue::TypeStruct) {
+    throw std::runtime_error("~" + key + " must be a map over " + keyList(keys) + form_reason);
   }
-  check(v, "~" + key + " (or a map of " + expected + "s)");
-  set(scalar_field, v);
+  for (auto& item : v) {
+    const auto field = keys.find(item.first);
+    if (field == keys.end()) {
+      throw std::runtime_error("~" + key + " has key '" + item.first + "', expected one of " + keyList(keys));
+    }
+    XmlRpcValue& value = item.second;
+    if (integer ? value.getType() != XmlRpcValue::TypeInt : !isNumber(value)) {
+      throw std::runtime_error("~" + key + "/" + item.first + " must be " + expected);
+    }
+    set(field->second, value);
+  }
   return true;
+}
+
+/// One group of teleop_twist_joy's parameters: linear (x, y, z) or angular (yaw, pitch, roll).
+struct Group {
+  const std::map<std::string, TwistField>& keys;
+  TwistField scalar_field;  ///< the component of the single-number form
+  const char* axis_key;
+  const char* scale_key;
+  const char* turbo_key;
+};
+
+/// teleop_twist_joy's two forms. Map form (`axis_*` is a map): the group is exactly what the maps give; a component
+/// without a scale (in particular without a turbo scale when `scale_*_turbo` is not set) reads 0 in that mode, so
+/// holding turbo then sends a zero twist. Single-number form (`axis_*` an index or not set): one component with
+/// upstream's defaults, the turbo scale defaulting to 1.0 (linear) or to the normal scale (angular).
+void readGroup(const ParamLookup& lookup, const Group& g, TwistJoyMapping& m) {
+  XmlRpcValue axis;
+  const bool map_form = lookup(g.axis_key, axis) && axis.getType() == XmlRpcValue::TypeStruct;
+  if (map_form) {
+    for (const auto& k : g.keys) m[k.second] = FieldMapping();
+    const std::string reason =
+        std::string(" when ~") + g.axis_key + " is a map (teleop_twist_joy would ignore a single number and read 0)";
+    readFieldMap(lookup, g.axis_key, g.keys, true, reason,
+                 [&](TwistField f, XmlRpcValue& v) { m[f].axis = static_cast<int>(v); });
+    readFieldMap(lookup, g.scale_key, g.keys, false, reason,
+                 [&](TwistField f, XmlRpcValue& v) { m[f].scale = toDouble(v); });
+    readFieldMap(lookup, g.turbo_key, g.keys, false, reason,
+                 [&](TwistField f, XmlRpcValue& v) { m[f].scale_turbo = toDouble(v); });
+    return;
+  }
+  const std::string reason = std::string(" (a map only when ~") + g.axis_key + " is a map too)";
+  FieldMapping& f = m[g.scalar_field];
+  XmlRpcValue v;
+  if (lookup(g.axis_key, v)) {
+    if (v.getType() != XmlRpcValue::TypeInt) {
+      throw std::runtime_error(std::string("~") + g.axis_key + " must be an axis index or a map over " +
+                               keyList(g.keys));
+    }
+    f.axis = static_cast<int>(v);
+  }
+  auto readScale = [&](const char* key, std::optional<double>& scale) {
+    XmlRpcValue s;
+    if (!lookup(key, s)) return;
+    if (!isNumber(s)) throw std::runtime_error(std::string("~") + key + " must be a number" + reason);
+    scale = toDouble(s);
+  };
+  readScale(g.scale_key, f.scale);
+  const bool turbo_given = lookup(g.turbo_key, v);
+  readScale(g.turbo_key, f.scale_turbo);
+  // teleop_twist_joy: the turbo yaw scale defaults to the normal one.
+  if (!turbo_given && g.scalar_field == TwistField::kAngularYaw) f.scale_turbo = f.scale;
 }
 
 void readMapping(const ParamLookup& lookup, TwistJoyMapping& m) {
   m.enable_button = readInt(lookup, "enable_button", m.enable_button);
   m.enable_turbo_button = readInt(lookup, "enable_turbo_button", m.enable_turbo_button);
   m.require_enable_button = readBool(lookup, "require_enable_button", m.require_enable_button);
-
-  struct Group {
-    const std::map<std::string, TwistField>& keys;
-    TwistField scalar_field;
-    const char* axis_key;
-    const char* scale_key;
-    const char* turbo_key;
-  };
-  const Group groups[] = {
-      {kLinearKeys, TwistField::kLinearX, "axis_linear", "scale_linear", "scale_linear_turbo"},
-      {kAngularKeys, TwistField::kAngularYaw, "axis_angular", "scale_angular", "scale_angular_turbo"},
-  };
-  for (const Group& g : groups) {
-    // A parameter that is set replaces the defaults of its whole group, as a map in teleop_twist_joy does.
-    TwistJoyMapping given;
-    if (readFieldParam(lookup, g.axis_key, g.keys, g.scalar_field, true,
-                       [&](TwistField f, XmlRpcValue& v) { given[f].axis = static_cast<int>(v); })) {
-      for (const auto& k : g.keys) m[k.second].axis = given[k.second].axis;
-    }
-    if (readFieldParam(lookup, g.scale_key, g.keys, g.scalar_field, false,
-                       [&](TwistField f, XmlRpcValue& v) { given[f].scale = toDouble(v); })) {
-      for (const auto& k : g.keys) m[k.second].scale = given[k.second].scale;
-    }
-    if (readFieldParam(lookup, g.turbo_key, g.keys, g.scalar_field, false,
-                       [&](TwistField f, XmlRpcValue& v) { given[f].scale_turbo = toDouble(v); })) {
-      for (const auto& k : g.keys) m[k.second].scale_turbo = given[k.second].scale_turbo;
-    } else if (g.scalar_field == TwistField::kAngularYaw) {
-      // teleop_twist_joy: the turbo yaw scale defaults to the normal one.
-      m[TwistField::kAngularYaw].scale_turbo = m[TwistField::kAngularYaw].scale;
-    }
-  }
+  readGroup(lookup, {kLinearKeys, TwistField::kLinearX, "axis_linear", "scale_linear", "scale_linear_turbo"}, m);
+  readGroup(lookup, {kAngularKeys, TwistField::kAngularYaw, "axis_angular", "scale_angular", "scale_angular_turbo"}, m);
 }
 
 }  // namespace

@@ -38,6 +38,15 @@ CASES = {
         ([0.5, 0.25], [0], (0, 0, 0, 0, 0, 0)),
         ([0.5, 0.25], [0], None),
     ],
+    # Upstream reads turbo scales only from the scale_*_turbo maps: none given, so turbo sends zero twists.
+    'ps3_holonomic': [
+        ([0.5, 0.25, -0.75], [0] * 8 + [1, 0, 0], (0, 0, 0, 0, 0, 0)),       # turbo alone
+        ([0.5, 0.25, -0.75], [0] * 8 + [1, 0, 1], (0, 0, 0, 0, 0, 0)),       # turbo wins over enable
+        ([0.5, 0.25, -0.75], [0] * 10 + [1], (0.1, 0.2, 0, 0, 0, -0.375)),  # enable: normal scales
+        ([0.5, 0.25, -0.75], [0] * 8 + [1, 0, 1], (0, 0, 0, 0, 0, 0)),
+        ([0.5, 0.25, -0.75], [0] * 11, (0, 0, 0, 0, 0, 0)),                 # released: one stop
+        ([0.5, 0.25, -0.75], [0] * 10 + [1], (0.1, 0.2, 0, 0, 0, -0.375)),
+    ],
 }
 
 
@@ -66,6 +75,24 @@ class JoyTeleopCompat(unittest.TestCase):
         for g, e in zip(got, expected):
             for a, b in zip(g, e):
                 self.assertAlmostEqual(a, b, places=12, msg='%s: got %s expected %s' % (ns, g, e))
+
+    def test_ps3_holonomic_turbo_without_turbo_scales(self):
+        self.run_case('ps3_holonomic')
+
+    def test_cmd_vel_is_latched(self):
+        # As in teleop_twist_joy, a subscriber connecting late still gets the last command.
+        ns = 'latched'
+        pub = rospy.Publisher('/%s/joy' % ns, Joy, queue_size=10)
+        early = Recorder('/%s/cmd_vel' % ns, Twist)
+        wait_for(lambda: pub.get_num_connections() > 0 and early.sub.get_num_connections() > 0, 15.0,
+                 'connections in %s' % ns)
+        pub.publish(Joy(axes=[0.25, 0.5], buttons=[1]))
+        early.wait_count(1)
+        late = Recorder('/%s/cmd_vel' % ns, Twist)
+        late.wait_count(1)
+        self.assertEqual(late.count(), 1)
+        self.assertEqual(twist_tuple(late.last()), twist_tuple(early.last()))
+        self.assertEqual(twist_tuple(late.last()), (0.25, 0, 0, 0, 0, 0.125))  # upstream defaults: 0.5 and 0.5
 
     def test_int_axes(self):
         self.run_case('int_axes')

@@ -1,7 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <initializer_list>
 #include <map>
 #include <stdexcept>
+#include <utility>
 
 #include "../src/teleop_params.h"
 
@@ -26,6 +28,12 @@ std::string errorOf(std::map<std::string, XmlRpcValue> params) {
     return e.what();
   }
   return "";
+}
+
+XmlRpcValue fieldMap(std::initializer_list<std::pair<const char*, XmlRpcValue>> items) {
+  XmlRpcValue v;
+  for (const auto& [key, value] : items) v[key] = value;
+  return v;
 }
 
 }  // namespace
@@ -59,16 +67,74 @@ TEST(TeleopParams, IntegerAndMapForms) {
   EXPECT_EQ(c.mapping[TwistField::kLinearY].axis, 3);
   EXPECT_DOUBLE_EQ(*c.mapping[TwistField::kLinearX].scale, 2.0);
   EXPECT_DOUBLE_EQ(*c.mapping[TwistField::kLinearY].scale, 0.25);
-  EXPECT_FALSE(c.mapping[TwistField::kLinearY].scale_turbo);  // turbo map default covers x only
+  // Map form without scale_linear_turbo: no turbo scale at all (teleop_twist_joy's map form has no defaults).
+  EXPECT_FALSE(c.mapping[TwistField::kLinearX].scale_turbo);
+  EXPECT_FALSE(c.mapping[TwistField::kLinearY].scale_turbo);
+  EXPECT_EQ(c.mapping[TwistField::kLinearZ].axis, -1);
   EXPECT_EQ(c.mapping[TwistField::kAngularYaw].axis, 2);
   EXPECT_DOUBLE_EQ(*c.mapping[TwistField::kAngularYaw].scale_turbo, 0.75);  // defaults to the normal yaw scale
+}
+
+// teleop_twist_joy's config/ps3-holonomic.config.yaml: map form, no turbo scales, a turbo button. Upstream sends a
+// zero twist while turbo is held (the turbo scale map is empty); so must we.
+TEST(TeleopParams, MapFormWithoutTurboScalesGivesAZeroTwistUnderTurbo) {
+  const JoyTeleopConfig c = load({{"axis_linear", fieldMap({{"x", 1}, {"y", 0}})},
+                                  {"scale_linear", fieldMap({{"x", 0.4}, {"y", 0.4}})},
+                                  {"axis_angular", fieldMap({{"yaw", 2}})},
+                                  {"scale_angular", fieldMap({{"yaw", 0.5}})},
+                                  {"enable_button", XmlRpcValue(10)},
+                                  {"enable_turbo_button", XmlRpcValue(8)}});
+  for (std::size_t i = 0; i < kTwistFieldCount; ++i) EXPECT_FALSE(c.mapping.fields[i].scale_turbo) << i;
+  EXPECT_EQ(c.mapping[TwistField::kAngularYaw].axis, 2);
+  EXPECT_FALSE(c.mapping[TwistField::kAngularPitch].scale);  // the map replaces the single-number defaults
+
+  JoyState joy;
+  joy.axes = {0.5, -0.25, 0.75};
+  joy.buttons.assign(11, 0);
+  const VelocityCommand turbo = commandFromJoy(joy, c.mapping, true);
+  EXPECT_EQ(turbo.linear_x, 0.0);
+  EXPECT_EQ(turbo.linear_y, 0.0);
+  EXPECT_EQ(turbo.angular_z, 0.0);
+  const VelocityCommand normal = commandFromJoy(joy, c.mapping, false);
+  EXPECT_DOUBLE_EQ(normal.linear_x, -0.25 * 0.4);
+  EXPECT_DOUBLE_EQ(normal.linear_y, 0.5 * 0.4);
+  EXPECT_DOUBLE_EQ(normal.angular_z, 0.75 * 0.5);
+
+  // Through the whole teleop: turbo held without enable sends zero twists (not nothing, not motion).
+  JoyTeleop teleop(c);
+  joy.buttons[8] = 1;
+  const TeleopActions a = teleop.onJoy(joy, 0.0);
+  ASSERT_TRUE(a.command);
+  EXPECT_EQ(a.command->linear_x, 0.0);
+  EXPECT_EQ(a.command->linear_y, 0.0);
+  EXPECT_EQ(a.command->angular_z, 0.0);
+}
+
+TEST(TeleopParams, MapFormWithoutScalesReadsZero) {
+  const JoyTeleopConfig c = load({{"axis_linear", fieldMap({{"x", 1}})}});
+  EXPECT_EQ(c.mapping[TwistField::kLinearX].axis, 1);
+  EXPECT_FALSE(c.mapping[TwistField::kLinearX].scale);
+  // The angular group is untouched: single-number defaults.
+  EXPECT_DOUBLE_EQ(*c.mapping[TwistField::kAngularYaw].scale, 0.5);
+}
+
+TEST(TeleopParams, MixedFormsAreRefused) {
+  EXPECT_EQ(errorOf({{"axis_linear", fieldMap({{"x", 1}})}, {"scale_linear", XmlRpcValue(0.5)}}),
+            "~scale_linear must be a map over x, y, z when ~axis_linear is a map (teleop_twist_joy would ignore a "
+            "single number and read 0)");
+  EXPECT_EQ(errorOf({{"axis_angular", XmlRpcValue(3)}, {"scale_angular_turbo", fieldMap({{"yaw", 1.0}})}}),
+            "~scale_angular_turbo must be a number (a map only when ~axis_angular is a map too)");
+  EXPECT_EQ(errorOf({{"scale_linear", fieldMap({{"x", 1.0}})}}),
+            "~scale_linear must be a number (a map only when ~axis_linear is a map too)");
 }
 
 TEST(TeleopParams, ErrorsNameTheKey) {
   XmlRpcValue bad_map;
   bad_map["w"] = 1;
   EXPECT_EQ(errorOf({{"axis_linear", bad_map}}), "~axis_linear has key 'w', expected one of x, y, z");
-  EXPECT_NE(errorOf({{"axis_angular", XmlRpcValue(0.5)}}).find("~axis_angular"), std::string::npos);
+  EXPECT_EQ(errorOf({{"axis_angular", XmlRpcValue(0.5)}}),
+            "~axis_angular must be an axis index or a map over pitch, roll, yaw");
+  EXPECT_EQ(errorOf({{"axis_linear", fieldMap({{"x", 0.5}})}}), "~axis_linear/x must be an axis index");
   EXPECT_NE(errorOf({{"enable_button", XmlRpcValue("LB")}}).find("~enable_button must be an integer"),
             std::string::npos);
   EXPECT_NE(errorOf({{"initial_mode", XmlRpcValue("sideways")}}).find("omni, drive, turn"), std::string::npos);

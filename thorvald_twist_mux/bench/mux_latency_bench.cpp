@@ -1,7 +1,7 @@
 // Latency from an input message to the multiplexer's output on loopback, with 5 inputs at 100 Hz each, and the
 // same through joy_teleop -> twist_mux. Needs a running roscore; starts twist_mux and joy_teleop itself (rosrun)
 // in a private namespace and stops them at the end.
-//   rosrun thorvald_twist_mux mux_latency_bench [seconds_per_phase (default 10)]
+//   rosrun thorvald_twist_mux mux_latency_bench [--seconds S (per path, default 10)]
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
@@ -19,6 +19,7 @@
 #include <thread>
 #include <vector>
 
+#include <CLI/CLI.hpp>
 #include <geometry_msgs/Twist.h>
 #include <ros/ros.h>
 #include <sensor_msgs/Joy.h>
@@ -184,10 +185,18 @@ bool waitFor(const std::function<bool()>& condition, double timeout_s) {
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "mux_latency_bench", ros::init_options::AnonymousName | ros::init_options::NoSigintHandler);
-  const double seconds = argc > 1 ? std::atof(argv[1]) : 10.0;
-  if (!(seconds > 0.0)) {
-    std::fprintf(stderr, "usage: mux_latency_bench [seconds_per_phase > 0]\n");
-    return 2;
+  double seconds = 10.0;
+  CLI::App app(
+      "Latency from an input message to twist_mux's output on loopback (5 inputs at 100 Hz), and through "
+      "joy_teleop -> twist_mux. Needs a running roscore; starts twist_mux and joy_teleop itself.",
+      "mux_latency_bench");
+  app.add_option("--seconds", seconds, "measuring time per path [s], after 1 s of warm-up")
+      ->check(CLI::Range(0.1, 3600.0))
+      ->capture_default_str();
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;  // --help: usage, exit 0; an unknown option or a bad value: exit 2
   }
   if (!ros::master::check()) {
     std::fprintf(stderr, "mux_latency_bench: no ROS master at %s; start roscore first\n",
@@ -242,11 +251,15 @@ int main(int argc, char** argv) {
     return 1;
   }
 
+  std::printf("measuring input -> twist_mux -> output for %.0f s ...\n", seconds + 1.0);
+  std::fflush(stdout);
   const PhaseResult direct = runPhase(pubs, {0, 1, 2, 3, 4}, nullptr, mux_log, seconds);
   {
     std::lock_guard<std::mutex> lock(active_mutex);
     active_log = &teleop_log;
   }
+  std::printf("measuring Joy -> joy_teleop -> twist_mux for %.0f s ...\n", seconds + 1.0);
+  std::fflush(stdout);
   const PhaseResult through_teleop = runPhase(pubs, {0, 1, 2, 3}, &joy, teleop_log, seconds);
   ros::param::del(ns);
 
