@@ -12,6 +12,7 @@ set(CONTROL_INCLUDES ${CMAKE_CURRENT_SOURCE_DIR}/include ${catkin_INCLUDE_DIRS} 
 add_library(cotton_harvester_control
   src/control/swashplate_mapping.cpp
   src/control/position_pid.cpp
+  src/control/deadband_position_controller.cpp
   src/control/articulation_controller.cpp
   src/control/manipulator_calibration.cpp
   src/control/manipulator_protocol.cpp
@@ -34,7 +35,7 @@ add_dependencies(cotton_harvester_control ${${PROJECT_NAME}_EXPORTED_TARGETS} ${
 
 # ---- Benchmark ----------------------------------------------------------------------------------------------
 add_executable(rover_step_bench bench/rover_step_bench.cpp)
-target_link_libraries(rover_step_bench cotton_harvester_control)
+target_link_libraries(rover_step_bench cotton_harvester_control ${OpenCV_LIBRARIES})
 
 install(TARGETS cotton_harvester_control rover_step_bench
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
@@ -48,6 +49,7 @@ if(CATKIN_ENABLE_TESTING)
     test/control/test_main.cpp
     test/control/test_swashplate_mapping.cpp
     test/control/test_position_pid.cpp
+    test/control/test_deadband_position_controller.cpp
     test/control/test_manipulator.cpp
     test/control/test_protocols.cpp
     test/control/test_rover_controller.cpp

@@ -28,6 +28,26 @@ inline ManipulatorCalibration loadCalibration(const ros::NodeHandle& nh) {
 /// Rover controller parameters under `nh`.
 inline RoverControllerParams loadRoverParams(const ros::NodeHandle& nh) {
   RoverControllerParams p;
+  const std::string control = readString(nh, "position_control", toString(p.position_control));
+  const auto parsed = parsePositionControl(control);
+  if (!parsed) requireSound(nh, "position_control: expected 'deadband' or 'paper_pid' (got '" + control + "')");
+  p.position_control = parsed.value_or(p.position_control);
+  DeadbandControllerParams& d = p.deadband;
+  d.forward_edge_pwm = readDouble(nh, "deadband/forward_edge_pwm", d.forward_edge_pwm);
+  d.reverse_edge_pwm = readDouble(nh, "deadband/reverse_edge_pwm", d.reverse_edge_pwm);
+  d.pwm_min = readDouble(nh, "deadband/pwm_min", d.pwm_min);
+  d.pwm_max = readDouble(nh, "deadband/pwm_max", d.pwm_max);
+  d.forward_mps_per_pwm = readDouble(nh, "deadband/forward_mps_per_pwm", d.forward_mps_per_pwm);
+  d.reverse_mps_per_pwm = readDouble(nh, "deadband/reverse_mps_per_pwm", d.reverse_mps_per_pwm);
+  d.max_speed_mps = readDouble(nh, "deadband/max_speed_mps", d.max_speed_mps);
+  d.max_accel_mps2 = readDouble(nh, "deadband/max_accel_mps2", d.max_accel_mps2);
+  d.position_gain = readDouble(nh, "deadband/position_gain", d.position_gain);
+  d.integral_gain = readDouble(nh, "deadband/integral_gain", d.integral_gain);
+  d.integral_limit_mps = readDouble(nh, "deadband/integral_limit_mps", d.integral_limit_mps);
+  d.actuator_rate_pwm_per_s = readDouble(nh, "deadband/actuator_rate_pwm_per_s", d.actuator_rate_pwm_per_s);
+  d.flow_lag_s = readDouble(nh, "deadband/flow_lag_s", d.flow_lag_s);
+  d.stop_tolerance_m = readDouble(nh, "deadband/stop_tolerance_m", d.stop_tolerance_m);
+  d.restart_tolerance_m = readDouble(nh, "deadband/restart_tolerance_m", d.restart_tolerance_m);
   p.pid.kp = readDouble(nh, "kp", p.pid.kp);
   p.pid.ki = readDouble(nh, "ki", p.pid.ki);
   p.pid.kd = readDouble(nh, "kd", p.pid.kd);

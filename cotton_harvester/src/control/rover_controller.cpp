@@ -6,7 +6,18 @@
 namespace cotton_harvester {
 namespace control {
 
+std::optional<PositionControl> parsePositionControl(const std::string& name) {
+  if (name == "deadband") return PositionControl::kDeadbandAware;
+  if (name == "paper_pid") return PositionControl::kPaperPid;
+  return std::nullopt;
+}
+
+std::string toString(PositionControl control) {
+  return control == PositionControl::kDeadbandAware ? "deadband" : "paper_pid";
+}
+
 std::string RoverControllerParams::check() const {
+  if (const std::string bad = deadband.check(); !bad.empty()) return "deadband " + bad;
   if (!(pid.output_min < 0.0 && pid.output_max > 0.0)) return "pid output range: expected min < 0 < max";
   if (!(pid.kp >= 0.0 && pid.ki >= 0.0 && pid.kd >= 0.0)) return "pid gains: expected >= 0";
   if (const char* bad = swashplate.check(); *bad) return std::string("swashplate ") + bad;
@@ -29,12 +40,13 @@ DriveCommand RoverOutput::command() const {
 }
 
 RoverController::RoverController(const RoverControllerParams& params)
-    : params_(params), pid_(params.pid), articulation_(params.articulation) {}
+    : params_(params), pid_(params.pid), deadband_(params.deadband), articulation_(params.articulation) {}
 
 void RoverController::setPositionTarget(double position_m) {
   if (!std::isfinite(position_m)) return;
   velocity_mode_ = false;
   target_m_ = position_m;
+  deadband_.setTarget(position_m);
 }
 
 void RoverController::setVelocity(double speed_mps, double yaw_rate_rps) {
@@ -42,6 +54,7 @@ void RoverController::setVelocity(double speed_mps, double yaw_rate_rps) {
   if (!velocity_mode_) target_m_ = position_m_;
   velocity_mode_ = true;
   speed_mps_ = std::clamp(speed_mps, -params_.max_speed_mps, params_.max_speed_mps);
+  deadband_.setVelocity(speed_mps_);
   if (std::abs(speed_mps_) > 1e-3) {
     // Yaw rate of the front half: v tan(γ/2) / l  =>  γ = 2 atan(ω l / v).
     const double angle = 2.0 * std::atan(yaw_rate_rps * params_.axle_to_joint_m / speed_mps_);
@@ -50,7 +63,14 @@ void RoverController::setVelocity(double speed_mps, double yaw_rate_rps) {
 }
 
 void RoverController::holdPosition() {
-  if (velocity_mode_) target_m_ = position_m_;
+  if (velocity_mode_) {
+    if (params_.position_control == PositionControl::kDeadbandAware) {
+      deadband_.stop();
+      target_m_ = deadband_.targetM();
+    } else {
+      target_m_ = position_m_;
+    }
+  }
   velocity_mode_ = false;
   speed_mps_ = 0.0;
 }
@@ -71,18 +91,25 @@ RoverOutput RoverController::update(const Telemetry& telemetry, double dt_s) {
     has_telemetry_ = true;
     target_m_ = position_m_;
     pid_.reset();
+    deadband_.reset();
+    if (!velocity_mode_) deadband_.setTarget(target_m_);
   }
   if (velocity_mode_ && dt_s > 0.0) {
     target_m_ = std::clamp(target_m_ + speed_mps_ * dt_s, position_m_ - params_.velocity_lead_limit_m,
                            position_m_ + params_.velocity_lead_limit_m);
   }
   RoverOutput output;
+  output.relays = articulation_.update(articulation_target_deg_, articulation_deg_, dt_s);
+  if (params_.position_control == PositionControl::kDeadbandAware) {
+    output.pwm = deadband_.update(position_m_, dt_s);
+    output.effort = params_.swashplate.effortFromPwm(output.pwm);
+    return output;
+  }
   const double setpoint_pulses = target_m_ / params_.metres_per_pulse;
   const double rate_pulses = velocity_mode_ ? speed_mps_ / params_.metres_per_pulse : 0.0;
   const double feedforward = velocity_mode_ ? params_.feedforward_effort_per_mps * speed_mps_ : 0.0;
   output.effort = pid_.update(setpoint_pulses, telemetry.encoder_count, dt_s, rate_pulses, feedforward);
   output.pwm = params_.swashplate.pwmFromEffort(output.effort);
-  output.relays = articulation_.update(articulation_target_deg_, articulation_deg_, dt_s);
   return output;
 }
 

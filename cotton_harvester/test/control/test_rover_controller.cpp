@@ -35,7 +35,9 @@ TEST(HydrostaticDriveModel, EncoderCountsPulsesOf1p8mm) {
 }
 
 TEST(RoverController, MapsThePidOutputThroughEquationEight) {
-  RoverController controller;
+  RoverControllerParams paper;
+  paper.position_control = PositionControl::kPaperPid;
+  RoverController controller(paper);
   Telemetry telemetry;
   telemetry.pot_counts = 512;
   controller.update(telemetry, 0.02);
@@ -50,7 +52,8 @@ TEST(RoverController, MapsThePidOutputThroughEquationEight) {
 
 // The paper's PID (second tuning) against the simulated hydrostatic drive, through the serial frames.
 TEST(RoverController, StepResponseAgainstTheSimulatedDrive) {
-  const RoverControllerParams controller;
+  RoverControllerParams controller;
+  controller.position_control = PositionControl::kPaperPid;
   const SimulatedNavigationParams plant;
   for (double step : {1.0, -0.5}) {
     const StepResponse r = simulateStep(controller, plant, step, 90.0, 0.05);

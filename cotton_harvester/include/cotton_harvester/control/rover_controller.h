@@ -1,9 +1,11 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "cotton_harvester/control/articulation_controller.h"
+#include "cotton_harvester/control/deadband_position_controller.h"
 #include "cotton_harvester/control/navigation_protocol.h"
 #include "cotton_harvester/control/position_pid.h"
 #include "cotton_harvester/control/swashplate_mapping.h"
@@ -11,9 +13,20 @@
 namespace cotton_harvester {
 namespace control {
 
+/// Which law drives the swashplate.
+enum class PositionControl {
+  kDeadbandAware,  ///< DeadbandPositionController: profile, inverse deadband map, feedforward (default)
+  kPaperPid,       ///< the paper's PID (Kp 0.7, Ki 0.04, Kd 5.0 on pulses) with eq. 8, kept for comparison
+};
+
+std::optional<PositionControl> parsePositionControl(const std::string& name);
+std::string toString(PositionControl control);
+
 /// Parameters of the rover controller (paper §2.11–2.12).
 struct RoverControllerParams {
-  PidGains pid;                               ///< on encoder pulses
+  PositionControl position_control = PositionControl::kDeadbandAware;
+  DeadbandControllerParams deadband;          ///< kDeadbandAware
+  PidGains pid;                               ///< kPaperPid, on encoder pulses
   SwashplateMapping swashplate;               ///< eq. 8
   ArticulationParams articulation;            ///< P control through relays
   double metres_per_pulse = 0.0018;           ///< encoder (§2.11)
@@ -36,10 +49,10 @@ struct RoverOutput {
   DriveCommand command() const;  ///< as a serial frame's content (pwm rounded)
 };
 
-/// The rover's movement controller: a position PID on the encoder with the eq. 8 deadband mapping,
-/// and the articulation P controller. Two ways in: an absolute position target along the row
-/// (from the harvest state machine) or a velocity (cmd_vel from the mux), which moves the
-/// position target at that speed so the same PID tracks it. The last one set wins.
+/// The rover's movement controller: the deadband-aware position controller (or the paper's PID with the
+/// eq. 8 deadband mapping) on the encoder, and the articulation P controller. Two ways in: an absolute position target
+/// along the row (from the harvest state machine) or a velocity (cmd_vel from the mux), which moves the position target
+/// at that speed so the same PID tracks it. The last one set wins.
 class RoverController {
  public:
   explicit RoverController(const RoverControllerParams& params = RoverControllerParams());
@@ -66,6 +79,7 @@ class RoverController {
  private:
   RoverControllerParams params_;
   PositionPid pid_;
+  DeadbandPositionController deadband_;
   ArticulationController articulation_;
   double position_m_ = 0.0;
   double target_m_ = 0.0;
