@@ -346,6 +346,33 @@ bool setDriveKey(DriveConfig& drive, const std::string& key, double value) {
   return true;
 }
 
+std::string nearestRobotFileGroup(const std::string& key) {
+  static const std::vector<std::string> groups = {
+      "base_calculator", "motor_drives", "batteries", "pipes", "corners", "beams", "casters", "passive_wheels", "io"};
+  std::string best;
+  size_t best_distance = 3;  // at most two edits: a missing plural s, a swapped or missing letter
+  for (const auto& g : groups) {
+    // Levenshtein distance between key and g.
+    std::vector<size_t> row(g.size() + 1);
+    for (size_t j = 0; j <= g.size(); ++j) row[j] = j;
+    for (size_t i = 1; i <= key.size(); ++i) {
+      size_t diagonal = row[0];
+      row[0] = i;
+      for (size_t j = 1; j <= g.size(); ++j) {
+        const size_t up = row[j];
+        row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (key[i - 1] == g[j - 1] ? 0 : 1)});
+        diagonal = up;
+      }
+    }
+    const size_t limit = g.size() <= 3 ? 0 : 2;  // "io" only exactly
+    if (row[g.size()] <= limit && row[g.size()] < best_distance) {
+      best_distance = row[g.size()];
+      best = g;
+    }
+  }
+  return best;
+}
+
 RobotConfig parseRobotConfig(const YAML::Node& root, const std::string& source) {
   RobotConfig config;
   config.source = source;
@@ -365,12 +392,11 @@ RobotConfig parseRobotConfig(const YAML::Node& root, const std::string& source) 
                             ros2 + "': load that sub-tree (its motor_drives, batteries, ...) instead");
     }
   }
-  static const std::set<std::string> known = {"base_calculator", "motor_drives", "batteries",      "pipes", "corners",
-                                              "beams",           "casters",      "passive_wheels", "io"};
   for (const auto& kv : root) {
-    if (!known.count(kv.first.Scalar())) {
-      config.warnings.push_back(source + ": " + kv.first.Scalar() + ": unknown top-level key, ignored");
-    }
+    const std::string near = nearestRobotFileGroup(kv.first.Scalar());
+    if (near == kv.first.Scalar()) continue;
+    config.warnings.push_back(source + ": " + kv.first.Scalar() + ": unknown top-level key, ignored" +
+                              (near.empty() ? "" : " (did you mean '" + near + "'?)"));
   }
   config.base_calculator = kDefaultBaseCalculator;
   if (root["base_calculator"].IsDefined() && !root["base_calculator"].IsNull()) {

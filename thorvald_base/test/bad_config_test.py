@@ -1,7 +1,10 @@
 #!/usr/bin/python3
 """base_driver with a broken robot file exits non-zero and says which key is wrong."""
 import os
+import select
+import signal
 import subprocess
+import time
 import unittest
 
 import rosgraph
@@ -11,12 +14,42 @@ import rostest
 
 
 class BadConfig(unittest.TestCase):
-    def run_driver(self, ns, params):
+    def run_driver(self, ns, params, args=()):
         rosparam.upload_params(ns, params)
         env = dict(os.environ, ROS_NAMESPACE=ns)
-        proc = subprocess.run(["rosrun", "thorvald_base", "base_driver"], env=env, capture_output=True, text=True,
-                              timeout=30)
+        proc = subprocess.run(["rosrun", "thorvald_base", "base_driver", *args], env=env, capture_output=True,
+                              text=True, timeout=30)
         return proc.returncode, proc.stdout + proc.stderr
+
+    def output_of_running_driver(self, ns, params, args, wanted, deadline_s=30.0):
+        """Starts base_driver, collects its output until a line contains `wanted` (or the deadline), stops it."""
+        rosparam.upload_params(ns, params)
+        env = dict(os.environ, ROS_NAMESPACE=ns)
+        proc = subprocess.Popen(["rosrun", "thorvald_base", "base_driver", *args], env=env, stdout=subprocess.PIPE,
+                                stderr=subprocess.STDOUT, text=True)
+        lines = []
+        end = time.monotonic() + deadline_s
+        try:
+            while time.monotonic() < end:
+                ready, _, _ = select.select([proc.stdout], [], [], 0.5)
+                if not ready:
+                    continue
+                line = proc.stdout.readline()
+                if not line:
+                    break
+                lines.append(line)
+                if wanted in line:
+                    break
+        finally:
+            proc.send_signal(signal.SIGINT)
+            try:
+                proc.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                proc.kill()
+        return "".join(lines)
+
+    def good_robot(self):
+        return {"motor_drives": {"drive0": self.drive(), "drive1": self.drive(node=2, x=-0.5, y=0.3)}}
 
     def drive(self, **over):
         d = {"node": 1, "x": 0.5, "y": -0.3, "r_wheel": 0.2, "prp_gr_rt": 42, "prp_enc_ppr": 1024,
@@ -45,6 +78,52 @@ class BadConfig(unittest.TestCase):
                                               "motor_drives": {"drive0": self.drive()}})
         self.assertNotEqual(code, 0)
         self.assertIn("exactly 2 drives", out)
+
+    def test_wrong_parameter_types_are_refused(self):
+        for ns, arg, name, found in (("/par1", "_simple_sim:=maybe", "~simple_sim", "the string 'maybe'"),
+                                     ("/par2", "_rate:=fast", "~rate", "the string 'fast'"),
+                                     ("/par3", "_rate:=0", "~rate", "the integer 0"),
+                                     ("/par4", "_odometry_estimator:=magic", "~odometry_estimator", "the string 'magic'")):
+            code, out = self.run_driver(ns, self.good_robot(), [arg])
+            self.assertEqual(code, 1, out)
+            self.assertIn("parameter " + name + ": found " + found, out)
+            self.assertIn("base_driver", out)
+
+    def test_misspelt_parameter_is_warned(self):
+        out = self.output_of_running_driver("/par5", self.good_robot(), ["_cmd_vel_timout:=0.1"], "did you mean")
+        self.assertIn("~cmd_vel_timout is set but nothing in this node reads it; did you mean ~cmd_vel_timeout?",
+                      out)
+
+    def test_misspelt_group_is_warned(self):
+        robot = self.good_robot()
+        robot["caster"] = {"c0": {"x": -0.5, "y": 0.0}}
+        out = self.output_of_running_driver("/par6", robot, [], "caster")
+        self.assertIn("caster: unknown top-level key, ignored (did you mean 'casters'?)", out)
+
+    def test_duplicate_node_ids_are_refused_in_simulation(self):
+        robot = {"motor_drives": {"drive0": self.drive(), "drive1": self.drive(x=-0.5)}}
+        code, out = self.run_driver("/bad5", robot, ["_simple_sim:=true"])
+        self.assertEqual(code, 1, out)
+        self.assertIn("CAN node id 1 is already used by drive0", out)
+
+    def test_ros2_parameters_file_is_named(self):
+        code, out = self.run_driver("/bad6", {"base_driver": {"ros__parameters": self.good_robot()}})
+        self.assertEqual(code, 1, out)
+        self.assertIn("ROS 2 parameters file", out)
+        self.assertIn("base_driver/ros__parameters", out)
+
+    def test_alias_bomb_is_bounded(self):
+        # What YAML aliases expand to: 12^4 = 20736 values under one drive, past the reader's bound.
+        leaf = [1.0] * 12
+        for _ in range(3):
+            leaf = [leaf] * 12
+        robot = self.good_robot()
+        robot["motor_drives"]["drive0"]["lol"] = leaf
+        start = time.monotonic()
+        code, out = self.run_driver("/bad7", robot)
+        self.assertEqual(code, 1, out)
+        self.assertIn("expands to more than 20000 values", out)
+        self.assertLess(time.monotonic() - start, 25.0)
 
 
 if __name__ == "__main__":

@@ -217,7 +217,19 @@ TEST(RobotConfig, MessagesSayWhatWasFound) {
 TEST(RobotConfig, UnknownKeysAreWarnedAtEveryLevel) {
   const RobotConfig c = parse(std::string("motor_drives: {drive0: ") + kDrive + "}\ncaster: {c0: {x: -0.5, y: 0.0}}\n" +
                               "casters: {c1: {x: -0.5, y: 0.1, radius: 0.1}}\n");
-  EXPECT_THAT(c.warnings, testing::Contains(testing::HasSubstr("caster: unknown top-level key")));
+  EXPECT_THAT(c.warnings, testing::Contains(testing::HasSubstr("caster: unknown top-level key, ignored (did you "
+                                                               "mean 'casters'?)")));
   EXPECT_THAT(c.warnings, testing::Contains(testing::HasSubstr("casters.c1.radius: unknown key")));
   EXPECT_TRUE(c.casters.size() == 1u);
+}
+
+TEST(RobotConfig, NearestGroupNames) {
+  EXPECT_EQ(thorvald_base::nearestRobotFileGroup("caster"), "casters");
+  EXPECT_EQ(thorvald_base::nearestRobotFileGroup("motor_drive"), "motor_drives");
+  EXPECT_EQ(thorvald_base::nearestRobotFileGroup("passive_wheel"), "passive_wheels");
+  EXPECT_EQ(thorvald_base::nearestRobotFileGroup("pipes"), "pipes");
+  EXPECT_EQ(thorvald_base::nearestRobotFileGroup("robot_description"), "");
+  EXPECT_EQ(thorvald_base::nearestRobotFileGroup("tf_prefix"), "");
+  EXPECT_EQ(thorvald_base::nearestRobotFileGroup("base_driver"), "");
+  EXPECT_EQ(thorvald_base::nearestRobotFileGroup("id"), "");
 }

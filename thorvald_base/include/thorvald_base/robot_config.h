@@ -114,6 +114,10 @@ constexpr size_t kMaxModulesPerGroup = 256;
 /// Plugin name used when a robot file names none.
 constexpr const char* kDefaultBaseCalculator = "pltf_clc_std::PltfClcStd";
 
+/// The module group a top-level key most likely means ("caster" -> "casters", "motor_drive" -> "motor_drives"),
+/// the key itself when it is a group, "" when it resembles none.
+std::string nearestRobotFileGroup(const std::string& key);
+
 /// Parses a robot file already read into a YAML tree. `source` names it in errors. Throws ConfigError.
 RobotConfig parseRobotConfig(const YAML::Node& root, const std::string& source);
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "thorvald_base/ros/param_reader.h"
 #include "thorvald_base/ros/robot_config_params.h"
 #include "thorvald_base/simulated_drive.h"
 
@@ -32,25 +33,42 @@ boost::array<double, 36> covariance6(const Eigen::Matrix3d& c) {
 }  // namespace
 
 BaseDriverRos::BaseDriverRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), pnh_(pnh), diagnostics_(nh, pnh) {
-  RobotConfig config = robotConfigFromParams(nh_);
+  ParamReader params(pnh_);
+  RobotConfig config = robotConfigFromParams(nh_, params.text("robot_file", ""));
   for (const auto& w : config.warnings) ROS_WARN_STREAM(w);
 
-  tf_prefix_ = param<std::string>(pnh_, "tf_prefix", "");
+  tf_prefix_ = params.text("tf_prefix", "");
   if (tf_prefix_.empty()) {
     std::string key;
     if (nh_.searchParam("tf_prefix", key)) nh_.getParam(key, tf_prefix_);
   }
   while (!tf_prefix_.empty() && tf_prefix_.front() == '/') tf_prefix_.erase(0, 1);
-  simple_sim_ = param(pnh_, "simple_sim", true);
-  enable_odom_tf_ = param(pnh_, "enable_odom_tf", true);
-  relay_max_per_cycle_ = param(pnh_, "relay_max_frames_per_cycle", 20);
-  const double rate = param(pnh_, "rate", 50.0);
-  if (!(rate > 0.0 && rate <= 1000.0)) throw ConfigError("base_driver", "~rate", "must be in (0, 1000] Hz");
+  simple_sim_ = params.flag("simple_sim", true);
+  enable_odom_tf_ = params.flag("enable_odom_tf", true);
+  relay_max_per_cycle_ = params.integer("relay_max_frames_per_cycle", 20, 1, 1000);
+  const double rate = params.number("rate", 50.0, ParamRange::aboveUpTo(0.0, 1000.0), "Hz");
 
   BaseDriverOptions options;
-  options.cmd_vel_timeout_s = param(pnh_, "cmd_vel_timeout", 0.5);
-  options.calculator.estimator = param<std::string>(pnh_, "odometry_estimator", "least_squares");
-  options.calculator.seed = static_cast<unsigned>(param(pnh_, "estimator_seed", 1));
+  options.cmd_vel_timeout_s = params.number("cmd_vel_timeout", 0.5, ParamRange::aboveUpTo(0.0, 60.0), "s");
+  options.calculator.estimator =
+      params.choice("odometry_estimator", "least_squares", {"least_squares", "random_pairs"});
+  options.calculator.seed = static_cast<unsigned>(params.integer("estimator_seed", 1, 0));
+  SimulatedDriveOptions sim;
+  sim.speed_noise_radps = params.number("sim_speed_noise", 0.0, ParamRange::closed(0.0, 10.0), "rad/s");
+  sim.steering_noise_rad = params.number("sim_steering_noise", 0.0, ParamRange::closed(0.0, 0.5), "rad");
+  const int sim_seed = params.integer("sim_seed", 1, 0);
+  const std::string hardware_plugin = params.text("hardware_plugin", "thorvald_can_devices/CanBaseHardware");
+  const std::string can_type = params.text("can_interface_type", "socketcan");
+  const std::string can_name = params.text("can_interface_name", "can0");
+  // Read below by readLimitsAndBatteryPolicy, readRelayAllowList and diagnostic_updater.
+  for (const char* name :
+       {"max_linear_speed", "max_angular_speed", "max_linear_acceleration", "max_angular_acceleration",
+        "battery_under_voltage", "battery_over_temperature", "battery_lost_timeout", "battery_slow_linear_speed",
+        "battery_slow_angular_speed", "battery_under_voltage_action", "battery_over_temperature_action",
+        "battery_lost_action", "relay_allowed_ids", "diagnostic_period"}) {
+    params.alsoRead(name);
+  }
+  params.finish();
   readLimitsAndBatteryPolicy(options);
 
   calculator_loader_ =
@@ -66,16 +84,12 @@ BaseDriverRos::BaseDriverRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh),
   std::vector<std::unique_ptr<MotorDrive>> drives;
   std::vector<std::unique_ptr<Battery>> batteries;
   if (simple_sim_) {
-    SimulatedDriveOptions sim;
-    sim.speed_noise_radps = param(pnh_, "sim_speed_noise", 0.0);
-    sim.steering_noise_rad = param(pnh_, "sim_steering_noise", 0.0);
-    const int seed = param(pnh_, "sim_seed", 1);
     for (const auto& d : config.drives) {
-      sim.seed = static_cast<unsigned>(seed + d.index);
+      sim.seed = static_cast<unsigned>(sim_seed + d.index);
       drives.push_back(std::make_unique<SimulatedDrive>(d, sim));
     }
   } else {
-    const std::string plugin = param<std::string>(pnh_, "hardware_plugin", "thorvald_can_devices/CanBaseHardware");
+    const std::string& plugin = hardware_plugin;
     hardware_loader_ =
         std::make_unique<pluginlib::ClassLoader<BaseHardware>>("thorvald_base", "thorvald_base::BaseHardware");
     try {
@@ -83,8 +97,7 @@ BaseDriverRos::BaseDriverRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh),
     } catch (const pluginlib::PluginlibException& e) {
       throw std::runtime_error("cannot load hardware plugin '" + plugin + "' (~hardware_plugin): " + e.what());
     }
-    hardware_->initialize(config, param<std::string>(pnh_, "can_interface_type", "socketcan"),
-                          param<std::string>(pnh_, "can_interface_name", "can0"));
+    hardware_->initialize(config, can_type, can_name);
     drives = hardware_->takeDrives();
     batteries = hardware_->takeBatteries();
   }
