@@ -46,6 +46,8 @@ inline RoverControllerParams loadRoverParams(const ros::NodeHandle& nh) {
   d.integral_limit_mps = readDouble(nh, "deadband/integral_limit_mps", d.integral_limit_mps);
   d.actuator_rate_pwm_per_s = readDouble(nh, "deadband/actuator_rate_pwm_per_s", d.actuator_rate_pwm_per_s);
   d.flow_lag_s = readDouble(nh, "deadband/flow_lag_s", d.flow_lag_s);
+  d.edge_learning_pwm_per_s = readDouble(nh, "deadband/edge_learning_pwm_per_s", d.edge_learning_pwm_per_s);
+  d.max_edge_correction_pwm = readDouble(nh, "deadband/max_edge_correction_pwm", d.max_edge_correction_pwm);
   d.stop_tolerance_m = readDouble(nh, "deadband/stop_tolerance_m", d.stop_tolerance_m);
   d.restart_tolerance_m = readDouble(nh, "deadband/restart_tolerance_m", d.restart_tolerance_m);
   p.pid.kp = readDouble(nh, "kp", p.pid.kp);

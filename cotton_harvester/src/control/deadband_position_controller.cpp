@@ -16,6 +16,8 @@ std::string DeadbandControllerParams::check() const {
     return "position_gain > 0, integral_gain >= 0, integral_limit_mps >= 0 expected";
   if (!(speed_filter_s >= 0.0 && flow_lag_s >= 0.0)) return "speed_filter_s, flow_lag_s: expected >= 0";
   if (!(actuator_rate_pwm_per_s > 0.0)) return "actuator_rate_pwm_per_s: expected > 0";
+  if (!(edge_learning_pwm_per_s >= 0.0 && max_edge_correction_pwm >= 0.0))
+    return "edge_learning_pwm_per_s, max_edge_correction_pwm: expected >= 0";
   if (!(stop_tolerance_m > 0.0 && restart_tolerance_m >= stop_tolerance_m))
     return "tolerances: expected 0 < stop_tolerance_m <= restart_tolerance_m";
   return "";
@@ -54,8 +56,10 @@ void DeadbandPositionController::reset() {
 double DeadbandPositionController::pwmForSpeed(double speed_mps) const {
   if (!(std::abs(speed_mps) > 0.0)) return params_.neutral_pwm;
   if (speed_mps > 0.0)
-    return std::min(params_.pwm_max, params_.forward_edge_pwm + speed_mps / params_.forward_mps_per_pwm);
-  return std::max(params_.pwm_min, params_.reverse_edge_pwm + speed_mps / params_.reverse_mps_per_pwm);
+    return std::min(params_.pwm_max,
+                    params_.forward_edge_pwm + forward_correction_pwm_ + speed_mps / params_.forward_mps_per_pwm);
+  return std::max(params_.pwm_min,
+                  params_.reverse_edge_pwm - reverse_correction_pwm_ + speed_mps / params_.reverse_mps_per_pwm);
 }
 
 void DeadbandPositionController::advanceProfile(double dt_s) {
@@ -144,6 +148,15 @@ double DeadbandPositionController::update(double position_m, double dt_s) {
 }
 
 double DeadbandPositionController::send(double pwm, double dt_s) {
+  // Edge learning: the actuator sits at a command past an edge and the rover stands still.
+  const bool settled = std::abs(actuator_pwm_ - pwm) < 0.5;
+  if (settled && std::abs(speed_mps_) < 0.005) {
+    const double step = params_.edge_learning_pwm_per_s * dt_s;
+    if (pwm > params_.forward_edge_pwm)
+      forward_correction_pwm_ = std::min(params_.max_edge_correction_pwm, forward_correction_pwm_ + step);
+    else if (pwm < params_.reverse_edge_pwm)
+      reverse_correction_pwm_ = std::min(params_.max_edge_correction_pwm, reverse_correction_pwm_ + step);
+  }
   // The actuator cannot follow faster than its slew: the command the model tracks is what it will reach.
   const double step = params_.actuator_rate_pwm_per_s * dt_s;
   actuator_pwm_ += std::clamp(pwm - actuator_pwm_, -step, step);

@@ -48,12 +48,21 @@ class HarvestSimTest(unittest.TestCase):
                 break
             time.sleep(0.1)
         self.assertTrue(done, "the harvest did not end: %s" % seen["status"])
-        time.sleep(1.5)  # final metrics
+        # The final metrics: the next message published after the end.
+        with lock:
+            seen["metrics"] = None
+        deadline = time.monotonic() + 10.0
+        while time.monotonic() < deadline and not rospy.is_shutdown():
+            with lock:
+                if seen["metrics"] is not None:
+                    break
+            time.sleep(0.05)
         with lock:
             status, metrics, remaining, states = seen["status"], seen["metrics"], seen["remaining"], seen["states"]
         self.assertEqual(status.last_outcome, "finished")
         self.assertIn("OBSERVE", states)
         self.assertIn("PICK", states)
+        self.assertIsNotNone(metrics, "no harvest/metrics after the end")
         values = {kv.key: kv.value for kv in metrics.values}
         picked = int(values["picked"])
         self.assertGreaterEqual(picked, 1)

@@ -24,8 +24,12 @@ struct DeadbandControllerParams {
   double speed_filter_s = 0.1;              ///< low-pass time constant of the encoder speed [s]
   double actuator_rate_pwm_per_s = 12.0;    ///< slew rate of the swashplate's linear actuator [servo units/s]
   double flow_lag_s = 0.4;                  ///< first-order lag of the wheel speed behind the swashplate [s]
-  double stop_tolerance_m = 0.01;           ///< at rest within this of the target: hold the neutral [m]
-  double restart_tolerance_m = 0.04;        ///< at rest farther than this from the target: move again [m]
+  /// The deadband's edges are learnt: while a command past an edge has reached the actuator and the rover does not
+  /// move, that edge is moved outwards at this rate, up to max_edge_correction_pwm [servo units/s].
+  double edge_learning_pwm_per_s = 2.0;
+  double max_edge_correction_pwm = 6.0;  ///< [servo units]
+  double stop_tolerance_m = 0.01;        ///< at rest within this of the target: hold the neutral [m]
+  double restart_tolerance_m = 0.04;     ///< at rest farther than this from the target: move again [m]
 
   /// Empty when sound, otherwise "key: expected ...".
   std::string check() const;
@@ -59,6 +63,8 @@ class DeadbandPositionController {
   double referenceSpeedMps() const { return reference_mps_; }
   double speedMps() const { return speed_mps_; }
   double targetM() const { return target_m_; }
+  double forwardEdgeCorrectionPwm() const { return forward_correction_pwm_; }
+  double reverseEdgeCorrectionPwm() const { return reverse_correction_pwm_; }
   bool atRest() const { return at_rest_; }
   /// Servo PWM for a wanted speed [m/s]: the inverse of the deadband map (neutral for 0).
   double pwmForSpeed(double speed_mps) const;
@@ -78,7 +84,9 @@ class DeadbandPositionController {
   double last_position_m_ = 0.0;
   double speed_mps_ = 0.0;
   double integral_mps_ = 0.0;
-  double actuator_pwm_ = 0.0;  ///< the actuator's position as the sent commands and its slew predict
+  double actuator_pwm_ = 0.0;            ///< the actuator's position as the sent commands and its slew predict
+  double forward_correction_pwm_ = 0.0;  ///< learnt outward shift of the forward edge
+  double reverse_correction_pwm_ = 0.0;  ///< learnt outward shift of the reverse edge
 };
 
 }  // namespace control
