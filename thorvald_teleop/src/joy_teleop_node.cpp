@@ -36,16 +36,16 @@ geometry_msgs::Twist toTwist(const VelocityCommand& c) {
 /// homing result crosses threads, under `home_mutex_`.
 class JoyTeleopNode {
  public:
-  JoyTeleopNode(ros::NodeHandle nh, ros::NodeHandle pnh)
+  /// Reads its parameters through `params` (the caller finishes the reader once the node is built).
+  JoyTeleopNode(ros::NodeHandle nh, ros::NodeHandle pnh, thorvald_base::ParamReader& params)
       : nh_(nh),
         pnh_(pnh),
-        teleop_(
-            loadTeleopConfig([this](const std::string& key, XmlRpc::XmlRpcValue& v) { return pnh_.getParam(key, v); })),
+        teleop_(loadTeleopConfig(
+            params, [this](const std::string& key, XmlRpc::XmlRpcValue& v) { return pnh_.getParam(key, v); })),
         updater_(nh_, pnh_) {
-    double check_rate_hz = 50.0;
-    pnh_.param("deadman_check_rate", check_rate_hz, check_rate_hz);
-    if (!(check_rate_hz > 0.0)) throw std::runtime_error("~deadman_check_rate must be > 0 [Hz]");
-    // Latched as in teleop_twist_joy: a subscriber connecting late (a restarted mux) gets the last command.
+    const double check_rate_hz =
+        params.number("deadman_check_rate", 50.0, thorvald_base::ParamRange::aboveUpTo(0.0, 1000.0), "Hz");
+    params.alsoRead("diagnostic_period");  // diagnostic_updater's
     cmd_pub_ = nh_.advertise<geometry_msgs::Twist>("cmd_vel", 1, true);
     priority_pub_ = nh_.advertise<std_msgs::Bool>("teleop_joy/joy_priority", 1, true);
     // Queue of 10, not 1: button presses are edges, so no Joy message may be dropped.
@@ -166,9 +166,12 @@ int main(int argc, char** argv) {
   ros::NodeHandle nh;  // outlives the try block: the last handle's destruction shuts logging down
   ros::NodeHandle pnh("~");
   try {
-    thorvald_teleop::JoyTeleopNode node(nh, pnh);
+    thorvald_base::ParamReader params(pnh);
+    thorvald_teleop::JoyTeleopNode node(nh, pnh, params);
+    params.finish();  // warns about unread (misspelt) parameters, logs the effective values
     ros::spin();
   } catch (const std::exception& e) {
+    if (ros::isShuttingDown()) return 0;  // stopped during start-up
     ROS_FATAL("joy_teleop cannot start: %s", e.what());
     return 1;
   }

@@ -9,6 +9,7 @@
 
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <ros/ros.h>
+#include <thorvald_base/ros/param_reader.h>
 #include <sensor_msgs/Joy.h>
 
 #include "thorvald_teleop/stop_signals.h"
@@ -27,23 +28,23 @@ struct JoystickParams {
 };
 
 JoystickParams loadParams(ros::NodeHandle& pnh) {
+  using thorvald_base::ParamRange;
+  thorvald_base::ParamReader params(pnh);
   JoystickParams p;
-  pnh.param("dev", p.dev, p.dev);
-  pnh.param("deadzone", p.deadzone, p.deadzone);
-  pnh.param("autorepeat_rate", p.autorepeat_rate_hz, p.autorepeat_rate_hz);
-  pnh.param("coalesce_interval", p.coalesce_interval_s, p.coalesce_interval_s);
-  pnh.param("retry_interval", p.retry_interval_s, p.retry_interval_s);
-  if (p.dev.empty()) throw std::runtime_error("~dev is empty, expected a device path such as /dev/input/js0");
-  if (!(p.deadzone >= 0.0 && p.deadzone < 1.0)) throw std::runtime_error("~deadzone must be in [0, 1)");
-  if (!(p.autorepeat_rate_hz >= 0.0 && p.autorepeat_rate_hz <= 1000.0)) {
-    throw std::runtime_error("~autorepeat_rate must be in [0, 1000] Hz (0 = off)");
+  p.dev = params.text("dev", p.dev);
+  p.deadzone = params.number("deadzone", p.deadzone, ParamRange{0.0, 1.0, false, true});
+  p.autorepeat_rate_hz =
+      params.number("autorepeat_rate", p.autorepeat_rate_hz, ParamRange::closed(0.0, 1000.0), "Hz, 0 = off");
+  p.coalesce_interval_s =
+      params.number("coalesce_interval", p.coalesce_interval_s, ParamRange{0.0, 1.0, false, true}, "s");
+  p.retry_interval_s = params.number("retry_interval", p.retry_interval_s, ParamRange::aboveUpTo(0.0, 60.0), "s");
+  if (p.dev.empty()) {
+    throw thorvald_base::ParamError(params.node() +
+                                    ": parameter ~dev: found an empty string, expected a device path such as "
+                                    "/dev/input/js0");
   }
-  if (!(p.coalesce_interval_s >= 0.0 && p.coalesce_interval_s < 1.0)) {
-    throw std::runtime_error("~coalesce_interval must be in [0, 1) s");
-  }
-  if (!(p.retry_interval_s > 0.0 && p.retry_interval_s <= 60.0)) {
-    throw std::runtime_error("~retry_interval must be in (0, 60] s");
-  }
+  params.alsoRead("diagnostic_period");  // diagnostic_updater's
+  params.finish();
   return p;
 }
 
@@ -192,6 +193,7 @@ int main(int argc, char** argv) {
     thorvald_teleop::JoystickNode node(nh, pnh);
     node.run();
   } catch (const std::exception& e) {
+    if (ros::isShuttingDown()) return 0;  // stopped during start-up
     ROS_FATAL("joystick cannot start: %s", e.what());
     return 1;
   }

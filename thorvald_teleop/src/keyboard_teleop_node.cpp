@@ -10,6 +10,7 @@
 
 #include <geometry_msgs/Twist.h>
 #include <ros/ros.h>
+#include <thorvald_base/ros/param_reader.h>
 
 #include "thorvald_teleop/key_decoder.h"
 #include "thorvald_teleop/keyboard_command.h"
@@ -51,18 +52,29 @@ geometry_msgs::Twist toTwist(const VelocityCommand& c) {
   return t;
 }
 
-KeyboardConfig loadConfig(ros::NodeHandle& pnh) {
-  KeyboardConfig c;
-  pnh.param("linear_speed_max", c.linear_speed_max, c.linear_speed_max);
-  pnh.param("angular_speed_max", c.angular_speed_max, c.angular_speed_max);
-  pnh.param("gain", c.gain, c.gain);
-  pnh.param("gain_step", c.gain_step, c.gain_step);
-  pnh.param("gain_min", c.gain_min, c.gain_min);
-  pnh.param("gain_max", c.gain_max, c.gain_max);
-  pnh.param("key_timeout", c.key_timeout_s, c.key_timeout_s);
+struct KeyboardParams {
+  KeyboardConfig config;
+  double repeat_rate_hz = 10.0;  ///< [Hz] a held (latched) command is republished at this rate
+};
+
+KeyboardParams loadParams(ros::NodeHandle& pnh) {
+  using thorvald_base::ParamRange;
+  thorvald_base::ParamReader params(pnh);
+  KeyboardParams p;
+  KeyboardConfig& c = p.config;
+  c.linear_speed_max = params.number("linear_speed_max", c.linear_speed_max, ParamRange::aboveUpTo(0.0, 10.0), "m/s");
+  c.angular_speed_max =
+      params.number("angular_speed_max", c.angular_speed_max, ParamRange::aboveUpTo(0.0, 10.0), "rad/s");
+  c.gain = params.number("gain", c.gain, ParamRange::above(0.0));
+  c.gain_step = params.number("gain_step", c.gain_step, ParamRange::above(0.0));
+  c.gain_min = params.number("gain_min", c.gain_min, ParamRange::above(0.0));
+  c.gain_max = params.number("gain_max", c.gain_max, ParamRange::above(0.0));
+  c.key_timeout_s = params.number("key_timeout", c.key_timeout_s, ParamRange::closed(0.0, 60.0), "s, 0 = off");
+  p.repeat_rate_hz = params.number("repeat_rate", p.repeat_rate_hz, ParamRange::aboveUpTo(0.0, 1000.0), "Hz");
   const std::string error = validateKeyboardConfig(c);
-  if (!error.empty()) throw std::runtime_error("~" + error);
-  return c;
+  if (!error.empty()) throw thorvald_base::ParamError(params.node() + ": ~" + error);
+  params.finish();
+  return p;
 }
 
 void print(const std::string& text) {
@@ -76,10 +88,9 @@ int run(ros::NodeHandle& nh, ros::NodeHandle& pnh, StopSignals& stop_signals) {
   if (stopping()) return 0;  // stopped while roscpp was still waiting for the master: nothing was published
   // From here on the loop watches the signal flag and publishes a final stop while roscpp still runs.
   stop_signals.setOnSignal(nullptr);
-  const KeyboardConfig config = loadConfig(pnh);
-  double repeat_rate_hz = 10.0;
-  pnh.param("repeat_rate", repeat_rate_hz, repeat_rate_hz);
-  if (!(repeat_rate_hz > 0.0)) throw std::runtime_error("~repeat_rate must be > 0 [Hz]");
+  const KeyboardParams params = loadParams(pnh);
+  const KeyboardConfig& config = params.config;
+  const double repeat_rate_hz = params.repeat_rate_hz;
   ros::Publisher pub = nh.advertise<geometry_msgs::Twist>("cmd_vel", 1);
   KeyboardCommand command(config);
   KeyDecoder decoder;

@@ -4,11 +4,14 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace thorvald_teleop {
 namespace {
 
 using XmlRpc::XmlRpcValue;
+
+constexpr int kMaxButton = 255;  ///< highest button index accepted (pads have a few dozen at most)
 
 const std::map<std::string, TwistField> kLinearKeys = {
     {"x", TwistField::kLinearX}, {"y", TwistField::kLinearY}, {"z", TwistField::kLinearZ}};
@@ -20,28 +23,6 @@ bool isNumber(const XmlRpcValue& v) {
 }
 double toDouble(XmlRpcValue& v) {
   return v.getType() == XmlRpcValue::TypeInt ? static_cast<int>(v) : static_cast<double>(v);
-}
-
-int readInt(const ParamLookup& lookup, const std::string& key, int fallback) {
-  XmlRpcValue v;
-  if (!lookup(key, v)) return fallback;
-  if (v.getType() != XmlRpcValue::TypeInt)
-    throw std::runtime_error("~" + key + " must be an integer index (-1 = none)");
-  return static_cast<int>(v);
-}
-
-double readDouble(const ParamLookup& lookup, const std::string& key, double fallback) {
-  XmlRpcValue v;
-  if (!lookup(key, v)) return fallback;
-  if (!isNumber(v)) throw std::runtime_error("~" + key + " must be a number");
-  return toDouble(v);
-}
-
-bool readBool(const ParamLookup& lookup, const std::string& key, bool fallback) {
-  XmlRpcValue v;
-  if (!lookup(key, v)) return fallback;
-  if (v.getType() != XmlRpcValue::TypeBoolean) throw std::runtime_error("~" + key + " must be true or false");
-  return static_cast<bool>(v);
 }
 
 std::string keyList(const std::map<std::string, TwistField>& keys) {
@@ -126,41 +107,40 @@ void readGroup(const ParamLookup& lookup, const Group& g, TwistJoyMapping& m) {
   if (!turbo_given && g.scalar_field == TwistField::kAngularYaw) f.scale_turbo = f.scale;
 }
 
-void readMapping(const ParamLookup& lookup, TwistJoyMapping& m) {
-  m.enable_button = readInt(lookup, "enable_button", m.enable_button);
-  m.enable_turbo_button = readInt(lookup, "enable_turbo_button", m.enable_turbo_button);
-  m.require_enable_button = readBool(lookup, "require_enable_button", m.require_enable_button);
+void readMapping(thorvald_base::ParamReader& params, const ParamLookup& lookup, TwistJoyMapping& m) {
+  m.enable_button = params.integer("enable_button", m.enable_button, -1, kMaxButton);
+  m.enable_turbo_button = params.integer("enable_turbo_button", m.enable_turbo_button, -1, kMaxButton);
+  m.require_enable_button = params.flag("require_enable_button", m.require_enable_button);
+  // The axis and scale maps are read here from their raw values; the reader counts them as read.
+  for (const char* key :
+       {"axis_linear", "scale_linear", "scale_linear_turbo", "axis_angular", "scale_angular", "scale_angular_turbo"}) {
+    params.has(key);
+  }
   readGroup(lookup, {kLinearKeys, TwistField::kLinearX, "axis_linear", "scale_linear", "scale_linear_turbo"}, m);
   readGroup(lookup, {kAngularKeys, TwistField::kAngularYaw, "axis_angular", "scale_angular", "scale_angular_turbo"}, m);
 }
 
 }  // namespace
 
-JoyTeleopConfig loadTeleopConfig(const ParamLookup& lookup) {
+JoyTeleopConfig loadTeleopConfig(thorvald_base::ParamReader& params, const ParamLookup& lookup) {
+  using thorvald_base::ParamRange;
   JoyTeleopConfig c;
-  readMapping(lookup, c.mapping);
+  readMapping(params, lookup, c.mapping);
   TeleopButtons& b = c.buttons;
-  b.mode_omni = readInt(lookup, "mode_button_omni", b.mode_omni);
-  b.mode_drive = readInt(lookup, "mode_button_drive", b.mode_drive);
-  b.mode_turn = readInt(lookup, "mode_button_turn", b.mode_turn);
-  b.gain_up = readInt(lookup, "gain_up_button", b.gain_up);
-  b.gain_down = readInt(lookup, "gain_down_button", b.gain_down);
-  b.priority = readInt(lookup, "priority_button", b.priority);
-  b.home_steering = readInt(lookup, "home_steering_button", b.home_steering);
-  c.gain.initial = readDouble(lookup, "gain", c.gain.initial);
-  c.gain.min = readDouble(lookup, "gain_min", c.gain.min);
-  c.gain.max = readDouble(lookup, "gain_max", c.gain.max);
-  c.gain.step = readDouble(lookup, "gain_step", c.gain.step);
-  c.joy_timeout_s = readDouble(lookup, "joy_timeout", c.joy_timeout_s);
-  XmlRpcValue mode;
-  if (lookup("initial_mode", mode)) {
-    const auto parsed =
-        mode.getType() == XmlRpcValue::TypeString ? parseDriveMode(static_cast<std::string>(mode)) : std::nullopt;
-    if (!parsed) throw std::runtime_error("~initial_mode must be one of omni, drive, turn");
-    c.initial_mode = *parsed;
-  }
+  const std::pair<const char*, int*> buttons[] = {
+      {"mode_button_omni", &b.mode_omni},        {"mode_button_drive", &b.mode_drive},
+      {"mode_button_turn", &b.mode_turn},        {"gain_up_button", &b.gain_up},
+      {"gain_down_button", &b.gain_down},        {"priority_button", &b.priority},
+      {"home_steering_button", &b.home_steering}};
+  for (const auto& [key, button] : buttons) *button = params.integer(key, *button, -1, kMaxButton);
+  c.gain.initial = params.number("gain", c.gain.initial, ParamRange::above(0.0));
+  c.gain.min = params.number("gain_min", c.gain.min, ParamRange::above(0.0));
+  c.gain.max = params.number("gain_max", c.gain.max, ParamRange::above(0.0));
+  c.gain.step = params.number("gain_step", c.gain.step, ParamRange::above(0.0));
+  c.joy_timeout_s = params.number("joy_timeout", c.joy_timeout_s, ParamRange::closed(0.0, 60.0), "s, 0 = off");
+  c.initial_mode = *parseDriveMode(params.choice("initial_mode", "omni", {"omni", "drive", "turn"}));
   const std::string error = validateTeleopConfig(c);
-  if (!error.empty()) throw std::runtime_error(error);
+  if (!error.empty()) throw thorvald_base::ParamError(params.node() + ": " + error);
   return c;
 }
 

@@ -2,8 +2,10 @@
 
 #include <initializer_list>
 #include <map>
+#include <memory>
 #include <stdexcept>
 #include <utility>
+#include <vector>
 
 #include "../src/teleop_params.h"
 
@@ -12,13 +14,36 @@ using XmlRpc::XmlRpcValue;
 
 namespace {
 
-JoyTeleopConfig load(std::map<std::string, XmlRpcValue> params) {
-  return loadTeleopConfig([&](const std::string& key, XmlRpcValue& v) {
+/// Private parameters from a map, as the parameter server would give them.
+class MapSource : public thorvald_base::ParamSource {
+ public:
+  explicit MapSource(std::map<std::string, XmlRpcValue> params) : params_(std::move(params)) {}
+  bool get(const std::string& name, XmlRpcValue& value) const override {
+    const auto it = params_.find(name);
+    if (it == params_.end()) return false;
+    value = it->second;
+    return true;
+  }
+  std::vector<std::string> names() const override {
+    std::vector<std::string> out;
+    for (const auto& p : params_) out.push_back(p.first);
+    return out;
+  }
+
+ private:
+  std::map<std::string, XmlRpcValue> params_;
+};
+
+JoyTeleopConfig load(const std::map<std::string, XmlRpcValue>& params, std::vector<std::string>* unread = nullptr) {
+  thorvald_base::ParamReader reader(std::make_unique<MapSource>(params), "/joy_teleop");
+  const JoyTeleopConfig c = loadTeleopConfig(reader, [&](const std::string& key, XmlRpcValue& v) {
     const auto it = params.find(key);
     if (it == params.end()) return false;
     v = it->second;
     return true;
   });
+  if (unread) *unread = reader.unread();
+  return c;
 }
 
 std::string errorOf(std::map<std::string, XmlRpcValue> params) {
@@ -135,8 +160,21 @@ TEST(TeleopParams, ErrorsNameTheKey) {
   EXPECT_EQ(errorOf({{"axis_angular", XmlRpcValue(0.5)}}),
             "~axis_angular must be an axis index or a map over pitch, roll, yaw");
   EXPECT_EQ(errorOf({{"axis_linear", fieldMap({{"x", 0.5}})}}), "~axis_linear/x must be an axis index");
-  EXPECT_NE(errorOf({{"enable_button", XmlRpcValue("LB")}}).find("~enable_button must be an integer"),
-            std::string::npos);
-  EXPECT_NE(errorOf({{"initial_mode", XmlRpcValue("sideways")}}).find("omni, drive, turn"), std::string::npos);
-  EXPECT_NE(errorOf({{"gain", XmlRpcValue(3.0)}}).find("gain is 3"), std::string::npos);
+  EXPECT_EQ(errorOf({{"enable_button", XmlRpcValue("LB")}}),
+            "/joy_teleop: parameter ~enable_button: found the string 'LB', expected an integer in [-1, 255]");
+  EXPECT_EQ(errorOf({{"initial_mode", XmlRpcValue("sideways")}}),
+            "/joy_teleop: parameter ~initial_mode: found the string 'sideways', expected one of 'omni', 'drive', "
+            "'turn'");
+  EXPECT_EQ(errorOf({{"joy_timeout", XmlRpcValue(-0.5)}}),
+            "/joy_teleop: parameter ~joy_timeout: found the number -0.5, expected a number in [0, 60] [s, 0 = off]");
+  EXPECT_EQ(errorOf({{"require_enable_button", XmlRpcValue("no")}}),
+            "/joy_teleop: parameter ~require_enable_button: found the string 'no', expected true or false");
+  EXPECT_NE(errorOf({{"gain", XmlRpcValue(3.0)}}).find("/joy_teleop: gain is 3"), std::string::npos);
+}
+
+TEST(TeleopParams, UnreadParametersAreReported) {
+  std::vector<std::string> unread;
+  load({{"scale_linaer", XmlRpcValue(1.0)}, {"axis_linear", fieldMap({{"x", 1}})}, {"gain", XmlRpcValue(0.5)}},
+       &unread);
+  EXPECT_EQ(unread, std::vector<std::string>{"scale_linaer"});
 }

@@ -14,28 +14,31 @@ bool isFinite(const geometry_msgs::Twist& t) {
          std::isfinite(t.angular.x) && std::isfinite(t.angular.y) && std::isfinite(t.angular.z);
 }
 
-MuxOptions readOptions(ros::NodeHandle& pnh) {
+MuxOptions readOptions(thorvald_base::ParamReader& params) {
   MuxOptions o;
-  pnh.param("zero_on_loss", o.zero_on_loss, o.zero_on_loss);
-  pnh.param("use_stamped", o.use_stamped, o.use_stamped);
-  pnh.param("publish_marker", o.publish_marker, o.publish_marker);
-  pnh.param("frame_id", o.frame_id, o.frame_id);
-  pnh.param("check_rate", o.check_rate_hz, o.check_rate_hz);
+  o.zero_on_loss = params.flag("zero_on_loss", o.zero_on_loss);
+  o.use_stamped = params.flag("use_stamped", o.use_stamped);
+  o.publish_marker = params.flag("publish_marker", o.publish_marker);
+  o.frame_id = params.text("frame_id", o.frame_id);
+  o.check_rate_hz =
+      params.number("check_rate", o.check_rate_hz, thorvald_base::ParamRange::aboveUpTo(0.0, 1000.0), "Hz");
   const std::string error = validateMuxOptions(o);
-  if (!error.empty()) throw std::runtime_error(error);
+  if (!error.empty()) throw thorvald_base::ParamError(params.node() + ": " + error);
   return o;
 }
 
-MuxConfig readConfig(ros::NodeHandle& pnh, bool use_stamped) {
+/// twist_mux's `topics` and `locks` lists, read raw (either of twist_mux's forms) and counted as read.
+MuxConfig readConfig(thorvald_base::ParamReader& params, ros::NodeHandle& pnh, bool use_stamped) {
   MuxConfig config;
   XmlRpc::XmlRpcValue topics;
+  params.has("topics");
   if (!pnh.getParam("topics", topics)) {
     throw std::runtime_error("parameter " + pnh.resolveName("topics") +
                              " is missing, expected a list of {name, topic, timeout, priority}");
   }
   config.inputs = parseMuxEntries(topics, "topics", use_stamped);
   XmlRpc::XmlRpcValue locks;
-  if (pnh.getParam("locks", locks)) config.locks = parseMuxEntries(locks, "locks", false);
+  if (params.has("locks") && pnh.getParam("locks", locks)) config.locks = parseMuxEntries(locks, "locks", false);
   const std::string error = validateMuxConfig(config);
   if (!error.empty()) throw std::runtime_error(error);
   return config;
@@ -43,9 +46,10 @@ MuxConfig readConfig(ros::NodeHandle& pnh, bool use_stamped) {
 
 }  // namespace
 
-MuxNode::MuxNode(ros::NodeHandle nh, ros::NodeHandle pnh)
-    : nh_(nh), pnh_(pnh), options_(readOptions(pnh_)), updater_(nh_, pnh_) {
-  selector_ = std::make_unique<TwistSelector>(readConfig(pnh_, options_.use_stamped));
+MuxNode::MuxNode(ros::NodeHandle nh, ros::NodeHandle pnh, thorvald_base::ParamReader& params)
+    : nh_(nh), pnh_(pnh), options_(readOptions(params)), updater_(nh_, pnh_) {
+  selector_ = std::make_unique<TwistSelector>(readConfig(params, pnh_, options_.use_stamped));
+  params.alsoRead("diagnostic_period");  // diagnostic_updater's
   const MuxConfig& config = selector_->config();
   counters_.resize(config.inputs.size());
   lock_messages_.resize(config.locks.size(), 0);

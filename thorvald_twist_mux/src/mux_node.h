@@ -9,6 +9,7 @@
 #include <geometry_msgs/TwistStamped.h>
 #include <ros/ros.h>
 #include <std_msgs/Bool.h>
+#include <thorvald_base/ros/param_reader.h>
 
 #include "mux_params.h"
 #include "thorvald_twist_mux/twist_selector.h"
@@ -20,8 +21,9 @@ namespace thorvald_twist_mux {
 /// All callbacks run on the one spinner thread, so the selector needs no lock.
 class MuxNode {
  public:
-  /// Reads and validates parameters; throws std::runtime_error with the reason when the node cannot start.
-  MuxNode(ros::NodeHandle nh, ros::NodeHandle pnh);
+  /// Reads and validates parameters through `params` (the caller finishes the reader); throws
+  /// std::runtime_error (thorvald_base::ParamError for a mistyped option) with the reason when the node cannot start.
+  MuxNode(ros::NodeHandle nh, ros::NodeHandle pnh, thorvald_base::ParamReader& params);
 
  private:
   struct InputCounters {

@@ -15,7 +15,9 @@ int main(int argc, char** argv) {
   ros::NodeHandle pnh("~");
   if (!ros::ok()) return 0;  // stopped while waiting for the master
   try {
-    thorvald_twist_mux::MuxNode node(nh, pnh);
+    thorvald_base::ParamReader params(pnh);
+    thorvald_twist_mux::MuxNode node(nh, pnh, params);
+    params.finish();  // warns about unread (misspelt) parameters, logs the effective values
     ros::spin();
   } catch (const std::exception& e) {
     if (ros::isShuttingDown()) return 0;  // stopped during start-up: the parameters could not be read

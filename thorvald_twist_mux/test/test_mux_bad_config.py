@@ -13,7 +13,8 @@ CASES = {
     'duplicate_name': 'topics[1] (nav): duplicate name',
     'duplicate_lock': 'locks[1] (stop): duplicate name',
     'priority_range': 'priority is 300, expected an integer in 0..255',
-    'bad_rate': '~check_rate is 0',
+    'bad_rate': '/bad_rate: parameter ~check_rate: found the number 0, expected a number in (0, 1000] [Hz]',
+    'bad_flag': "/bad_flag: parameter ~zero_on_loss: found the string 'maybe', expected true or false",
     'no_topics': '/no_topics/topics is missing',
 }
 
