@@ -21,12 +21,12 @@ class BadConfig(unittest.TestCase):
                               text=True, timeout=30)
         return proc.returncode, proc.stdout + proc.stderr
 
-    def output_of_running_driver(self, ns, params, args, wanted, deadline_s=30.0):
+    def output_of_running_driver(self, ns, params, args, wanted, deadline_s=30.0, command=None):
         """Starts base_driver, collects its output until a line contains `wanted` (or the deadline), stops it."""
         rosparam.upload_params(ns, params)
-        env = dict(os.environ, ROS_NAMESPACE=ns)
-        proc = subprocess.Popen(["rosrun", "thorvald_base", "base_driver", *args], env=env, stdout=subprocess.PIPE,
-                                stderr=subprocess.STDOUT, text=True)
+        env = dict(os.environ) if command else dict(os.environ, ROS_NAMESPACE=ns)
+        proc = subprocess.Popen(command or ["rosrun", "thorvald_base", "base_driver", *args], env=env,
+                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         lines = []
         end = time.monotonic() + deadline_s
         try:
@@ -125,6 +125,31 @@ class BadConfig(unittest.TestCase):
         self.assertIn("expands to more than 20000 values", out)
         self.assertLess(time.monotonic() - start, 25.0)
 
+    def test_launch_file_clears_a_robot_file_loaded_before(self):
+        # A four-drive robot file left in the namespace, then the two-wheel differential robot through the launch
+        # file: without clearing, the drives would merge and base_driver would refuse them ("found 4").
+        four = {"motor_drives": {"drive%d" % i: self.drive(node=i + 1, x=(-0.5, 0.5)[i % 2], y=(-0.3, 0.3)[i // 2])
+                                 for i in range(4)}}
+        rosparam.upload_params("/leftover", four)
+        diff = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data", "field_quirks.yaml")
+        proc = subprocess.Popen(["roslaunch", "thorvald_base", "base_driver.launch", "robot_name:=leftover",
+                                 "robot_model:=" + diff], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        master = rosgraph.Master("/bad_config_test")
+        publishing = False
+        try:
+            end = time.monotonic() + 30.0
+            while time.monotonic() < end and not publishing and proc.poll() is None:
+                publishers = master.getSystemState()[0]
+                publishing = any(topic == "/leftover/odometry/base_raw" for topic, _ in publishers)
+                time.sleep(0.2)
+            self.assertTrue(publishing, "base_driver did not come up with the second robot file")
+            self.assertEqual(sorted(rosparam.get_param("/leftover/motor_drives").keys()), ["drive0", "drive1"])
+        finally:
+            proc.send_signal(signal.SIGINT)
+            try:
+                proc.wait(timeout=15)
+            except subprocess.TimeoutExpired:
+                proc.kill()
 
 if __name__ == "__main__":
     rospy.init_node("bad_config_test", anonymous=True)
