@@ -1,20 +1,29 @@
 // Real-time factor (simulated seconds per wall second) of the MuJoCo simulation with in-process base_drivers:
-// 1, 2, 4, 8 four-wheel-steered robots driving circles on flat ground; one greenhouse robot with a lidar
-// (40 Hz, 1081 beams), four ultrasonics (20 Hz) and a 30 Hz 640x480 depth camera.
+// 1, 2, 4, 8 four-wheel-steered robots driving circles on flat ground; the greenhouse robot with all its sensors
+// (lidar 1081 beams at 40 Hz, four ultrasonic cones at 20 Hz, a 640x480 depth camera at 30 Hz, IMU at 100 Hz);
+// a rover-sized robot in the cotton row with a 1280x720 colour + depth camera at 15 Hz (the cotton paper's ZED
+// intrinsics). Then the cost of one camera frame alone. Cameras render through CameraRenderer (OSMesa/llvmpipe)
+// with LP_NUM_THREADS=1 unless --render-threads says otherwise: the figures are single-core. Real-time factors and
+// frame times are given per CPU second of this process (the RESULT keys) and per wall second (`_wall`), with the
+// load average, because the machine is shared.
 //
-//   rosrun thorvald_sim rtf_bench [--seconds S]
+//   rosrun thorvald_sim rtf_bench [--seconds S] [--sensor-seconds S] [--frames N] [--render-threads N]
+#include <CLI/CLI.hpp>
 #include <chrono>
+#include <ctime>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <random>
 #include <string>
 
 #include <thorvald_base/odometry_trial.h>
 
+#include "thorvald_sim/camera_renderer.h"
 #include "thorvald_sim/drive_loop.h"
-#include "thorvald_sim/reference_urdf.h"
 #include "thorvald_sim/sensors.h"
+#include "thorvald_sim/testing/reference_urdf.h"
 #include "thorvald_sim/world.h"
 
 using namespace thorvald_sim;
@@ -29,105 +38,247 @@ thorvald_base::RobotConfig fourWheelSteered() {
   return r;
 }
 
+// The cotton rover's size (cotton paper §2.1): axles 0.91 m either side of the centre, 2.12 m wide over 0.30 m
+// tyres, wheel radius 0.3048 m. Four steered wheels stand in for its centre articulation here.
+thorvald_base::RobotConfig roverSized() {
+  thorvald_base::RobotConfig r = fourWheelSteered();
+  const double xy[4][2] = {{-0.91, -0.91}, {0.91, -0.91}, {0.91, 0.91}, {-0.91, 0.91}};
+  for (int i = 0; i < 4; ++i) {
+    r.drives[i].x = xy[i][0], r.drives[i].y = xy[i][1];
+    r.drives[i].r_wheel = 0.3048;
+    r.drives[i].w_wheel = 0.30;
+  }
+  return r;
+}
+
 struct Run {
   std::unique_ptr<Simulation> sim;
   std::vector<std::unique_ptr<DrivenRobot>> robots;
 };
 
-Run build(const WorldDescription& world, int n) {
+Run build(const WorldDescription& world, int n, const thorvald_base::RobotConfig& robot, double x, double y,
+          const SceneOptions& options = SceneOptions()) {
   Run run;
   std::vector<RobotSpawn> spawns;
   for (int i = 0; i < n; ++i) {
     RobotSpawn s;
     s.name = "robot" + std::to_string(i);
-    s.mjcf = urdfToMjcf(referenceUrdf(fourWheelSteered(), s.name), &s.root_link);
-    s.x = -3.0;
-    s.y = 5.0 * i;
+    s.mjcf = urdfToMjcf(referenceUrdf(robot, s.name), &s.root_link);
+    s.x = x;
+    s.y = y + 5.0 * i;
     s.z = 0.01;
     spawns.push_back(s);
   }
-  run.sim = std::make_unique<Simulation>(composeScene(world, spawns, SceneOptions()), spawns);
-  for (int i = 0; i < n; ++i)
-    run.robots.push_back(std::make_unique<DrivenRobot>(*run.sim, fourWheelSteered(), spawns[i].name));
+  run.sim = std::make_unique<Simulation>(composeScene(world, spawns, options), spawns);
+  for (int i = 0; i < n; ++i) run.robots.push_back(std::make_unique<DrivenRobot>(*run.sim, robot, spawns[i].name));
   return run;
 }
 
-double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
+// The machine is shared: besides wall time, the CPU time this process got (all its threads) tells what one free
+// core would do.
+double wallNow() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
+double cpuNow() {
+  timespec ts;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
 
-// Drives every robot in circles for `seconds` of simulated time at 50 Hz control; `sensors` runs each cycle.
-template <typename F>
-double drive(Run& run, double seconds, F&& sensors) {
+// Simulated seconds per wall second and per CPU second.
+struct Rate {
+  double wall = 0, cpu = 0;
+};
+
+double loadAverage() {
+  double l[1] = {0};
+  return getloadavg(l, 1) == 1 ? l[0] : -1.0;
+}
+
+// Drives every robot with `cmd` for `seconds` of simulated time at 50 Hz control; `sensors` runs each cycle.
+Rate drive(Run& run, double seconds, const thorvald_base::Twist2D& cmd, const std::function<void(double)>& sensors) {
   const int steps = static_cast<int>(std::lround(0.02 / run.sim->timestep()));
-  const double t0 = run.sim->time(), w0 = now();
+  const double t0 = run.sim->time(), w0 = wallNow(), c0 = cpuNow();
   while (run.sim->time() - t0 < seconds) {
     const double t = run.sim->time();
     for (auto& r : run.robots) {
-      r->command({0.8, 0.0, 0.3}, t);
+      r->command(cmd, t);
       r->control(t);
     }
     run.sim->step(steps);
     sensors(run.sim->time());
   }
-  return (run.sim->time() - t0) / (now() - w0);
+  return {(run.sim->time() - t0) / (wallNow() - w0), (run.sim->time() - t0) / (cpuNow() - c0)};
 }
+
+// A sensor mounted on robot 0's base_link.
+SensorPose mount(const Run& run, const Eigen::Vector3d& xyz, const Eigen::Matrix3d& r) {
+  const BodyState b = run.sim->robotState(0);
+  SensorPose p;
+  p.origin = b.position + b.orientation * xyz;
+  p.rotation = b.orientation.toRotationMatrix() * r;
+  return p;
+}
+
+// Optical frame (z forward, x right, y down) of a camera pitched `pitch` down from looking forward.
+Eigen::Matrix3d opticalPitched(double pitch) {
+  return Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()).toRotationMatrix() *
+         (Eigen::Matrix3d() << 0, 0, 1, -1, 0, 0, 0, -1, 0).finished();
+}
+
+// Calls `f` at `rate_hz` in simulated time.
+struct Every {
+  double period, next = 0.0;
+  explicit Every(double rate_hz) : period(1.0 / rate_hz) {}
+  bool due(double t) {
+    if (t + 1e-9 < next) return false;
+    next = std::max(next + period, t);
+    return true;
+  }
+};
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  double seconds = 20.0;
-  if (argc == 3 && std::string(argv[1]) == "--seconds") seconds = std::atof(argv[2]);
-  std::printf("%-40s %14s\n", "scene", "real-time x");
-  double rtf[9] = {0};
-  for (int n : {1, 2, 4, 8}) {
-    Run run = build(makeFlatWorld(), n);
-    rtf[n] = drive(run, seconds, [](double) {});
-    std::printf("%-40s %14.1f\n", ("flat, " + std::to_string(n) + " robot(s)").c_str(), rtf[n]);
+  double seconds = 20.0, sensor_seconds = 3.0;
+  int frames = 20, render_threads = 1;
+  CLI::App app{"Real-time factor of thorvald_sim: flat scenes, the greenhouse robot's sensors, the cotton camera"};
+  app.add_option("--seconds", seconds, "simulated seconds per flat scene")->check(CLI::Range(0.1, 3600.0));
+  app.add_option("--sensor-seconds", sensor_seconds, "simulated seconds per scene with sensors")
+      ->check(CLI::Range(0.1, 3600.0));
+  app.add_option("--frames", frames, "camera frames timed alone")->check(CLI::Range(1, 100000));
+  app.add_option("--render-threads", render_threads, "llvmpipe threads (LP_NUM_THREADS); 0: its default")
+      ->check(CLI::Range(0, 64));
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;  // --help: 0; an unknown option or a bad value: 2
   }
-  // The greenhouse robot and its sensors, each at its own rate.
-  Run run = build(makeGreenhouseWorld(GreenhouseParams(), nullptr), 1);
-  RayCaster caster(run.sim->model(), run.sim->data(), run.sim->robot(0).root_body);
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // each line shows as it is done, also when piped
+  if (render_threads > 0) setenv("LP_NUM_THREADS", std::to_string(render_threads).c_str(), 1);
+
+  const double load_start = loadAverage();
+  std::printf("load average at start: %.2f (real-time x per CPU second is what one free core would give)\n",
+              load_start);
+  std::printf("%-52s %12s %12s\n", "scene", "x per CPU s", "x per wall s");
+  Rate rtf[9];
+  for (int n : {1, 2, 4, 8}) {
+    Run run = build(makeFlatWorld(), n, fourWheelSteered(), -3.0, 0.0);
+    rtf[n] = drive(run, seconds, {0.8, 0.0, 0.3}, [](double) {});
+    std::printf("%-52s %12.1f %12.1f\n", ("flat, " + std::to_string(n) + " robot(s)").c_str(), rtf[n].cpu, rtf[n].wall);
+  }
+
+  // The greenhouse robot (sensors_greenhouse.yaml) on the headland, driving a circle.
+  Run gh = build(makeGreenhouseWorld(GreenhouseParams(), nullptr), 1, fourWheelSteered(), -3.0, 0.0);
+  CameraRenderer gh_renderer(gh.sim->model());
+  RayCaster caster(gh.sim->model(), gh.sim->data(), gh.sim->robot(0).root_body);
   LidarSpec lidar;
   lidar.samples = 1081;
   UltrasonicSpec us;
-  DepthCameraSpec depth;  // 640 x 480
+  DepthCameraSpec depth;  // 640 x 480, range 0.3 - 8 m
+  depth.range_max_m = 6.0;
+  ImuSpec imu;
   std::mt19937 rng(1);
-  double next_lidar = 0, next_us = 0, next_cam = 0;
-  long beams = 0, frames = 0;
-  auto mount = [&](const Eigen::Vector3d& xyz, const Eigen::Matrix3d& r) {
-    const BodyState b = run.sim->robotState(0);
-    SensorPose p;
-    p.origin = b.position + b.orientation * xyz;
-    p.rotation = b.orientation.toRotationMatrix() * r;
-    return p;
-  };
-  Eigen::Matrix3d down, optical;
+  RenderedView view;
+  DepthImage depth_img;
+  ColorImage color_img;
+  Every lidar_due(40), us_due(20), cam_due(30), imu_due(100);
+  long beams = 0, depth_frames = 0;
+  double lidar_cpu = 0.0, cam_cpu = 0.0;
+  Eigen::Matrix3d down;
   down << 0, 0, 1, 0, 1, 0, -1, 0, 0;  // x axis pointing down
-  // Optical frame pitched 0.5 rad down: z forward-down, x right, y down-back.
-  optical = Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitY()).toRotationMatrix() *
-            (Eigen::Matrix3d() << 0, 0, 1, -1, 0, 0, 0, -1, 0).finished();
-  const double sensor_seconds = std::min(seconds, 3.0);
-  const double rtf_sensors = drive(run, sensor_seconds, [&](double t) {
-    if (t >= next_lidar) {
-      next_lidar += 1.0 / 40;
+  const Rate rtf_gh = drive(gh, sensor_seconds, {0.8, 0.0, 0.3}, [&](double t) {
+    if (lidar_due.due(t)) {
+      const double w = cpuNow();
       beams += static_cast<long>(
-          simulateLidar(caster, mount({0.7, 0, 0.7}, Eigen::Matrix3d::Identity()), lidar, rng).size());
+          simulateLidar(caster, mount(gh, {0.45, 0, 0.62}, Eigen::Matrix3d::Identity()), lidar, rng).size());
+      lidar_cpu += cpuNow() - w;
     }
-    if (t >= next_us) {
-      next_us += 1.0 / 20;
-      for (double y : {-0.6, -0.2, 0.2, 0.6}) simulateUltrasonic(caster, mount({0.8, y, 0.4}, down), us, rng);
+    if (us_due.due(t))
+      for (double x : {0.52, 0.0})
+        for (double y : {-0.3, 0.3}) simulateUltrasonic(caster, mount(gh, {x, y, 0.35}, down), us, rng);
+    if (cam_due.due(t)) {
+      const double w = cpuNow();
+      const SensorPose cam = mount(gh, {0.5, 0, 0.75}, opticalPitched(0.6));
+      gh_renderer.render(gh.sim->data(), cam, cameraView(depth, false), gh.sim->robot(0).root_body, &view);
+      depthFromView(view, caster, cam, depth, rng, &depth_img);
+      cam_cpu += cpuNow() - w;
+      ++depth_frames;
     }
-    if (t >= next_cam) {
-      next_cam += 1.0 / 30;
-      simulateDepth(caster, mount({0.8, 0, 0.8}, optical), depth, rng);
-      ++frames;
+    if (imu_due.due(t)) {
+      gh.sim->updateAccelerations();
+      simulateImu(gh.sim->model(), gh.sim->data(), gh.sim->robot(0).root_body, Eigen::Matrix3d::Identity(), imu, rng);
     }
   });
-  std::printf("%-40s %14.2f\n", "greenhouse, lidar + 4 US + 640x480@30Hz", rtf_sensors);
-  std::printf("(%.0f s simulated per flat scene, %.0f s with sensors: %ld depth frames, %ld lidar beams)\n", seconds,
-              sensor_seconds, frames, beams);
+  std::printf("%-52s %12.2f %12.2f\n", "greenhouse, lidar + 4 US + 640x480 depth@30Hz + IMU", rtf_gh.cpu, rtf_gh.wall);
+  std::printf("  (%ld depth frames, %.1f CPU ms each; %ld lidar beams, %.2f CPU ms per 1081-beam scan)\n", depth_frames,
+              1e3 * cam_cpu / std::max(1L, depth_frames), beams, 1e3 * lidar_cpu / std::max(1.0, beams / 1081.0));
+
+  // The rover over the cotton row with the ZED at 720p, 2.2 m above the ground looking down, 15 Hz.
+  CottonRowParams row;
+  SceneOptions cotton_options;
+  Run cotton = build(makeCottonRowWorld(row, nullptr), 1, roverSized(), 0.3, row.row_y_m, cotton_options);
+  CameraRenderer cotton_renderer(cotton.sim->model());
+  RayCaster cotton_caster(cotton.sim->model(), cotton.sim->data(), cotton.sim->robot(0).root_body);
+  DepthCameraSpec zed;
+  zed.width = 1280, zed.height = 720;
+  zed.focal_px = 699.936, zed.cx_px = 685.286, zed.cy_px = 361.248;
+  zed.range_min_m = 0.3, zed.range_max_m = 20.0, zed.noise_coeff = 0.001, zed.dropout = 0.005;
+  ColorCameraSpec zed_color;
+  zed_color.width = zed.width, zed_color.height = zed.height;
+  zed_color.focal_px = zed.focal_px, zed_color.cx_px = zed.cx_px, zed_color.cy_px = zed.cy_px;
+  Every zed_due(15), cotton_imu_due(120);
+  long zed_frames = 0;
+  long white = 0;
+  const Rate rtf_cotton = drive(cotton, sensor_seconds, {0.1, 0.0, 0.0}, [&](double t) {
+    if (zed_due.due(t)) {
+      const SensorPose cam = mount(cotton, {1.2, 0, 2.2}, opticalPitched(M_PI / 2));
+      cotton_renderer.render(cotton.sim->data(), cam, cameraView(zed, true), cotton.sim->robot(0).root_body, &view);
+      depthFromView(view, cotton_caster, cam, zed, rng, &depth_img);
+      colorFromView(view, cotton.sim->model(), zed_color, &color_img);
+      for (size_t i = 0; i < color_img.rgb.size(); i += 3)
+        white += color_img.rgb[i] == 255 && color_img.rgb[i + 1] == 255;
+      ++zed_frames;
+    }
+    if (cotton_imu_due.due(t)) {
+      cotton.sim->updateAccelerations();
+      simulateImu(cotton.sim->model(), cotton.sim->data(), cotton.sim->robot(0).root_body, Eigen::Matrix3d::Identity(),
+                  imu, rng);
+    }
+  });
+  std::printf("%-52s %12.2f %12.2f\n", "cotton row, rover, 1280x720 RGB + depth@15Hz + IMU", rtf_cotton.cpu,
+              rtf_cotton.wall);
+  std::printf("  (%ld frames, %.0f boll pixels per frame)\n", zed_frames,
+              static_cast<double>(white) / std::max(1L, zed_frames));
+
+  // One frame alone: render + depth image (+ colour image), the robots standing where they stopped.
+  double w = wallNow(), c = cpuNow();
+  for (int i = 0; i < frames; ++i) {
+    const SensorPose cam = mount(gh, {0.5, 0, 0.75}, opticalPitched(0.6));
+    gh_renderer.render(gh.sim->data(), cam, cameraView(depth, false), gh.sim->robot(0).root_body, &view);
+    depthFromView(view, caster, cam, depth, rng, &depth_img);
+  }
+  const double ms_depth = 1e3 * (cpuNow() - c) / frames, ms_depth_wall = 1e3 * (wallNow() - w) / frames;
+  w = wallNow(), c = cpuNow();
+  for (int i = 0; i < frames; ++i) {
+    const SensorPose cam = mount(cotton, {1.2, 0, 2.2}, opticalPitched(M_PI / 2));
+    cotton_renderer.render(cotton.sim->data(), cam, cameraView(zed, true), cotton.sim->robot(0).root_body, &view);
+    depthFromView(view, cotton_caster, cam, zed, rng, &depth_img);
+    colorFromView(view, cotton.sim->model(), zed_color, &color_img);
+  }
+  const double ms_rgbd = 1e3 * (cpuNow() - c) / frames, ms_rgbd_wall = 1e3 * (wallNow() - w) / frames;
+  std::printf("%-52s %12s %12s\n", "one camera frame alone", "CPU ms", "wall ms");
+  std::printf("%-52s %12.2f %12.2f\n", "640x480 depth (greenhouse)", ms_depth, ms_depth_wall);
+  std::printf("%-52s %12.2f %12.2f\n", "1280x720 RGB + depth (cotton row)", ms_rgbd, ms_rgbd_wall);
+  const double load_end = loadAverage();
+  std::printf("load average at the end: %.2f\n", load_end);
+  std::printf("(%.0f s simulated per flat scene, %.0f s per scene with sensors, llvmpipe threads: %s)\n", seconds,
+              sensor_seconds, render_threads > 0 ? std::to_string(render_threads).c_str() : "default");
   std::printf(
       "RESULT {\"rtf_1_robot\": %.2f, \"rtf_2_robots\": %.2f, \"rtf_4_robots\": %.2f, \"rtf_8_robots\": %.2f, "
-      "\"rtf_greenhouse_sensors\": %.3f}\n",
-      rtf[1], rtf[2], rtf[4], rtf[8], rtf_sensors);
+      "\"rtf_greenhouse_sensors\": %.3f, \"rtf_cotton_camera\": %.3f, \"ms_per_depth_frame_640x480\": %.2f, "
+      "\"ms_per_rgbd_frame_1280x720\": %.2f, \"rtf_1_robot_wall\": %.2f, \"rtf_8_robots_wall\": %.2f, "
+      "\"rtf_greenhouse_sensors_wall\": %.3f, \"rtf_cotton_camera_wall\": %.3f, \"load_avg_start\": %.2f, "
+      "\"load_avg_end\": %.2f}\n",
+      rtf[1].cpu, rtf[2].cpu, rtf[4].cpu, rtf[8].cpu, rtf_gh.cpu, rtf_cotton.cpu, ms_depth, ms_rgbd, rtf[1].wall,
+      rtf[8].wall, rtf_gh.wall, rtf_cotton.wall, load_start, load_end);
   return 0;
 }

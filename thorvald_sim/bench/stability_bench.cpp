@@ -4,6 +4,7 @@
 // strays from where it settled, and the real-time factor.
 //
 //   rosrun thorvald_sim stability_bench [--hours H]   (default 1)
+#include <CLI/CLI.hpp>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -13,14 +14,21 @@
 #include <thorvald_base/odometry_trial.h>
 
 #include "thorvald_sim/drive_loop.h"
-#include "thorvald_sim/reference_urdf.h"
+#include "thorvald_sim/testing/reference_urdf.h"
 #include "thorvald_sim/world.h"
 
 using namespace thorvald_sim;
 
 int main(int argc, char** argv) {
   double hours = 1.0;
-  if (argc == 3 && std::string(argv[1]) == "--hours") hours = std::atof(argv[2]);
+  CLI::App app{"Long-run stability of the MuJoCo simulation: the Figure 7 robot drives the paper's loop for hours"};
+  app.add_option("--hours", hours, "simulated hours")->check(CLI::Range(1e-3, 1000.0));
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;  // --help: 0; an unknown option or a bad value: 2
+  }
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress shows when piped
   const thorvald_base::RobotConfig robot = thorvald_base::figure7Robot();
   RobotSpawn spawn;
   spawn.z = 0.01;
@@ -65,6 +73,9 @@ int main(int argc, char** argv) {
       }
     }
     ++loops;
+    if (loops % 10 == 0)
+      std::printf("[%5.1f %%] %d loops, %.2f simulated hours, divergences %lu\n", 100.0 * t / (hours * 3600.0), loops,
+                  t / 3600, sim.divergences());
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   std::printf("Figure 7 robot, %d loops of 77 s + 3 s rest, %.2f simulated hours, %.1f km driven\n", loops, t / 3600,

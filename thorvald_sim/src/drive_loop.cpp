@@ -12,14 +12,22 @@ std::unique_ptr<thorvald_base::BaseCalculator> makeCalculator(const std::string&
 }
 
 DrivenRobot::DrivenRobot(Simulation& sim, const thorvald_base::RobotConfig& robot, const std::string& tf_prefix,
-                         const thorvald_base::BaseDriverOptions& options)
-    : sim_(sim) {
+                         const thorvald_base::BaseDriverOptions& options, EncoderSource encoders)
+    : sim_(sim), encoders_(encoders) {
   const std::string p = tf_prefix.empty() ? "" : tf_prefix + "/";
   std::vector<std::unique_ptr<thorvald_base::MotorDrive>> drives;
   for (const auto& d : robot.drives) {
-    thorvald_base::SimulatedDriveOptions o;
-    o.seed = 1000u + static_cast<unsigned>(d.index);
-    drives.push_back(std::make_unique<thorvald_base::SimulatedDrive>(d, o));
+    if (encoders == EncoderSource::kPhysics) {
+      auto drive = std::make_unique<PhysicsDrive>(d);
+      physics_drives_.push_back(drive.get());
+      drives.push_back(std::move(drive));
+    } else {
+      thorvald_base::SimulatedDriveOptions o;
+      o.seed = 1000u + static_cast<unsigned>(d.index);
+      drives.push_back(std::make_unique<thorvald_base::SimulatedDrive>(d, o));
+    }
+    steering_joint_.push_back(p + "steering" + std::to_string(d.index));
+    wheel_joint_.push_back(p + "wheel" + std::to_string(d.index));
     const int s = d.steered() ? sim.actuatorOfJoint(p + "steering" + std::to_string(d.index)) : -1;
     const int w = sim.actuatorOfJoint(p + "wheel" + std::to_string(d.index));
     if ((d.steered() && s < 0) || w < 0)
@@ -34,6 +42,21 @@ DrivenRobot::DrivenRobot(Simulation& sim, const thorvald_base::RobotConfig& robo
 }
 
 void DrivenRobot::control(double now_s) {
+  if (encoders_ == EncoderSource::kPhysics) {
+    for (size_t i = 0; i < physics_drives_.size(); ++i) {
+      JointMeasurement m;
+      sim_.jointState(wheel_joint_[i], &m.wheel_position_rad, &m.wheel_speed_radps);
+      if (steering_act_[i] >= 0) sim_.jointState(steering_joint_[i], &m.steering_rad, &m.steering_speed_radps);
+      physics_drives_[i]->measure(m, now_s);
+    }
+    driver_->update(now_s);
+    for (size_t i = 0; i < physics_drives_.size(); ++i) {
+      const auto& cmd = physics_drives_[i]->command();
+      if (steering_act_[i] >= 0) sim_.setTarget(steering_act_[i], cmd.steering_rad);
+      sim_.setTarget(wheel_act_[i], cmd.wheel_speed_radps);
+    }
+    return;
+  }
   driver_->update(now_s);
   const auto& fb = driver_->feedback();
   for (size_t i = 0; i < fb.size(); ++i) {

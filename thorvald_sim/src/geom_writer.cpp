@@ -21,8 +21,9 @@ void GeomWriter::tiltedPlane(const std::string& name, const Eigen::Vector3d& pos
                              const char* rgba) {
   head(name, "plane");
   vec("pos", pos);
-  out_ << " size=\"" << half_size << " " << half_size << " 0.1\" euler=\"0 " << pitch_rad << " 0\" rgba=\"" << rgba
-       << "\"/>\n";
+  // size[2] is only the grid spacing of the plane's drawing: one cell keeps camera rendering cheap.
+  out_ << " size=\"" << half_size << " " << half_size << " " << half_size << "\" euler=\"0 " << pitch_rad
+       << " 0\" rgba=\"" << rgba << "\"/>\n";
 }
 
 void GeomWriter::box(const std::string& name, const Eigen::Vector3d& pos, const Eigen::Vector3d& half,

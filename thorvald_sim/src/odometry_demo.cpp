@@ -8,6 +8,7 @@
 //   rosrun thorvald_sim odometry_demo --urdf <(rosrun thorvald_model urdf_generator --config
 //     $(rospack find thorvald_bringup)/config/figure7_6wd6ws_asymmetric.yaml --tf-prefix '' --robot-name figure7)
 // (one command line)
+#include <CLI/CLI.hpp>
 #include <thorvald_base/odometry_trial.h>
 #include <thorvald_base/standard_calculator.h>
 #include <unistd.h>
@@ -21,7 +22,7 @@
 #include <string>
 
 #include "thorvald_sim/drive_loop.h"
-#include "thorvald_sim/reference_urdf.h"
+#include "thorvald_sim/testing/reference_urdf.h"
 #include "thorvald_sim/world.h"
 
 using namespace thorvald_sim;
@@ -47,19 +48,16 @@ std::string selfDir() {
 
 int main(int argc, char** argv) {
   std::string urdf_file, csv = "odometry_demo.csv", png = "odometry_demo.png";
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string a = argv[i];
-    if (a == "--urdf")
-      urdf_file = argv[i + 1];
-    else if (a == "--csv")
-      csv = argv[i + 1];
-    else if (a == "--png")
-      png = argv[i + 1];
-    else {
-      std::cerr << "usage: odometry_demo [--urdf FILE] [--csv FILE] [--png FILE]\n";
-      return 2;
-    }
+  CLI::App app{"The Thorvald paper's odometry experiment (Figure 7 robot, 77 s loop) in MuJoCo"};
+  app.add_option("--urdf", urdf_file, "URDF of the robot (default: the reference model)")->check(CLI::ExistingFile);
+  app.add_option("--csv", csv, "where the three paths are written");
+  app.add_option("--png", png, "where the plot of the paths is written");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;  // --help: 0; an unknown option or a bad value: 2
   }
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
   const thorvald_base::RobotConfig robot = thorvald_base::figure7Robot();
   try {
     RobotSpawn spawn;

@@ -32,10 +32,16 @@ void RayCaster::prepare(const Eigen::Vector3d& origin, double range, const Eigen
 }
 
 double RayCaster::cast(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, int* geom) const {
+  return castAmong(origin, dir, candidates_.data(), candidates_.data() + candidates_.size(), geom);
+}
+
+double RayCaster::castAmong(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, const int* first,
+                            const int* last, int* geom) const {
   double best = -1.0;
   int best_geom = -1;
   const mjtNum pnt[3] = {origin.x(), origin.y(), origin.z()}, vec[3] = {dir.x(), dir.y(), dir.z()};
-  for (int g : candidates_) {
+  for (const int* it = first; it != last; ++it) {
+    const int g = *it;
     const int type = m_->geom_type[g];
     if (type != mjGEOM_PLANE) {
       // Bounding sphere first: skip geoms the ray passes by.
@@ -68,10 +74,14 @@ Eigen::Vector3d RayCaster::normal(int g, const Eigen::Vector3d& point, const Eig
   Eigen::Matrix3d R;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) R(i, j) = d_->geom_xmat[9 * g + 3 * i + j];
+  return geomNormal(m_->geom_type[g], m_->geom_size + 3 * g, R, c, point, dir);
+}
+
+Eigen::Vector3d geomNormal(int type, const mjtNum* s, const Eigen::Matrix3d& R, const Eigen::Vector3d& c,
+                           const Eigen::Vector3d& point, const Eigen::Vector3d& dir) {
   const Eigen::Vector3d p = R.transpose() * (point - c);  // in the geom's frame
-  const mjtNum* s = m_->geom_size + 3 * g;
   Eigen::Vector3d n;
-  switch (m_->geom_type[g]) {
+  switch (type) {
     case mjGEOM_PLANE:
       n = Eigen::Vector3d::UnitZ();
       break;

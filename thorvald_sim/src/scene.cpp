@@ -2,6 +2,7 @@
 
 #include <tinyxml2.h>
 
+#include <algorithm>
 #include <cmath>
 #include <regex>
 #include <sstream>
@@ -32,7 +33,29 @@ bool isWheelBody(const std::string& body) {
 struct Actuator {
   std::string joint;
   bool position;
+  double wheel_radius_m = 0.0;  ///< wheels: radius of the wheel's contact geom
 };
+
+// Radius of the first sphere or cylinder geom of a wheel body, 0 if none.
+double wheelRadius(tinyxml2::XMLElement* body) {
+  for (auto* g = body->FirstChildElement("geom"); g; g = g->NextSiblingElement("geom")) {
+    const char* type = g->Attribute("type");
+    if (!type || (std::string(type) != "sphere" && std::string(type) != "cylinder")) continue;
+    std::istringstream size(g->Attribute("size") ? g->Attribute("size") : "");
+    double r = 0;
+    size >> r;
+    if (r > 0) return r;
+  }
+  return 0.0;
+}
+
+// Sum of the masses of a body and everything below it [kg].
+double treeMass(tinyxml2::XMLElement* body) {
+  double m = 0.0;
+  if (auto* in = body->FirstChildElement("inertial")) m += in->DoubleAttribute("mass", 0.0);
+  for (auto* c = body->FirstChildElement("body"); c; c = c->NextSiblingElement("body")) m += treeMass(c);
+  return m;
+}
 
 // Tunes one robot's bodies in place and collects its actuated joints.
 void tuneBody(tinyxml2::XMLElement* body, const SceneOptions& o, std::vector<Actuator>* actuators) {
@@ -81,6 +104,11 @@ void tuneBody(tinyxml2::XMLElement* body, const SceneOptions& o, std::vector<Act
       }
     }
   }
+  if (wheel)  // after the geoms became spheres: the wheel's actuator learns its rolling radius
+    for (auto& a : *actuators)
+      if (!a.position && a.wheel_radius_m == 0.0 && body->FirstChildElement("joint") &&
+          a.joint == body->FirstChildElement("joint")->Attribute("name"))
+        a.wheel_radius_m = wheelRadius(body);
   for (auto* c = body->FirstChildElement("body"); c; c = c->NextSiblingElement("body")) tuneBody(c, o, actuators);
 }
 
@@ -111,6 +139,7 @@ std::string composeScene(const WorldDescription& world, const std::vector<RobotS
         assets << p.CStr() << "\n";
       }
     std::vector<Actuator> actuators;
+    double mass = 0.0;
     int roots = 0;
     for (auto* b = wb->FirstChildElement("body"); b; b = b->NextSiblingElement("body")) {
       ++roots;
@@ -119,12 +148,22 @@ std::string composeScene(const WorldDescription& world, const std::vector<RobotS
       b->SetAttribute("pos", (num(r.x) + " " + num(r.y) + " " + num(world.spawn_z + r.z)).c_str());
       b->SetAttribute("quat", ("" + num(std::cos(0.5 * r.yaw)) + " 0 0 " + num(std::sin(0.5 * r.yaw))).c_str());
       tuneBody(b, o, &actuators);
+      mass += treeMass(b);
       tinyxml2::XMLPrinter p(nullptr, true);
       b->Accept(&p);
       bodies << p.CStr() << "\n";
     }
     if (roots != 1) throw ModelError("robot " + r.name + ": its MJCF must have exactly one root body");
+    int wheels = 0;
+    for (const auto& a : actuators) wheels += a.position ? 0 : 1;
     for (const auto& a : actuators) {
+      // Drive torque limit: what the robot's share of weight on this wheel needs to climb the design slope at
+      // the design acceleration. Applied per step by Simulation (the actuator's user value).
+      const double torque_limit =
+          o.wheel_torque_limit && wheels > 0
+              ? mass / wheels * a.wheel_radius_m *
+                    (9.81 * std::sin(o.wheel_design_slope_deg * M_PI / 180.0) + o.wheel_design_accel_mps2)
+              : 0.0;
       if (a.position)
         acts << "<position name=\"" << a.joint << "\" joint=\"" << a.joint << "\" kp=\"" << o.steering_kp
              << "\" forcelimited=\"true\" forcerange=\"" << -o.steering_torque_max << " " << o.steering_torque_max
@@ -132,14 +171,18 @@ std::string composeScene(const WorldDescription& world, const std::vector<RobotS
       else
         acts << "<motor name=\"" << a.joint << "\" joint=\"" << a.joint << "\" gear=\"" << o.wheel_kv
              << "\" forcelimited=\"true\" forcerange=\"" << -o.wheel_torque_max << " " << o.wheel_torque_max
-             << "\"/>\n";
+             << "\" user=\"" << torque_limit << "\"/>\n";
     }
   }
   std::ostringstream xml;
   xml << "<mujoco model=\"" << world.name << "\">\n"
       << "<compiler angle=\"radian\" autolimits=\"true\"/>\n"
       << "<option timestep=\"" << o.timestep_s << "\" integrator=\"Euler\"/>\n"
-      << "<size njmax=\"" << 2000 + 400 * robots.size() << "\" nconmax=\"" << 500 + 100 * robots.size() << "\"/>\n"
+      << "<size njmax=\"" << 2000 + 400 * robots.size() << "\" nconmax=\"" << 500 + 100 * robots.size()
+      << "\" nuser_actuator=\"1\"/>\n"
+      << "<visual><global offwidth=\"" << o.camera_max_width << "\" offheight=\"" << o.camera_max_height
+      << "\"/><quality offsamples=\"0\" numslices=\"" << o.render_slices << "\" numstacks=\""
+      << std::max(8, o.render_slices / 2) << "\"/></visual>\n"
       << "<default><geom contype=\"1\" conaffinity=\"3\" friction=\"1 0.005 0.0001\"/></default>\n"
       << "<asset>\n"
       << assets.str() << "</asset>\n"

@@ -129,6 +129,9 @@ SensorConfig parseOne(const YAML::Node& n, const std::string& where) {
       s.width = r.integer("width", s.width, 1, 4096);
       s.height = r.integer("height", s.height, 1, 4096);
       s.hfov_rad = r.number("hfov", s.hfov_rad, 0.01, 3.0);
+      s.focal_px = r.number("fx", 0.0, 1.0, 1e5);  // a calibrated camera: fx = fy, principal point
+      s.cx_px = r.number("cx", -1.0, 0.0, s.width - 1.0);
+      s.cy_px = r.number("cy", -1.0, 0.0, s.height - 1.0);
       s.range_min_m = r.number("range_min", s.range_min_m, 0.0, 100.0);
       s.range_max_m = r.number("range_max", s.range_max_m, s.range_min_m, 100.0);
       s.noise_coeff = r.number("noise_coeff", s.noise_coeff, 0.0, 1.0);

@@ -15,12 +15,43 @@ std::vector<float> simulateLidar(RayCaster& caster, const SensorPose& pose, cons
   std::normal_distribution<double> noise(0.0, s.noise_m);
   std::vector<float> ranges(s.samples, std::numeric_limits<float>::infinity());
   const double inc = s.samples > 1 ? (s.angle_max_rad - s.angle_min_rad) / (s.samples - 1) : 0.0;
+  // Beam sectors: a geom's bounding sphere meets the scan plane in a circle that only the beams within its angular
+  // half-width can hit. Each beam then tests the planes and the few geoms of its own sector.
+  const mjModel* m = caster.model();
+  const mjData* d = caster.data();
+  std::vector<std::vector<int>> sector(s.samples);
+  std::vector<int> everywhere;
+  for (int g : caster.prepared()) {
+    if (m->geom_type[g] == mjGEOM_PLANE || inc <= 0.0) {
+      everywhere.push_back(g);
+      continue;
+    }
+    const Eigen::Vector3d c(d->geom_xpos[3 * g], d->geom_xpos[3 * g + 1], d->geom_xpos[3 * g + 2]);
+    const Eigen::Vector3d p = pose.rotation.transpose() * (c - pose.origin);
+    const double rb = m->geom_rbound[g] * (1.0 + 1e-9) + 1e-9;
+    if (std::fabs(p.z()) > rb) continue;  // the scan plane passes above or below it
+    const double r_plane = std::sqrt(rb * rb - p.z() * p.z()), dist = std::hypot(p.x(), p.y());
+    if (dist <= r_plane) {  // the sensor is inside: every direction
+      everywhere.push_back(g);
+      continue;
+    }
+    const double centre = std::atan2(p.y(), p.x()), half = std::asin(r_plane / dist);
+    for (double wrap : {-2 * M_PI, 0.0, 2 * M_PI}) {
+      const double lo = centre + wrap - half, hi = centre + wrap + half;
+      const int i0 = std::max(0, static_cast<int>(std::ceil((lo - s.angle_min_rad) / inc - 1e-9)));
+      const int i1 = std::min(s.samples - 1, static_cast<int>(std::floor((hi - s.angle_min_rad) / inc + 1e-9)));
+      for (int i = i0; i <= i1; ++i) sector[i].push_back(g);
+    }
+  }
+  std::vector<int> beam;
   for (int i = 0; i < s.samples; ++i) {
     const double a = s.angle_min_rad + i * inc;
     const Eigen::Vector3d dir = pose.rotation * Eigen::Vector3d(std::cos(a), std::sin(a), 0.0);
-    const double d = caster.cast(pose.origin, dir);
+    beam.assign(everywhere.begin(), everywhere.end());
+    beam.insert(beam.end(), sector[i].begin(), sector[i].end());
+    const double r = caster.castAmong(pose.origin, dir, beam.data(), beam.data() + beam.size());
     const double n = s.noise_m > 0 ? noise(rng) : 0.0;
-    if (d >= s.range_min_m && d <= s.range_max_m) ranges[i] = static_cast<float>(d + n);
+    if (r >= s.range_min_m && r <= s.range_max_m) ranges[i] = static_cast<float>(r + n);
   }
   return ranges;
 }
@@ -72,7 +103,7 @@ void forEachPixelByTile(RayCaster& caster, const SensorPose& pose, const Intrins
 }  // namespace
 
 DepthImage simulateDepth(RayCaster& caster, const SensorPose& pose, const DepthCameraSpec& s, std::mt19937& rng) {
-  const Intrinsics k = intrinsics(s.width, s.height, s.hfov_rad);
+  const Intrinsics k = intrinsics(s);
   DepthImage img;
   img.width = s.width;
   img.height = s.height;
@@ -99,7 +130,7 @@ DepthImage simulateDepth(RayCaster& caster, const SensorPose& pose, const DepthC
 }
 
 ColorImage simulateColor(RayCaster& caster, const mjModel* model, const SensorPose& pose, const ColorCameraSpec& s) {
-  const Intrinsics k = intrinsics(s.width, s.height, s.hfov_rad);
+  const Intrinsics k = intrinsics(s);
   ColorImage img;
   img.width = s.width;
   img.height = s.height;

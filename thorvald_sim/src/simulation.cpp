@@ -1,5 +1,6 @@
 #include "thorvald_sim/simulation.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace thorvald_sim {
@@ -24,11 +25,27 @@ Simulation::Simulation(const std::string& scene_xml, const std::vector<RobotSpaw
     h.qvel_adr = model_->jnt_dofadr[jnt];
     robots_.push_back(h);
   }
+  // Wheel servos are joint damping kv (implicit) plus a motor kv * ctrl: the torque kv (ctrl - qvel) stays within
+  // the limit when ctrl is kept within qvel +- limit / kv.
+  const mjModel* m = model_.get();
+  limited_of_actuator_.assign(m->nu, -1);
+  for (int a = 0; a < m->nu && m->nuser_actuator > 0; ++a) {
+    const double limit = m->actuator_user[a * m->nuser_actuator];
+    if (!(limit > 0.0) || m->actuator_trntype[a] != mjTRN_JOINT || m->actuator_gaintype[a] != mjGAIN_FIXED) continue;
+    const double kv = m->actuator_gear[6 * a];
+    if (!(kv > 0.0)) continue;
+    limited_of_actuator_[a] = static_cast<int>(limited_.size());
+    limited_.push_back({a, m->jnt_dofadr[m->actuator_trnid[2 * a]], kv, limit, 0.0});
+  }
   mj_forward(model_.get(), data_.get());
 }
 
 void Simulation::step(int steps) {
   for (int i = 0; i < steps; ++i) {
+    for (const auto& w : limited_) {
+      const double v = data_->qvel[w.dof], band = w.torque_max / w.kv;
+      data_->ctrl[w.actuator] = std::min(std::max(w.target, v - band), v + band);
+    }
     mj_step(model_.get(), data_.get());
     bool bad = data_->warning[mjWARN_BADQACC].number > 0;
     for (int k = 0; k < model_->nq && !bad; ++k) bad = !std::isfinite(data_->qpos[k]);
@@ -43,6 +60,7 @@ void Simulation::reset(bool keep_time) {
   const double t = data_->time;
   mj_resetData(model_.get(), data_.get());
   if (keep_time) data_->time = t;
+  for (auto& w : limited_) w.target = 0.0;
   mj_forward(model_.get(), data_.get());
 }
 
@@ -57,7 +75,14 @@ int Simulation::actuatorOfJoint(const std::string& joint_name) const {
 bool Simulation::setTarget(int actuator, double value) {
   if (actuator < 0 || actuator >= model_->nu || !std::isfinite(value)) return false;
   data_->ctrl[actuator] = value;
+  if (limited_of_actuator_[actuator] >= 0) limited_[limited_of_actuator_[actuator]].target = value;
   return true;
+}
+
+double Simulation::target(int actuator) const {
+  if (actuator < 0 || actuator >= model_->nu) return 0.0;
+  const int w = limited_of_actuator_[actuator];
+  return w >= 0 ? limited_[w].target : data_->ctrl[actuator];
 }
 
 bool Simulation::jointState(const std::string& joint_name, double* position, double* velocity) const {

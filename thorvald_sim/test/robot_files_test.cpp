@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "thorvald_sim/drive_loop.h"
-#include "thorvald_sim/reference_urdf.h"
+#include "thorvald_sim/testing/reference_urdf.h"
 #include "thorvald_sim/world.h"
 
 namespace ts = thorvald_sim;

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "test_scene.h"
@@ -229,4 +230,33 @@ TEST(Lidar, DoesNotSeeItsOwnRobotButSeesOthers) {
   // At the height of the frame box (z = 2 r + 0.15 = 0.55): robot 1's box starts at 3 - 0.675 - (half length).
   const auto scan = ts::simulateLidar(own, pose({0, 0, 0.55}, {1, 0, 0}, {0, 0, 1}), spec, rng);
   EXPECT_NEAR(scan[1], 3.0 - 0.675, 0.02);
+}
+
+TEST(Lidar, BeamSectorsGiveTheScanOfTestingEveryGeom) {
+  // Beam-sector culling must not change a single range: compare with every prepared geom tested for every beam,
+  // from several places and headings in the greenhouse (between the pipes, on the headland, near a wall, tilted).
+  StaticWorld w(ts::makeGreenhouseWorld(ts::GreenhouseParams(), nullptr));
+  ts::RayCaster caster(w.model.get(), w.data.get(), -1);
+  ts::LidarSpec spec;
+  spec.samples = 1081;
+  spec.noise_m = 0.0;
+  std::mt19937 rng(1);
+  const std::vector<ts::SensorPose> poses = {
+      pose({-3.0, 2.0, 0.6}, {-1, 0, 0}, {0, 0, 1}), pose({4.0, 1.6, 0.3}, {1, 0.1, 0}, {0, 0, 1}),
+      pose({-5.5, -0.9, 0.45}, {0.3, 1, 0}, {0, 0, 1}), pose({2.0, 3.2, 0.5}, {1, 0, -0.2}, {0.2, 0, 1})};
+  for (const auto& p : poses) {
+    const auto scan = ts::simulateLidar(caster, p, spec, rng);
+    caster.prepare(p.origin, spec.range_max_m, p.rotation.col(0), M_PI);
+    const double inc = (spec.angle_max_rad - spec.angle_min_rad) / (spec.samples - 1);
+    int hits = 0;
+    for (int i = 0; i < spec.samples; ++i) {
+      const double a = spec.angle_min_rad + i * inc;
+      const double d = caster.cast(p.origin, p.rotation * Eigen::Vector3d(std::cos(a), std::sin(a), 0.0));
+      const float want = (d >= spec.range_min_m && d <= spec.range_max_m) ? static_cast<float>(d)
+                                                                          : std::numeric_limits<float>::infinity();
+      ASSERT_EQ(scan[i], want) << "beam " << i;
+      hits += std::isfinite(want) ? 1 : 0;
+    }
+    EXPECT_GT(hits, 500);
+  }
 }

@@ -10,7 +10,8 @@ import rostest
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock
-from sensor_msgs.msg import Image, Imu, LaserScan, PointCloud2, Range
+from diagnostic_msgs.msg import DiagnosticArray
+from sensor_msgs.msg import CameraInfo, Image, Imu, LaserScan, PointCloud2, Range
 from std_srvs.srv import Empty
 from thorvald_sim.srv import Step
 
@@ -24,6 +25,22 @@ class Latest:
     def cb(self, msg):
         self.msg = msg
         self.count += 1
+
+
+class CameraFrames:
+    """The simulator's diagnostics count of rendered frames of r1's camera (other nodes publish /diagnostics too)."""
+
+    def __init__(self):
+        self.frames = None
+        self.stamp = -1.0
+        self.sub = rospy.Subscriber("/diagnostics", DiagnosticArray, self.cb, queue_size=20)
+
+    def cb(self, msg):
+        for status in msg.status:
+            for kv in status.values:
+                if kv.key == "r1 camera frames rendered":
+                    self.frames = int(kv.value)
+                    self.stamp = msg.header.stamp.to_sec()
 
 
 def wait_for(cond, timeout=20.0, what="condition"):
@@ -48,8 +65,8 @@ class SimNodeTest(unittest.TestCase):
         cls.odom = Latest("/r1/odometry/base_raw", Odometry)
         cls.scan = Latest("/r1/scan", LaserScan)
         cls.us = Latest("/r1/ultrasonic/front_left", Range)
-        cls.cloud = Latest("/r1/camera/depth/points", PointCloud2)
-        cls.image = Latest("/r1/camera/color/image_raw", Image)
+        cls.info = Latest("/r1/camera/depth/camera_info", CameraInfo)
+        cls.diag = CameraFrames()
         cls.imu = Latest("/r1/imu", Imu)
         cls.cmd = rospy.Publisher("/r1/twist_mux/cmd_vel", Twist, queue_size=1)
         wait_for(lambda: cls.truth.msg is not None and cls.odom.msg is not None, 60.0, "ground truth and odometry")
@@ -57,6 +74,21 @@ class SimNodeTest(unittest.TestCase):
 
     def sim_time(self):
         return self.clock.msg.clock.to_sec()
+
+    def test_0_camera_costs_nothing_unwatched(self):
+        # The camera is scheduled (its camera_info flows at 5 Hz) but nobody watches its images: nothing rendered.
+        wait_for(lambda: self.info.count >= 5, 30.0, "5 camera_info messages")
+        stamp = self.clock.msg.clock.to_sec()
+        wait_for(lambda: self.diag.stamp > stamp, 30.0, "the simulator's diagnostics after the camera_info messages")
+        self.assertEqual(self.diag.frames, 0)
+        # Once someone subscribes, frames are rendered.
+        cls = type(self)
+        cls.cloud = Latest("/r1/camera/depth/points", PointCloud2)
+        cls.image = Latest("/r1/camera/color/image_raw", Image)
+        wait_for(lambda: self.cloud.msg is not None and self.image.msg is not None, 30.0, "camera images")
+        stamp = self.clock.msg.clock.to_sec()
+        wait_for(lambda: self.diag.stamp > stamp, 30.0, "the simulator's diagnostics after the images")
+        self.assertGreater(self.diag.frames, 0)
 
     def test_1_sensors_see_known_geometry(self):
         wait_for(lambda: None not in (self.scan.msg, self.us.msg, self.cloud.msg, self.image.msg, self.imu.msg),

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "thorvald_sim/drive_loop.h"
-#include "thorvald_sim/reference_urdf.h"
+#include "thorvald_sim/testing/reference_urdf.h"
 #include "thorvald_sim/scene.h"
 #include "thorvald_sim/simulation.h"
 
@@ -55,7 +55,7 @@ struct TestScene {
   double t = 0.0;
 
   TestScene(const WorldDescription& world, const std::vector<thorvald_base::RobotConfig>& configs,
-            const std::vector<std::array<double, 3>>& poses = {}) {
+            const std::vector<std::array<double, 3>>& poses = {}, const SceneOptions& options = SceneOptions()) {
     std::vector<RobotSpawn> spawns;
     for (size_t i = 0; i < configs.size(); ++i) {
       RobotSpawn s;
@@ -68,7 +68,7 @@ struct TestScene {
       s.z = 0.01;
       spawns.push_back(s);
     }
-    sim = std::make_unique<Simulation>(composeScene(world, spawns, SceneOptions()), spawns);
+    sim = std::make_unique<Simulation>(composeScene(world, spawns, options), spawns);
     for (size_t i = 0; i < configs.size(); ++i)
       robots.push_back(std::make_unique<DrivenRobot>(*sim, configs[i], spawns[i].name));
   }

@@ -18,17 +18,26 @@ struct RobotSpawn {
 /// Contact and actuator tuning shared by every robot. Defaults drive a 100-300 kg Thorvald without jitter.
 struct SceneOptions {
   double timestep_s = 0.002;
-  double wheel_friction = 1.0;          ///< sliding friction coefficient of wheels on the ground
-  bool sphere_wheels = true;            ///< wheel contact as a sphere of the wheel radius (one clean contact);
-                                        ///< false keeps the URDF's cylinder
-  double wheel_kv = 300.0;              ///< velocity servo gain of driven wheels [N m s/rad]
-  double wheel_torque_max = 400.0;      ///< limit of the servo's drive term kv * target [N m]
+  double wheel_friction = 1.0;      ///< sliding friction coefficient of wheels on the ground
+  bool sphere_wheels = true;        ///< wheel contact as a sphere of the wheel radius (one clean contact);
+                                    ///< false keeps the URDF's cylinder
+  double wheel_kv = 300.0;          ///< velocity servo gain of driven wheels [N m s/rad]
+  double wheel_torque_max = 400.0;  ///< limit of the servo's drive term kv * target [N m]
+  /// Drive torque limit of every driven wheel: the robot's weight shared by its driven wheels, on the design
+  /// slope at the design acceleration. A wheel against an obstacle stalls where sin(slope) + accel / g is below
+  /// the wheel's friction coefficient (0.49 < 1.0 by default), as current-limited drives on grippy ground do.
+  bool wheel_torque_limit = true;
+  double wheel_design_slope_deg = 20.0;
+  double wheel_design_accel_mps2 = 1.5;
   double wheel_armature = 0.2;          ///< [kg m^2]
   double steering_kp = 3000.0;          ///< position actuator gain of steering joints [N m/rad]
   double steering_damping = 150.0;      ///< [N m s/rad]
   double steering_armature = 0.5;       ///< [kg m^2]
   double steering_torque_max = 1500.0;  ///< [N m]
   double passive_damping = 0.05;        ///< casters and passive wheels [N m s/rad]
+  int camera_max_width = 1280;          ///< largest camera image CameraRenderer can render [px]
+  int camera_max_height = 720;
+  int render_slices = 32;  ///< tessellation of curved geoms for the cameras (MuJoCo's numslices)
 };
 
 /// What a joint of a Thorvald URDF is, from its name without the robot's prefix.

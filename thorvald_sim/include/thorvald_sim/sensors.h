@@ -33,6 +33,9 @@ struct UltrasonicSpec {
 struct DepthCameraSpec {
   int width = 640, height = 480;
   double hfov_rad = 1.2;  ///< horizontal field of view; square pixels
+  double focal_px = 0.0;  ///< fx = fy [px]; 0: from hfov_rad
+  double cx_px = -1.0;    ///< principal point [px]; negative: the image centre ((width - 1) / 2)
+  double cy_px = -1.0;
   double range_min_m = 0.3, range_max_m = 8.0;
   double noise_coeff = 0.002;       ///< depth std dev = noise_coeff * z^2 [1/m]
   double dropout = 0.01;            ///< probability that a valid pixel has no depth
@@ -43,6 +46,8 @@ struct DepthCameraSpec {
 struct ColorCameraSpec {
   int width = 640, height = 480;
   double hfov_rad = 1.2;
+  double focal_px = 0.0;  ///< as DepthCameraSpec
+  double cx_px = -1.0, cy_px = -1.0;
   double range_max_m = 50.0;
   uint8_t background[3] = {170, 200, 235};  ///< what a ray that hits nothing sees
 };
@@ -52,6 +57,15 @@ struct Intrinsics {
   double fx, fy, cx, cy;
 };
 Intrinsics intrinsics(int width, int height, double hfov_rad);
+/// A camera's intrinsics: its focal length and principal point where given, else from its field of view.
+template <typename Spec>
+Intrinsics intrinsics(const Spec& s) {
+  Intrinsics k = intrinsics(s.width, s.height, s.hfov_rad);
+  if (s.focal_px > 0.0) k.fx = k.fy = s.focal_px;
+  if (s.cx_px >= 0.0) k.cx = s.cx_px;
+  if (s.cy_px >= 0.0) k.cy = s.cy_px;
+  return k;
+}
 
 struct DepthImage {
   int width = 0, height = 0;

@@ -45,8 +45,10 @@ class Simulation {
   /// Actuator of a joint by its full URDF name (e.g. "robot1/wheel0"), -1 if none.
   int actuatorOfJoint(const std::string& joint_name) const;
   /// Sets a target: position [rad] for steering joints, velocity [rad/s] for wheels. Non-finite values are
-  /// refused (returns false).
+  /// refused (returns false). A wheel's velocity servo never exceeds its drive torque limit (composeScene).
   bool setTarget(int actuator, double value);
+  /// The target last set for an actuator (0 for none or after a reset).
+  double target(int actuator) const;
   /// Position [rad] and velocity [rad/s] of a joint by name; false if unknown.
   bool jointState(const std::string& joint_name, double* position, double* velocity) const;
 
@@ -69,6 +71,13 @@ class Simulation {
   DataPtr data_;
   std::vector<RobotHandle> robots_;
   unsigned long divergences_ = 0;
+  /// Wheel servos with a torque limit: the actuator, its gain kv [N m s/rad], limit [N m], dof and target.
+  struct LimitedWheel {
+    int actuator, dof;
+    double kv, torque_max, target;
+  };
+  std::vector<LimitedWheel> limited_;
+  std::vector<int> limited_of_actuator_;  ///< actuator -> index in limited_, -1
 };
 
 }  // namespace thorvald_sim

@@ -31,7 +31,7 @@ Eigen::Matrix3d opticalInCamera() {
 }
 
 sensor_msgs::CameraInfo cameraInfo(const DepthCameraSpec& s, const std::string& frame, const ros::Time& t) {
-  const Intrinsics k = intrinsics(s.width, s.height, s.hfov_rad);
+  const Intrinsics k = intrinsics(s);
   sensor_msgs::CameraInfo info;
   info.header.stamp = t;
   info.header.frame_id = frame;
@@ -47,14 +47,17 @@ sensor_msgs::CameraInfo cameraInfo(const DepthCameraSpec& s, const std::string& 
 }  // namespace
 
 RobotIo::RobotIo(ros::NodeHandle nh, Simulation& sim, size_t index, const std::string& tf_prefix,
-                 std::vector<SensorConfig> sensors, const std::string& world_frame, bool publish_map_tf)
+                 std::vector<SensorConfig> sensors, const std::string& world_frame, bool publish_map_tf,
+                 std::function<CameraRenderer&()> renderer, bool physics_encoders)
     : nh_(nh),
       sim_(sim),
       index_(index),
       name_(sim.robot(index).name),
       prefix_(tf_prefix),
       world_frame_(world_frame),
-      publish_map_tf_(publish_map_tf) {
+      publish_map_tf_(publish_map_tf),
+      physics_encoders_(physics_encoders),
+      renderer_(std::move(renderer)) {
   const mjModel* m = sim.model();
   for (int a = 0; a < m->nu; ++a) {
     const int j = m->actuator_trnid[2 * a];
@@ -64,7 +67,14 @@ RobotIo::RobotIo(ros::NodeHandle nh, Simulation& sim, size_t index, const std::s
     const auto slash = n.rfind('/');
     actuators_[n] = {a, jointRole(slash == std::string::npos ? n : n.substr(slash + 1)) == JointRole::kSteering};
   }
-  joint_sub_ = nh_.subscribe("joint_states", 20, &RobotIo::onJointStates, this);
+  if (physics_encoders_) {
+    // base_driver's joint_states are then the measurements themselves: targets come from SimHardware.
+    joint_sub_ = nh_.subscribe("sim/joint_commands", 50, &RobotIo::onJointStates, this);
+    measured_pub_ = nh_.advertise<sensor_msgs::JointState>("sim/joint_measured", 10);
+    for (const auto& a : actuators_) measured_joints_.push_back(a.first);
+  } else {
+    joint_sub_ = nh_.subscribe("joint_states", 20, &RobotIo::onJointStates, this);
+  }
   if (publish_map_tf_) odom_sub_ = nh_.subscribe("odometry/base_raw", 20, &RobotIo::onOdometry, this);
   truth_pub_ = nh_.advertise<nav_msgs::Odometry>("ground_truth/odom", 10);
   std::vector<geometry_msgs::TransformStamped> mounts;
@@ -155,6 +165,18 @@ void RobotIo::restart() {
 
 void RobotIo::publish(const ros::Time& now, double ground_truth_period_s) {
   const double t = now.toSec();
+  if (physics_encoders_) {
+    sensor_msgs::JointState js;
+    js.header.stamp = now;
+    for (const auto& j : measured_joints_) {
+      double p = 0.0, v = 0.0;
+      if (!sim_.jointState(j, &p, &v)) continue;
+      js.name.push_back(j);
+      js.position.push_back(p);
+      js.velocity.push_back(v);
+    }
+    measured_pub_.publish(js);
+  }
   if (t + 1e-9 >= next_truth_s_) {
     next_truth_s_ = t + ground_truth_period_s;
     const BodyState b = sim_.robotState(index_);
@@ -236,51 +258,74 @@ void RobotIo::publishSensor(Sensor& s, const ros::Time& now) {
       s.pub.publish(m);
       break;
     }
-    case SensorType::kDepthCamera: {
-      SensorPose optical = pose;
-      optical.rotation = pose.rotation * opticalInCamera();
-      const std::string oframe = s.frame + "_optical";
-      s.info_pub.publish(cameraInfo(c.depth, oframe, now));
-      if (s.pub.getNumSubscribers() > 0) {
-        const DepthImage img = simulateDepth(caster, optical, c.depth, s.rng);
-        sensor_msgs::PointCloud2 cloud;
-        cloud.header.stamp = now;
-        cloud.header.frame_id = oframe;
-        sensor_msgs::PointCloud2Modifier mod(cloud);
-        mod.setPointCloud2FieldsByString(1, "xyz");
-        mod.resize(static_cast<size_t>(img.width) * img.height);
-        cloud.height = img.height, cloud.width = img.width;
-        cloud.row_step = cloud.point_step * cloud.width;
-        cloud.is_dense = false;
-        sensor_msgs::PointCloud2Iterator<float> x(cloud, "x"), y(cloud, "y"), z(cloud, "z");
-        for (const auto& p : img.points) *x = p.x(), *y = p.y(), *z = p.z(), ++x, ++y, ++z;
-        s.pub.publish(cloud);
-      }
-      if (c.color && s.color_pub.getNumSubscribers() > 0) {
-        ColorCameraSpec cs;
-        cs.width = c.depth.width, cs.height = c.depth.height, cs.hfov_rad = c.depth.hfov_rad;
-        const ColorImage img = simulateColor(caster, sim_.model(), optical, cs);
-        sensor_msgs::Image m;
-        m.header.stamp = now;
-        m.header.frame_id = oframe;
-        m.width = img.width, m.height = img.height;
-        m.encoding = "rgb8";
-        m.step = 3 * img.width;
-        m.data = img.rgb;
-        s.color_pub.publish(m);
-        s.color_info_pub.publish(cameraInfo(c.depth, oframe, now));
-      }
+    case SensorType::kDepthCamera:
+      publishCamera(s, pose, now);
       break;
-    }
+  }
+}
+
+void RobotIo::publishCamera(Sensor& s, const SensorPose& pose, const ros::Time& now) {
+  const auto& c = s.config;
+  const std::string oframe = s.frame + "_optical";
+  s.info_pub.publish(cameraInfo(c.depth, oframe, now));
+  const bool depth = s.pub.getNumSubscribers() > 0;
+  const bool color = c.color && s.color_pub.getNumSubscribers() > 0;
+  if (!depth && !color) return;  // a camera nobody watches costs nothing
+  SensorPose optical = pose;
+  optical.rotation = pose.rotation * opticalInCamera();
+  ColorCameraSpec cs;
+  cs.width = c.depth.width, cs.height = c.depth.height, cs.hfov_rad = c.depth.hfov_rad;
+  cs.focal_px = c.depth.focal_px, cs.cx_px = c.depth.cx_px, cs.cy_px = c.depth.cy_px;
+  try {
+    renderer_().render(sim_.data(), optical, cameraView(c.depth, color, cs.range_max_m), sim_.robot(index_).root_body,
+                       &view_);
+  } catch (const RenderError& e) {
+    ++camera_errors_;
+    ROS_ERROR_THROTTLE(5.0, "thorvald_sim: camera %s: %s", s.frame.c_str(), e.what());
+    return;
+  }
+  ++camera_frames_;
+  if (depth) {
+    const RayCaster normals(sim_.model(), sim_.data(), sim_.robot(index_).root_body);
+    depthFromView(view_, normals, optical, c.depth, s.rng, &depth_img_);
+    const DepthImage& img = depth_img_;
+    sensor_msgs::PointCloud2 cloud;
+    cloud.header.stamp = now;
+    cloud.header.frame_id = oframe;
+    sensor_msgs::PointCloud2Modifier mod(cloud);
+    mod.setPointCloud2FieldsByString(1, "xyz");
+    mod.resize(static_cast<size_t>(img.width) * img.height);
+    cloud.height = img.height, cloud.width = img.width;
+    cloud.row_step = cloud.point_step * cloud.width;
+    cloud.is_dense = false;
+    sensor_msgs::PointCloud2Iterator<float> x(cloud, "x"), y(cloud, "y"), z(cloud, "z");
+    for (const auto& p : img.points) *x = p.x(), *y = p.y(), *z = p.z(), ++x, ++y, ++z;
+    s.pub.publish(cloud);
+  }
+  if (color) {
+    colorFromView(view_, sim_.model(), cs, &color_img_);
+    const ColorImage& img = color_img_;
+    sensor_msgs::Image m;
+    m.header.stamp = now;
+    m.header.frame_id = oframe;
+    m.width = img.width, m.height = img.height;
+    m.encoding = "rgb8";
+    m.step = 3 * img.width;
+    m.data = img.rgb;
+    s.color_pub.publish(m);
+    s.color_info_pub.publish(cameraInfo(c.depth, oframe, now));
   }
 }
 
 void RobotIo::diagnostics(diagnostic_updater::DiagnosticStatusWrapper& stat) const {
   const std::string who = name_.empty() ? "robot" : name_;
-  stat.add(who + " joint_states received", joint_msgs_);
+  stat.add(who + " encoders", physics_encoders_ ? "physics (SimHardware)" : "base_driver's joint simulator");
+  stat.add(who + " joint targets received", joint_msgs_);
   stat.add(who + " rejected values", rejected_values_);
   stat.add(who + " joints without actuator", unknown_joints_);
   stat.add(who + " sensors", sensors_.size());
+  stat.add(who + " camera frames rendered", camera_frames_);
+  stat.add(who + " camera errors", camera_errors_);
 }
 
 }  // namespace thorvald_sim

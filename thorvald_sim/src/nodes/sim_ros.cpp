@@ -2,6 +2,7 @@
 
 #include <rosgraph_msgs/Clock.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "thorvald_sim/mjcf_compiler.h"
@@ -124,6 +125,9 @@ bool SimRos::loadRobots(const WorldDescription& world) {
   std::vector<RobotSpawn> spawns;
   std::vector<std::string> prefixes;
   std::vector<std::vector<SensorConfig>> sensors;
+  std::vector<bool> physics;
+  std::string default_encoders = "joint_simulator";
+  param(pnh_, "encoders", default_encoders);
   for (int i = 0; i < list.size(); ++i) {
     const std::string where = "~robots[" + std::to_string(i) + "]";
     try {
@@ -147,6 +151,10 @@ bool SimRos::loadRobots(const WorldDescription& world) {
           s.root_link.size() > 10 ? s.root_link.substr(0, s.root_link.size() - 10) : std::string();
       const std::string sensor_file = r.hasMember("sensors") ? static_cast<std::string>(r["sensors"]) : "";
       sensors.push_back(sensor_file.empty() ? std::vector<SensorConfig>{} : loadSensorConfigFile(sensor_file));
+      const std::string encoders = r.hasMember("encoders") ? static_cast<std::string>(r["encoders"]) : default_encoders;
+      if (encoders != "joint_simulator" && encoders != "physics")
+        throw std::invalid_argument("encoders: expected joint_simulator or physics, got '" + encoders + "'");
+      physics.push_back(encoders == "physics");
       spawns.push_back(s);
       prefixes.push_back(prefix);
       ROS_INFO("thorvald_sim: robot '%s' (root %s) at %.2f %.2f yaw %.2f, %zu sensors", s.name.c_str(),
@@ -157,10 +165,18 @@ bool SimRos::loadRobots(const WorldDescription& world) {
     }
   }
   try {
-    sim_ = std::make_unique<Simulation>(composeScene(world, spawns, SceneOptions()), spawns);
+    SceneOptions options;
+    for (const auto& list : sensors)  // the offscreen buffer must hold the largest camera image
+      for (const auto& c : list)
+        if (c.type == SensorType::kDepthCamera) {
+          options.camera_max_width = std::max(options.camera_max_width, c.depth.width);
+          options.camera_max_height = std::max(options.camera_max_height, c.depth.height);
+        }
+    sim_ = std::make_unique<Simulation>(composeScene(world, spawns, options), spawns);
     for (size_t i = 0; i < spawns.size(); ++i)
-      robots_.push_back(std::make_unique<RobotIo>(ros::NodeHandle(nh_, spawns[i].name), *sim_, i, prefixes[i],
-                                                  sensors[i], params_.world_frame, params_.publish_map_tf));
+      robots_.push_back(std::make_unique<RobotIo>(
+          ros::NodeHandle(nh_, spawns[i].name), *sim_, i, prefixes[i], sensors[i], params_.world_frame,
+          params_.publish_map_tf, [this]() -> CameraRenderer& { return renderer(); }, physics[i]));
   } catch (const std::exception& e) {
     ROS_FATAL("thorvald_sim: cannot build the scene: %s", e.what());
     return false;
@@ -186,6 +202,15 @@ bool SimRos::start() {
   ROS_INFO("thorvald_sim: world %s, %zu robots, timestep %.4f s, real-time factor %g", params_.world.c_str(),
            robots_.size(), sim_->timestep(), params_.real_time_factor);
   return true;
+}
+
+CameraRenderer& SimRos::renderer() {
+  if (!renderer_) {
+    renderer_ = std::make_unique<CameraRenderer>(sim_->model());
+    ROS_INFO("thorvald_sim: camera renderer ready (OSMesa, offscreen %dx%d)", renderer_->maxWidth(),
+             renderer_->maxHeight());
+  }
+  return *renderer_;
 }
 
 void SimRos::advance() {
@@ -266,6 +291,7 @@ void SimRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   stat.add("real-time factor achieved", achieved_rtf_);
   stat.add("real-time factor requested", params_.real_time_factor);
   stat.add("divergences", sim_->divergences());
+  stat.add("camera frames rendered", renderer_ ? renderer_->frames() : 0ul);
   for (const auto& r : robots_) r->diagnostics(stat);
 }
 

@@ -49,7 +49,10 @@ class SimRos {
 
   ros::NodeHandle nh_, pnh_;
   SimNodeParams params_;
+  CameraRenderer& renderer();
+
   std::unique_ptr<Simulation> sim_;
+  std::unique_ptr<CameraRenderer> renderer_;  ///< created when a camera is first watched
   std::vector<std::unique_ptr<RobotIo>> robots_;
   ros::Publisher clock_pub_;
   ros::ServiceServer pause_srv_, unpause_srv_, reset_srv_, step_srv_;

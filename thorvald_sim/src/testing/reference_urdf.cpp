@@ -1,4 +1,4 @@
-#include "thorvald_sim/reference_urdf.h"
+#include "thorvald_sim/testing/reference_urdf.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,0 +1,94 @@
+#pragma once
+
+#include <mujoco/mujoco.h>
+
+#include <memory>
+#include <stdexcept>
+#include <vector>
+
+#include "thorvald_sim/sensors.h"
+
+namespace thorvald_sim {
+
+/// The renderer could not be created or used (no OpenGL context, an image larger than the model allows).
+class RenderError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// A pinhole view to render: image size, intrinsics (square pixels: fx = fy) and the depth interval the z-buffer
+/// covers.
+struct CameraView {
+  int width = 640, height = 480;
+  Intrinsics k = intrinsics(640, 480, 1.2);
+  double near_m = 0.05;  ///< [m] nothing closer is seen
+  double far_m = 50.0;   ///< [m] nothing farther along the optical axis is seen
+};
+
+/// The view a depth camera (with its colour image) needs: its optics, from range_min (or less, for colour) to
+/// the farthest range it reports.
+CameraView cameraView(const DepthCameraSpec& depth, bool color, double color_range_max_m = 50.0);
+
+/// What a camera sees, per pixel (row-major, row 0 at the top): the depth along the optical axis and the geom.
+struct RenderedView {
+  int width = 0, height = 0;
+  std::vector<float> depth_m;  ///< z in the optical frame [m]; +inf where no geom is seen
+  std::vector<int> geom;       ///< geom id, -1 where none
+};
+
+/// Rasterises the model's geoms with MuJoCo's OpenGL renderer on the CPU (Mesa's OSMesa/llvmpipe: no display,
+/// no GPU): one pass in segmentation mode gives each pixel's geom and the z-buffer its depth. The cost grows with
+/// the pixels and the triangles in view, not with pixels times geoms as ray casting every pixel does. llvmpipe
+/// splits the image over `LP_NUM_THREADS` threads (default: all cores), read when the first context is created.
+///
+/// Curved geoms (spheres, capsules, cylinders, ellipsoids) are drawn as MuJoCo tessellates them
+/// (`<visual><quality numslices numstacks>`); the pixels that see one get their depth from the pixel's ray
+/// against that geom's exact surface, so depth matches the ray caster, and only silhouettes can differ by the
+/// tessellation (r (1 - cos(pi / numslices)) for radius r). Planes and boxes are exact up to the 24-bit z-buffer
+/// (about z^2 / (near 2^24)). One context per renderer, used from the thread that created it only.
+class CameraRenderer {
+ public:
+  /// Creates the OpenGL context and uploads the model. The model's `<visual><global offwidth offheight>` bound the
+  /// images it can render; `<visual><quality offsamples="0">` keeps geom ids exact at edges. Throws RenderError.
+  explicit CameraRenderer(const mjModel* model);
+  ~CameraRenderer();
+  CameraRenderer(const CameraRenderer&) = delete;
+  CameraRenderer& operator=(const CameraRenderer&) = delete;
+
+  /// Renders `view` from the optical frame `pose` (z forward, x right, y down) with the model's geoms as they are
+  /// in `data`, leaving out the geoms of the robot whose root body is `own_root_body` (-1: none) and invisible
+  /// geoms (alpha 0). Throws RenderError for an image larger than the model's offscreen buffer.
+  void render(const mjData* data, const SensorPose& pose, const CameraView& view, int own_root_body, RenderedView* out);
+
+  int maxWidth() const;
+  int maxHeight() const;
+  /// Frames rendered so far.
+  unsigned long frames() const { return frames_; }
+
+ private:
+  struct Context;
+  const mjModel* m_;
+  std::unique_ptr<Context> ctx_;
+  std::vector<char> curved_;   ///< per geom: depth refined analytically
+  std::vector<int> seg_geom_;  ///< segmentation id -> geom id of the last frame
+  std::vector<unsigned char> rgb_;
+  std::vector<float> zbuf_;
+  unsigned long frames_ = 0;
+};
+
+/// Depth image of an active-stereo camera (noise growing with z^2, dropouts, no depth at grazing angles) from a
+/// rendered view of the same size and optics; `caster` gives the surface normals of the geoms seen (it needs no
+/// prepare). Same outputs as simulateDepth on the same geometry.
+DepthImage depthFromView(const RenderedView& view, const RayCaster& caster, const SensorPose& pose,
+                         const DepthCameraSpec& spec, std::mt19937& rng);
+/// The same into `out`, reusing its memory (a camera's frames are the same size every time). The per-pixel noise
+/// comes from a fast generator seeded by one draw from `rng`.
+void depthFromView(const RenderedView& view, const RayCaster& caster, const SensorPose& pose,
+                   const DepthCameraSpec& spec, std::mt19937& rng, DepthImage* out);
+
+/// Colour image (each pixel the colour of its geom, the background beyond `range_max_m` or where nothing is seen)
+/// from a rendered view of the same size and optics.
+ColorImage colorFromView(const RenderedView& view, const mjModel* model, const ColorCameraSpec& spec);
+void colorFromView(const RenderedView& view, const mjModel* model, const ColorCameraSpec& spec, ColorImage* out);
+
+}  // namespace thorvald_sim

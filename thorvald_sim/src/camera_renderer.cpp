@@ -1,0 +1,295 @@
+#include "thorvald_sim/camera_renderer.h"
+
+#include <GL/osmesa.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace thorvald_sim {
+
+struct CameraRenderer::Context {
+  OSMesaContext gl = nullptr;
+  std::vector<unsigned char> window;  ///< the default framebuffer OSMesa needs; MuJoCo draws offscreen
+  mjrContext con;
+  mjvScene scene;
+  mjvOption option;
+  mjvPerturb perturb;
+  bool have_con = false, have_scene = false;
+
+  void makeCurrent() const {
+    if (!OSMesaMakeCurrent(gl, const_cast<unsigned char*>(window.data()), GL_UNSIGNED_BYTE, 16, 16))
+      throw RenderError("OSMesaMakeCurrent failed");
+  }
+};
+
+CameraRenderer::CameraRenderer(const mjModel* model) : m_(model), ctx_(std::make_unique<Context>()) {
+  ctx_->gl = OSMesaCreateContextExt(OSMESA_RGBA, 24, 8, 0, nullptr);
+  if (!ctx_->gl) throw RenderError("cannot create an OSMesa OpenGL context (libosmesa6)");
+  ctx_->window.resize(16 * 16 * 4);
+  ctx_->makeCurrent();
+  mjr_defaultContext(&ctx_->con);
+  mjr_makeContext(m_, &ctx_->con, mjFONTSCALE_50);
+  ctx_->have_con = true;
+  mjr_setBuffer(mjFB_OFFSCREEN, &ctx_->con);
+  if (ctx_->con.currentBuffer != mjFB_OFFSCREEN) throw RenderError("MuJoCo has no offscreen buffer in this context");
+  curved_.resize(m_->ngeom);
+  for (int g = 0; g < m_->ngeom; ++g) {
+    const int t = m_->geom_type[g];
+    curved_[g] = t == mjGEOM_SPHERE || t == mjGEOM_CAPSULE || t == mjGEOM_CYLINDER || t == mjGEOM_ELLIPSOID;
+  }
+  mjv_defaultScene(&ctx_->scene);
+  mjv_makeScene(m_, &ctx_->scene, m_->ngeom + 100);
+  ctx_->have_scene = true;
+  mjv_defaultOption(&ctx_->option);
+  for (int g = 0; g < mjNGROUP; ++g) ctx_->option.geomgroup[g] = 1;  // the ray caster ignores groups too
+  mjv_defaultPerturb(&ctx_->perturb);
+  mjvScene& s = ctx_->scene;
+  for (int f = 0; f < mjNRNDFLAG; ++f) s.flags[f] = 0;
+  s.flags[mjRND_SEGMENT] = 1;
+  s.flags[mjRND_IDCOLOR] = 1;
+  s.flags[mjRND_CULL_FACE] = 1;
+  s.stereo = mjSTEREO_NONE;
+}
+
+CameraRenderer::~CameraRenderer() {
+  if (ctx_->gl) OSMesaMakeCurrent(ctx_->gl, ctx_->window.data(), GL_UNSIGNED_BYTE, 16, 16);
+  if (ctx_->have_scene) mjv_freeScene(&ctx_->scene);
+  if (ctx_->have_con) mjr_freeContext(&ctx_->con);
+  if (ctx_->gl) OSMesaDestroyContext(ctx_->gl);
+}
+
+int CameraRenderer::maxWidth() const { return ctx_->con.offWidth; }
+int CameraRenderer::maxHeight() const { return ctx_->con.offHeight; }
+
+void CameraRenderer::render(const mjData* data, const SensorPose& pose, const CameraView& view, int own_root_body,
+                            RenderedView* out) {
+  if (view.width < 1 || view.height < 1 || view.width > maxWidth() || view.height > maxHeight())
+    throw RenderError("image " + std::to_string(view.width) + "x" + std::to_string(view.height) +
+                      " does not fit the model's offscreen buffer " + std::to_string(maxWidth()) + "x" +
+                      std::to_string(maxHeight()) + " (<visual><global offwidth offheight>)");
+  if (!(view.near_m > 0.0 && view.far_m > view.near_m)) throw RenderError("camera view needs 0 < near < far");
+  if (!(view.k.fx > 0.0) || std::fabs(view.k.fx - view.k.fy) > 1e-9 * view.k.fx)
+    throw RenderError("camera view needs square pixels (fx = fy > 0)");
+  ctx_->makeCurrent();
+  mjvScene& s = ctx_->scene;
+  s.ngeom = 0;
+  // mjv_addGeoms only reads the state; its signature is not const.
+  mjv_addGeoms(m_, const_cast<mjData*>(data), &ctx_->option, &ctx_->perturb, mjCAT_STATIC | mjCAT_DYNAMIC, &s);
+  // Leave out the carrying robot and invisible geoms; remember which geom each segmentation id stands for.
+  seg_geom_.assign(s.ngeom, -1);
+  int kept = 0;
+  for (int i = 0; i < s.ngeom; ++i) {
+    const mjvGeom& g = s.geoms[i];
+    if (g.objtype != mjOBJ_GEOM || g.objid < 0) continue;
+    if (own_root_body >= 0 && m_->body_rootid[m_->geom_bodyid[g.objid]] == own_root_body) continue;
+    if (m_->geom_rgba[4 * g.objid + 3] == 0.0f) continue;
+    if (g.segid >= 0 && g.segid < static_cast<int>(seg_geom_.size())) seg_geom_[g.segid] = g.objid;
+    s.geoms[kept++] = g;
+  }
+  s.ngeom = kept;
+  s.nlight = 0;
+  // The optical frame: z forward, y down, so OpenGL's up is -y and its right x.
+  const Intrinsics& k = view.k;
+  mjvGLCamera cam;
+  for (int i = 0; i < 3; ++i) {
+    cam.pos[i] = static_cast<float>(pose.origin[i]);
+    cam.forward[i] = static_cast<float>(pose.rotation(i, 2));
+    cam.up[i] = static_cast<float>(-pose.rotation(i, 1));
+  }
+  cam.frustum_near = static_cast<float>(view.near_m);
+  cam.frustum_far = static_cast<float>(view.far_m);
+  // Pixel u spans [u - 0.5, u + 0.5] and sees x / z = (u - cx) / f; OpenGL's y is up, the image's v down. MuJoCo
+  // sets the frustum's width from its height and the viewport's aspect, so fx must equal fy.
+  cam.frustum_center = static_cast<float>(view.near_m * (0.5 * (view.width - 1) - k.cx) / k.fx);
+  cam.frustum_top = static_cast<float>(view.near_m * (k.cy + 0.5) / k.fy);
+  cam.frustum_bottom = static_cast<float>(-view.near_m * (view.height - 0.5 - k.cy) / k.fy);
+  s.camera[0] = cam;
+  s.camera[1] = cam;
+  const mjrRect rect = {0, 0, view.width, view.height};
+  mjr_render(rect, &s, &ctx_->con);
+  const size_t n = static_cast<size_t>(view.width) * view.height;
+  rgb_.resize(3 * n);
+  zbuf_.resize(n);
+  mjr_readPixels(rgb_.data(), zbuf_.data(), rect, &ctx_->con);
+  ++frames_;
+
+  out->width = view.width;
+  out->height = view.height;
+  out->depth_m.resize(n);
+  out->geom.resize(n);
+  const double nr = view.near_m, fr = view.far_m;
+  for (int row = 0; row < view.height; ++row) {
+    const size_t src = static_cast<size_t>(view.height - 1 - row) * view.width;  // OpenGL: bottom row first
+    const size_t dst = static_cast<size_t>(row) * view.width;
+    for (int u = 0; u < view.width; ++u) {
+      const unsigned char* c = &rgb_[3 * (src + u)];
+      const int id = (c[0] | (c[1] << 8) | (c[2] << 16)) - 1;
+      const int g = (id >= 0 && id < static_cast<int>(seg_geom_.size())) ? seg_geom_[id] : -1;
+      const double d = zbuf_[src + u];
+      out->geom[dst + u] = d < 1.0 ? g : -1;
+      if (g < 0 || d >= 1.0) {
+        out->depth_m[dst + u] = std::numeric_limits<float>::infinity();
+        continue;
+      }
+      // Window depth d in [0, 1] of a perspective projection back to the distance along the optical axis.
+      double z = nr * fr / (fr - d * (fr - nr));
+      if (curved_[g]) {
+        // Tessellation only decided which geom the pixel sees; its depth comes from the exact surface.
+        const Eigen::Vector3d ray((u - k.cx) / k.fx, (row - k.cy) / k.fy, 1.0);
+        const double len = ray.norm();
+        const Eigen::Vector3d dir = pose.rotation * (ray / len);
+        const mjtNum pnt[3] = {pose.origin.x(), pose.origin.y(), pose.origin.z()}, vec[3] = {dir.x(), dir.y(), dir.z()};
+        const double x = mju_rayGeom(data->geom_xpos + 3 * g, data->geom_xmat + 9 * g, m_->geom_size + 3 * g, pnt, vec,
+                                     m_->geom_type[g]);
+        if (x >= 0.0) z = x / len;
+      }
+      out->depth_m[dst + u] = static_cast<float>(z);
+    }
+  }
+}
+
+CameraView cameraView(const DepthCameraSpec& depth, bool color, double color_range_max_m) {
+  CameraView v;
+  v.width = depth.width;
+  v.height = depth.height;
+  v.k = intrinsics(depth);
+  // The near plane sets the z-buffer's resolution (about z^2 / (near 2^24)): as far out as the images allow.
+  v.near_m = std::max(0.01, color ? std::min(depth.range_min_m, 0.1) : depth.range_min_m);
+  v.far_m = std::max(v.near_m * 2.0, 1.001 * std::max(depth.range_max_m, color ? color_range_max_m : 0.0));
+  return v;
+}
+
+namespace {
+
+// A fast generator for the per-pixel noise of one frame, seeded from the caller's engine (so the frame stays
+// reproducible from the sensor's seed): splitmix64 for uniforms, the polar method for normals.
+class PixelNoise {
+ public:
+  explicit PixelNoise(std::mt19937& rng) : state_((static_cast<uint64_t>(rng()) << 32) | rng()) {}
+  double uniform() { return (next() >> 11) * 0x1.0p-53; }
+  double normal() {
+    if (have_spare_) {
+      have_spare_ = false;
+      return spare_;
+    }
+    double x, y, r;
+    do {
+      x = 2.0 * uniform() - 1.0, y = 2.0 * uniform() - 1.0, r = x * x + y * y;
+    } while (r >= 1.0 || r == 0.0);
+    const double f = std::sqrt(-2.0 * std::log(r) / r);
+    spare_ = y * f, have_spare_ = true;
+    return x * f;
+  }
+
+ private:
+  uint64_t next() {
+    uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+  }
+  uint64_t state_;
+  double spare_ = 0.0;
+  bool have_spare_ = false;
+};
+
+}  // namespace
+
+void depthFromView(const RenderedView& view, const RayCaster& caster, const SensorPose& pose, const DepthCameraSpec& s,
+                   std::mt19937& rng, DepthImage* img) {
+  const Intrinsics k = intrinsics(s);
+  img->width = s.width;
+  img->height = s.height;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  img->points.assign(static_cast<size_t>(s.width) * s.height, Eigen::Vector3f(nan, nan, nan));
+  if (view.width != s.width || view.height != s.height) return;
+  PixelNoise noise(rng);
+  const mjModel* m = caster.model();
+  const mjData* d = caster.data();
+  // Each geom's pose once per frame (a frame sees few geoms, many pixels each).
+  struct Frame {
+    Eigen::Matrix3d R;
+    Eigen::Vector3d c;
+  };
+  std::vector<int> slot(m->ngeom, -1);
+  std::vector<Frame> frames;
+  const double min_cos = std::cos(s.grazing_limit_rad);
+  for (int v = 0; v < s.height; ++v) {
+    const double y = (v - k.cy) / k.fy;
+    for (int u = 0; u < s.width; ++u) {
+      const size_t i = static_cast<size_t>(v) * s.width + u;
+      const int g = view.geom[i];
+      const double z = view.depth_m[i];
+      if (g < 0 || z < s.range_min_m || z > s.range_max_m) continue;
+      if (s.dropout > 0 && noise.uniform() < s.dropout) continue;
+      if (slot[g] < 0) {
+        Frame f;
+        for (int r = 0; r < 3; ++r)
+          for (int c = 0; c < 3; ++c) f.R(r, c) = d->geom_xmat[9 * g + 3 * r + c];
+        f.c = Eigen::Vector3d(d->geom_xpos[3 * g], d->geom_xpos[3 * g + 1], d->geom_xpos[3 * g + 2]);
+        slot[g] = static_cast<int>(frames.size());
+        frames.push_back(f);
+      }
+      const Frame& f = frames[slot[g]];
+      const Eigen::Vector3d ray((u - k.cx) / k.fx, y, 1.0);  // z = 1
+      const Eigen::Vector3d dir = pose.rotation * (ray / ray.norm());
+      const int type = m->geom_type[g];
+      double cos_incidence;
+      if (type == mjGEOM_PLANE) {
+        cos_incidence = std::fabs(f.R.col(2).dot(dir));
+      } else {
+        const Eigen::Vector3d n =
+            geomNormal(type, m->geom_size + 3 * g, f.R, f.c, pose.origin + pose.rotation * (ray * z), dir);
+        cos_incidence = -n.dot(dir);
+      }
+      if (cos_incidence < min_cos) continue;  // seen more obliquely than grazing_limit
+      const double zn = z + (s.noise_coeff > 0 ? s.noise_coeff * z * z * noise.normal() : 0.0);
+      img->points[i] = (ray * zn).cast<float>();
+    }
+  }
+}
+
+DepthImage depthFromView(const RenderedView& view, const RayCaster& caster, const SensorPose& pose,
+                         const DepthCameraSpec& spec, std::mt19937& rng) {
+  DepthImage img;
+  depthFromView(view, caster, pose, spec, rng, &img);
+  return img;
+}
+
+ColorImage colorFromView(const RenderedView& view, const mjModel* model, const ColorCameraSpec& spec) {
+  ColorImage img;
+  colorFromView(view, model, spec, &img);
+  return img;
+}
+
+void colorFromView(const RenderedView& view, const mjModel* model, const ColorCameraSpec& s, ColorImage* img) {
+  const Intrinsics k = intrinsics(s);
+  img->width = s.width;
+  img->height = s.height;
+  img->rgb.resize(static_cast<size_t>(s.width) * s.height * 3);
+  const bool same = view.width == s.width && view.height == s.height;
+  std::vector<std::array<uint8_t, 3>> palette(model->ngeom);
+  for (int g = 0; g < model->ngeom; ++g)
+    for (int c = 0; c < 3; ++c) palette[g][c] = static_cast<uint8_t>(std::lround(255.0 * model->geom_rgba[4 * g + c]));
+  const double range2 = s.range_max_m * s.range_max_m;
+  for (int v = 0; v < s.height; ++v) {
+    const double y = (v - k.cy) / k.fy;
+    for (int u = 0; u < s.width; ++u) {
+      const size_t i = static_cast<size_t>(v) * s.width + u;
+      const int g = same ? view.geom[i] : -1;
+      bool hit = g >= 0;
+      if (hit) {  // the colour camera's range is along the ray, the z-buffer's along the axis
+        const double x = (u - k.cx) / k.fx, z = view.depth_m[i];
+        hit = z * z * (1.0 + x * x + y * y) <= range2;
+      }
+      const uint8_t* from = hit ? palette[g].data() : s.background;
+      uint8_t* px = &img->rgb[3 * i];
+      px[0] = from[0], px[1] = from[1], px[2] = from[2];
+    }
+  }
+}
+
+}  // namespace thorvald_sim

@@ -1,0 +1,285 @@
+// The rasterised cameras against the ray caster and the worlds' known geometry.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "test_scene.h"
+#include "thorvald_sim/camera_renderer.h"
+#include "thorvald_sim/geom_writer.h"
+#include "thorvald_sim/sensors.h"
+#include "thorvald_sim/world.h"
+
+namespace ts = thorvald_sim;
+
+namespace {
+
+struct StaticWorld {
+  ts::ModelPtr model;
+  ts::DataPtr data;
+  explicit StaticWorld(const ts::WorldDescription& w) {
+    model = ts::compileXml(ts::composeScene(w, {}, ts::SceneOptions()), "test world");
+    data.reset(mj_makeData(model.get()));
+    mj_forward(model.get(), data.get());
+  }
+};
+
+// Optical frame (z forward, y down) looking along `forward`.
+ts::SensorPose optical(const Eigen::Vector3d& origin, const Eigen::Vector3d& forward, const Eigen::Vector3d& down) {
+  ts::SensorPose p;
+  p.origin = origin;
+  p.rotation.col(2) = forward.normalized();
+  p.rotation.col(1) = (down - down.dot(p.rotation.col(2)) * p.rotation.col(2)).normalized();
+  p.rotation.col(0) = p.rotation.col(1).cross(p.rotation.col(2));
+  return p;
+}
+
+ts::CameraView viewOf(const ts::DepthCameraSpec& s) {
+  ts::CameraView v;
+  v = ts::cameraView(s, true, 60.0);
+  v.near_m = 0.05;
+  return v;
+}
+
+// Depth along the optical axis seen by the ray caster at pixel (u, v), -1 for nothing; `geom` gets its id.
+double castPixel(const ts::RayCaster& caster, const ts::SensorPose& cam, const ts::Intrinsics& k, int u, int v,
+                 int* geom) {
+  const Eigen::Vector3d ray((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
+  const double d = caster.cast(cam.origin, cam.rotation * ray.normalized(), geom);
+  return d < 0 ? -1.0 : d / ray.norm();
+}
+
+struct PrimitiveCase {
+  const char* name;
+  const char* geom;  // geom name in the world
+  Eigen::Vector3d eye, forward, down;
+};
+
+// One primitive large enough to fill the whole image, on nothing else.
+ts::WorldDescription primitiveWorld(const std::string& which) {
+  ts::GeomWriter w;
+  const char* rgba = "0.8 0.4 0.2 1";  // exact in 8 bits: 204 102 51
+  if (which == "plane") w.plane("shape", {0, 0, 0}, 50.0, rgba);
+  if (which == "box") w.box("shape", {0, 0, -1.0}, {4.0, 3.0, 1.0}, rgba);
+  if (which == "sphere") w.sphere("shape", {0, 0, -20.0}, 20.0, rgba);
+  if (which == "capsule") w.capsule("shape", {-6.0, 0, -4.0}, {6.0, 0, -4.0}, 4.0, rgba);
+  if (which == "cylinder") w.cylinder("shape", {0, 0, -4.0}, 4.0, 4.0, rgba);
+  if (which == "ellipsoid") w.ellipsoid("shape", {0, 0, -3.0}, {6.0, 5.0, 3.0}, 0.4, rgba);
+  return {which, w.str(), 0.0};
+}
+
+}  // namespace
+
+// Every primitive type, seen from about 1 m with its surface filling the image: the rendered depth and geom at the
+// four corners and the centre are the ray caster's (MuJoCo's analytic ray-geom intersections), and so is the colour.
+TEST(CameraRenderer, EveryPrimitiveMatchesTheRayCasterAtCornersAndCentre) {
+  for (const char* shape : {"plane", "box", "sphere", "capsule", "cylinder", "ellipsoid"}) {
+    SCOPED_TRACE(shape);
+    StaticWorld w(primitiveWorld(shape));
+    ts::CameraRenderer renderer(w.model.get());
+    ts::RayCaster caster(w.model.get(), w.data.get(), -1);
+    caster.prepare(Eigen::Vector3d::Zero(), 1e3, Eigen::Vector3d::UnitZ(), M_PI);
+    ts::DepthCameraSpec spec;
+    spec.width = 320, spec.height = 240, spec.hfov_rad = 1.2;
+    spec.range_min_m = 0.1, spec.range_max_m = 20.0;
+    spec.noise_coeff = 0.0, spec.dropout = 0.0, spec.grazing_limit_rad = M_PI;
+    // Looking down, tilted forward by 0.3 rad, so depth varies across the image.
+    const auto cam = optical({0.2, 0.1, 1.0}, {0.3, 0.1, -1.0}, {1, 0, 0});
+    ts::RenderedView view;
+    renderer.render(w.data.get(), cam, viewOf(spec), -1, &view);
+    std::mt19937 rng(1);
+    const ts::DepthImage img = ts::depthFromView(view, caster, cam, spec, rng);
+    ts::ColorCameraSpec cs;
+    cs.width = spec.width, cs.height = spec.height, cs.hfov_rad = spec.hfov_rad;
+    const ts::ColorImage colour = ts::colorFromView(view, w.model.get(), cs);
+    const int shape_id = mj_name2id(w.model.get(), mjOBJ_GEOM, "shape");
+    ASSERT_GE(shape_id, 0);
+    const auto k = ts::intrinsics(spec);
+    const int cu = spec.width / 2, cv = spec.height / 2;
+    for (auto uv : {std::pair<int, int>{0, 0},
+                    {spec.width - 1, 0},
+                    {0, spec.height - 1},
+                    {spec.width - 1, spec.height - 1},
+                    {cu, cv}}) {
+      SCOPED_TRACE(::testing::Message() << "pixel " << uv.first << " " << uv.second);
+      int g = -1;
+      const double z = castPixel(caster, cam, k, uv.first, uv.second, &g);
+      ASSERT_EQ(g, shape_id);
+      const size_t i = static_cast<size_t>(uv.second) * spec.width + uv.first;
+      EXPECT_EQ(view.geom[i], shape_id);
+      // Flat faces come from the 24-bit z-buffer (near 0.05 m): z^2 / (near 2^24) is below 2e-5 m here.
+      EXPECT_NEAR(view.depth_m[i], z, 5e-5);
+      EXPECT_NEAR(img.points[i].z(), z, 5e-5);
+      EXPECT_NEAR(img.points[i].x(), (uv.first - k.cx) / k.fx * z, 5e-5);
+      EXPECT_NEAR(img.points[i].y(), (uv.second - k.cy) / k.fy * z, 5e-5);
+      EXPECT_EQ(colour.rgb[3 * i + 0], 204);
+      EXPECT_EQ(colour.rgb[3 * i + 1], 102);
+      EXPECT_EQ(colour.rgb[3 * i + 2], 51);
+    }
+  }
+}
+
+// A whole image of the cotton row (pots, stems, leaves, bolls, slope): nearly every pixel sees the same geom as
+// the ray caster, and where it does the depth agrees; only silhouettes of the tessellated curved geoms differ.
+TEST(CameraRenderer, CottonRowImageAgreesWithTheRayCaster) {
+  ts::CottonRowParams p;
+  p.slope_deg = 2.77;
+  ts::CottonRowTruth t;
+  StaticWorld w(ts::makeCottonRowWorld(p, &t));
+  ts::CameraRenderer renderer(w.model.get());
+  ts::RayCaster caster(w.model.get(), w.data.get(), -1);
+  ts::DepthCameraSpec spec;
+  spec.width = 320, spec.height = 180, spec.range_max_m = 20.0;
+  // The cotton paper's calibrated ZED intrinsics at a quarter of 1280x720: principal point off the centre.
+  spec.focal_px = 699.936 / 4, spec.cx_px = 685.286 / 4, spec.cy_px = 361.248 / 4;
+  const auto cam = optical(t.plant_bases[4] + Eigen::Vector3d(-0.6, 0.3, 2.2), {0.3, -0.1, -1.0}, {1, 0, 0});
+  ts::RenderedView view;
+  renderer.render(w.data.get(), cam, viewOf(spec), -1, &view);
+  caster.prepare(cam.origin, 1e3, cam.rotation.col(2), M_PI);
+  const auto k = ts::intrinsics(spec);
+  int same = 0, total = 0, bolls = 0;
+  double worst = 0.0;
+  for (int v = 0; v < spec.height; ++v)
+    for (int u = 0; u < spec.width; ++u) {
+      int g = -1;
+      const double z = castPixel(caster, cam, k, u, v, &g);
+      const size_t i = static_cast<size_t>(v) * spec.width + u;
+      ++total;
+      if (view.geom[i] != g) continue;
+      ++same;
+      if (g < 0) continue;
+      worst = std::max(worst, std::fabs(view.depth_m[i] - z));
+      const char* name = mj_id2name(w.model.get(), mjOBJ_GEOM, g);
+      if (name && std::string(name).find("boll") != std::string::npos) ++bolls;
+    }
+  EXPECT_GT(same, 0.995 * total);
+  EXPECT_LT(worst, 1e-4);
+  EXPECT_GT(bolls, 50);  // the bolls are in view and agree
+}
+
+// The existing ray-cast depth test, rendered: points on the pipes lie on their surfaces within 0.1 mm.
+TEST(CameraRenderer, PipePointsLieOnThePipes) {
+  ts::GreenhouseTruth t;
+  StaticWorld w(ts::makeGreenhouseWorld(ts::GreenhouseParams(), &t));
+  ts::CameraRenderer renderer(w.model.get());
+  ts::RayCaster caster(w.model.get(), w.data.get(), -1);
+  ts::DepthCameraSpec spec;
+  spec.width = 160;
+  spec.height = 120;
+  spec.noise_coeff = 0.0;
+  spec.dropout = 0.0;
+  std::mt19937 rng(1);
+  const auto& set = t.rail_sets[2];
+  const auto cam = optical({-1.2, set.start_y, 0.8}, {1.0, 0.0, -0.6}, {0, 0, -1});
+  ts::RenderedView view;
+  renderer.render(w.data.get(), cam, viewOf(spec), -1, &view);
+  const auto img = ts::depthFromView(view, caster, cam, spec, rng);
+  ASSERT_EQ(img.points.size(), 160u * 120u);
+  int on_pipe = 0, valid = 0;
+  const double r = 0.5 * t.params.pipe_diameter_m;
+  for (const auto& p : img.points) {
+    if (!std::isfinite(p.z())) continue;
+    ++valid;
+    const Eigen::Vector3d wp = cam.origin + cam.rotation * p.cast<double>();
+    if (wp.z() < t.floor_z + 0.01 || wp.x() < set.start_x || wp.x() > 6.0) continue;
+    if (std::fabs(wp.y() - set.start_y) > 0.5) continue;
+    ++on_pipe;
+    const double dy = std::min(std::fabs(wp.y() - set.pipe_y[0]), std::fabs(wp.y() - set.pipe_y[1]));
+    const double dx = std::max(0.0, set.start_x + r - wp.x());
+    EXPECT_NEAR(std::sqrt(dx * dx + dy * dy + std::pow(wp.z() - t.pipe_centre_z, 2)), r, 1e-4) << wp.transpose();
+  }
+  EXPECT_GT(valid, 160 * 120 / 2);
+  EXPECT_GT(on_pipe, 20);
+}
+
+TEST(CameraRenderer, NoiseGrowsWithDepthAndDropoutsHappen) {
+  StaticWorld w(ts::makeFlatWorld());
+  ts::CameraRenderer renderer(w.model.get());
+  ts::RayCaster caster(w.model.get(), w.data.get(), -1);
+  ts::DepthCameraSpec spec;
+  spec.width = 64;
+  spec.height = 48;
+  spec.noise_coeff = 0.005;
+  spec.dropout = 0.1;
+  std::mt19937 rng(3);
+  const auto cam = optical({0, 0, 2.0}, {0, 0, -1}, {1, 0, 0});
+  ts::RenderedView view;
+  renderer.render(w.data.get(), cam, viewOf(spec), -1, &view);
+  const auto img = ts::depthFromView(view, caster, cam, spec, rng);
+  double sum = 0, sq = 0;
+  int n = 0;
+  for (const auto& p : img.points)
+    if (std::isfinite(p.z())) sum += p.z() - 2.0, sq += (p.z() - 2.0) * (p.z() - 2.0), ++n;
+  const double mean = sum / n, sd = std::sqrt(sq / n - mean * mean);
+  EXPECT_NEAR(mean, 0.0, 0.003);
+  EXPECT_NEAR(sd, 0.02, 0.003);
+  EXPECT_NEAR(1.0 - n / (64.0 * 48.0), 0.1, 0.03);
+}
+
+TEST(CameraRenderer, BollPixelIsWhiteAndSkyIsBackground) {
+  ts::CottonRowTruth t;
+  StaticWorld w(ts::makeCottonRowWorld(ts::CottonRowParams(), &t));
+  ts::CameraRenderer renderer(w.model.get());
+  ts::ColorCameraSpec spec;
+  spec.width = 64;
+  spec.height = 48;
+  int best = -1;
+  for (size_t i = 0; i < t.bolls.size(); ++i)
+    if (t.boll_plant[i] == 3 && (best < 0 || t.bolls[i].z() > t.bolls[best].z())) best = static_cast<int>(i);
+  ASSERT_GE(best, 0);
+  const auto cam = optical(t.bolls[best] + Eigen::Vector3d(0, 0, 0.5), {0, 0, -1}, {1, 0, 0});
+  ts::CameraView cv;
+  cv.width = 64, cv.height = 48, cv.k = ts::intrinsics(spec);
+  ts::RenderedView view;
+  renderer.render(w.data.get(), cam, cv, -1, &view);
+  const auto img = ts::colorFromView(view, w.model.get(), spec);
+  const int u = 32, v = 24;  // the centre pixel's ray passes within 0.6 mm of the boll's centre
+  const uint8_t* px = &img.rgb[(v * 64 + u) * 3];
+  EXPECT_EQ(px[0], 255);
+  EXPECT_EQ(px[1], 255);
+  EXPECT_EQ(px[2], 255);
+  // Looking up: nothing but the background.
+  renderer.render(w.data.get(), optical({0, 0, 1.0}, {0, 0, 1}, {1, 0, 0}), cv, -1, &view);
+  const auto sky = ts::colorFromView(view, w.model.get(), spec);
+  for (int c = 0; c < 3; ++c) EXPECT_EQ(sky.rgb[c], spec.background[c]);
+  EXPECT_EQ(view.geom[0], -1);
+  EXPECT_TRUE(std::isinf(view.depth_m[0]));
+}
+
+TEST(CameraRenderer, DoesNotSeeItsOwnRobotButSeesOthers) {
+  ts::test::TestScene s(ts::makeFlatWorld(), {ts::test::fourWheelSteered(), ts::test::fourWheelSteered()},
+                        {{{0, 0, 0}}, {{3.0, 0, 0}}});
+  s.drive(0, 0, 0, 0, 0.5);
+  ts::CameraRenderer renderer(s.sim->model());
+  ts::RayCaster own(s.sim->model(), s.sim->data(), s.sim->robot(0).root_body);
+  own.prepare(Eigen::Vector3d::Zero(), 1e3, Eigen::Vector3d::UnitX(), M_PI);
+  // Inside robot 0's frame box at its height, looking forward along x at robot 1.
+  const auto cam = optical({0, 0, 0.55}, {1, 0, 0}, {0, 0, -1});
+  ts::CameraView cv;
+  cv.width = 32, cv.height = 24, cv.k = ts::intrinsics(32, 24, 1.2);
+  ts::RenderedView view;
+  renderer.render(s.sim->data(), cam, cv, s.sim->robot(0).root_body, &view);
+  const auto& k = cv.k;
+  int g = -1;
+  const double z = castPixel(own, cam, k, 16, 12, &g);
+  ASSERT_GE(g, 0);
+  EXPECT_EQ(s.sim->model()->body_rootid[s.sim->model()->geom_bodyid[g]], s.sim->robot(1).root_body);
+  EXPECT_EQ(view.geom[12 * 32 + 16], g);
+  EXPECT_NEAR(view.depth_m[12 * 32 + 16], z, 1e-4);
+  EXPECT_NEAR(z, 3.0 - 0.675, 0.02);
+  EXPECT_EQ(renderer.frames(), 1u);
+}
+
+TEST(CameraRenderer, RefusesImagesLargerThanTheModelAllows) {
+  StaticWorld w(ts::makeFlatWorld());
+  ts::CameraRenderer renderer(w.model.get());
+  ts::CameraView cv;
+  cv.width = renderer.maxWidth() + 1;
+  ts::RenderedView view;
+  EXPECT_THROW(renderer.render(w.data.get(), optical({0, 0, 1}, {0, 0, -1}, {1, 0, 0}), cv, -1, &view),
+               ts::RenderError);
+  cv.width = 64, cv.near_m = 0.0;
+  EXPECT_THROW(renderer.render(w.data.get(), optical({0, 0, 1}, {0, 0, -1}, {1, 0, 0}), cv, -1, &view),
+               ts::RenderError);
+  EXPECT_EQ(renderer.frames(), 0u);
+}
