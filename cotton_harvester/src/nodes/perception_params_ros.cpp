@@ -62,6 +62,8 @@ bool loadPerceptionNodeConfig(const ros::NodeHandle& pnh, PerceptionNodeConfig* 
   r.read("end_effector/hue_max", &e.hue_max, "an integer in [0, 179]");
   r.read("end_effector/saturation_min", &e.saturation_min, "an integer in [0, 255]");
   r.read("end_effector/value_min", &e.value_min, "an integer in [0, 255]");
+  r.read("end_effector/glare_value_min", &e.glare_value_min, "an integer in [0, 255]");
+  r.read("end_effector/glare_saturation_min", &e.glare_saturation_min, "an integer in [0, 255]");
   r.read("end_effector/arm_base_offset_m", &e.arm_base_offset_m, "a number in [0, 10) [m]");
   r.read("end_effector/arm_depth_tolerance_m", &e.arm_depth_tolerance_m, "a number in (0, 1) [m]");
   r.read("end_effector/r_min", &e.r_min, "an integer in [0, 255]");

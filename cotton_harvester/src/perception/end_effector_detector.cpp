@@ -1,5 +1,6 @@
 #include "cotton_harvester/perception/end_effector_detector.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -36,6 +37,9 @@ std::string validate(const EndEffectorParams& params) {
     error << "saturation_min must be in [0, 255] (got " << params.saturation_min << "); ";
   if (params.value_min < 0 || params.value_min > 255)
     error << "value_min must be in [0, 255] (got " << params.value_min << "); ";
+  if (params.glare_value_min < 0 || params.glare_value_min > 255 || params.glare_saturation_min < 0 ||
+      params.glare_saturation_min > 255)
+    error << "glare_value_min/glare_saturation_min must be in [0, 255]; ";
   if (!(params.reference_focal_px > 0.0)) error << "reference_focal_px must be > 0; ";
   if (!(params.arm_base_offset_m >= 0.0 && params.arm_base_offset_m < 10.0))
     error << "arm_base_offset_m must be in [0, 10) [m]; ";
@@ -126,17 +130,22 @@ cv::Mat EndEffectorDetector::colourMask(const cv::Mat& bgr) const {
   } else {
     cv::Mat hsv;
     cv::cvtColor(bgr, hsv, cv::COLOR_BGR2HSV);
-    if (params_.hue_min <= params_.hue_max) {
-      cv::inRange(hsv, cv::Scalar(params_.hue_min, params_.saturation_min, params_.value_min),
-                  cv::Scalar(params_.hue_max, 255, 255), mask);
-    } else {  // the window wraps through red
-      cv::Mat upper;
-      cv::inRange(hsv, cv::Scalar(params_.hue_min, params_.saturation_min, params_.value_min),
-                  cv::Scalar(179, 255, 255), upper);
-      cv::inRange(hsv, cv::Scalar(0, params_.saturation_min, params_.value_min), cv::Scalar(params_.hue_max, 255, 255),
-                  mask);
-      mask |= upper;
-    }
+    const auto window = [&](int saturation_min, int value_min) {
+      cv::Mat out;
+      if (params_.hue_min <= params_.hue_max) {
+        cv::inRange(hsv, cv::Scalar(params_.hue_min, saturation_min, value_min), cv::Scalar(params_.hue_max, 255, 255),
+                    out);
+      } else {  // the window wraps through red
+        cv::Mat upper;
+        cv::inRange(hsv, cv::Scalar(params_.hue_min, saturation_min, value_min), cv::Scalar(179, 255, 255), upper);
+        cv::inRange(hsv, cv::Scalar(0, saturation_min, value_min), cv::Scalar(params_.hue_max, 255, 255), out);
+        out |= upper;
+      }
+      return out;
+    };
+    mask = window(params_.saturation_min, params_.value_min);
+    if (params_.glare_saturation_min < params_.saturation_min)
+      mask |= window(params_.glare_saturation_min, std::max(params_.value_min, params_.glare_value_min));
   }
   return mask;
 }

@@ -150,3 +150,16 @@ TEST(EndEffectorDetector, ArmMaskEndsAtTheBaseAndOnlyAtTheArmsDepth) {
   EXPECT_EQ(flat.at<uint8_t>(320, static_cast<int>(base_u) - 3), 0);  // beyond the arm's base
   EXPECT_EQ(flat.at<uint8_t>(320, 700), 0);                           // not on the other side
 }
+
+TEST(EndEffectorDetector, WashedOutOrangeAtFullBrightnessIsTheGlareWindow) {
+  // Glare that saturates the sensor: value 255, saturation 135 (below the 150 of the main window).
+  cv::Mat image(720, 1280, CV_8UC3, cv::Scalar(40, 120, 50));
+  cv::rectangle(image, cv::Rect(600, 300, 60, 40), cv::Scalar(120, 200, 255), cv::FILLED);
+  cv::rectangle(image, cv::Rect(200, 500, 80, 80), cv::Scalar(120, 170, 215), cv::FILLED);  // as pale, not as bright
+  const auto found = EndEffectorDetector(EndEffectorParams{}).detect(image);
+  ASSERT_TRUE(found.has_value());
+  EXPECT_NEAR(found->pixel.x, 629.5, 0.6);
+  EndEffectorParams no_glare;
+  no_glare.glare_saturation_min = no_glare.saturation_min;
+  EXPECT_FALSE(EndEffectorDetector(no_glare).detect(image).has_value());
+}

@@ -30,8 +30,12 @@ struct EndEffectorParams {
   EndEffectorColourSpace colour_space = EndEffectorColourSpace::kHsv;
   /// kHsv: OpenCV hue [0, 180): hue_min > hue_max wraps through red (e.g. 175..25).
   int hue_min = 0, hue_max = 25;
-  int saturation_min = 150;      ///< kHsv: orange stays saturated under glare; soil and stems stay below [0, 255]
-  int value_min = 80;            ///< kHsv: minimum brightness [0, 255]
+  int saturation_min = 150;  ///< kHsv: orange stays saturated under glare; soil and stems stay below [0, 255]
+  int value_min = 80;        ///< kHsv: minimum brightness [0, 255]
+  /// kHsv, glare: sunlight reflected by the housing saturates the sensor and washes the orange out; pixels this
+  /// bright (value >= glare_value_min) count with a saturation down to glare_saturation_min [0, 255].
+  int glare_value_min = 235;
+  int glare_saturation_min = 110;
   int r_min = 200, r_max = 255;  ///< kRgb: red channel window [0, 255]
   int g_min = 0, g_max = 255;    ///< kRgb: green channel window [0, 255]
   int b_min = 0, b_max = 60;     ///< kRgb: blue channel window [0, 255]
