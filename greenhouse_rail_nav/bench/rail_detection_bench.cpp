@@ -1,6 +1,7 @@
 // Rail detection accuracy and speed on synthetic depth clouds with ground truth (paper Table I).
-//   rosrun greenhouse_rail_nav rail_detection_bench [poses=500]
+//   rosrun greenhouse_rail_nav rail_detection_bench [--poses 500] [--png scatter.png]
 #include <algorithm>
+#include <array>
 #include <ctime>
 #include <cmath>
 #include <cstdio>
@@ -9,8 +10,12 @@
 #include <string>
 #include <vector>
 
+#include <CLI/CLI.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
 #include "greenhouse_rail_nav/rail_detector.h"
-#include "greenhouse_rail_nav/synthetic_depth_cloud.h"
+#include "greenhouse_rail_nav/testing/synthetic_depth_cloud.h"
 
 using greenhouse_rail_nav::DepthSceneParams;
 using greenhouse_rail_nav::normalizeAngle;
@@ -63,11 +68,68 @@ double threadMs() {
   return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
 }
 
+/// True when both rails' start points project inside the image (with a margin of a few pixels).
+bool startInView(const DepthSceneParams& scene, const Pose2D& base_in_rail) {
+  const Pose2D rail_in_base = base_in_rail.inverse();
+  const Eigen::Isometry3d base_to_camera = scene.camera_in_base.inverse();
+  const auto& k = scene.intrinsics;
+  for (const double side : {-0.5, 0.5}) {
+    const Eigen::Vector2d start = rail_in_base.transformPoint({0.0, side * scene.rail_gauge_m});
+    const Eigen::Vector3d c = base_to_camera * Eigen::Vector3d(start.x(), start.y(), scene.pipe_centre_height_m);
+    if (c.z() <= 0.05) return false;
+    const double u = k.fx * c.x() / c.z() + k.cx, v = k.fy * c.y() / c.z() + k.cy;
+    if (u < 3 || v < 3 || u > k.width - 4 || v > k.height - 4) return false;
+  }
+  return true;
+}
+
+/// Scatter of the y and yaw errors against the paper's Table I box (max |y| 0.04 m, max |yaw| 0.032 rad).
+void writeScatterPng(const std::string& path, const std::vector<std::array<double, 3>>& points) {
+  const int w = 640, h = 640, m = 60;
+  cv::Mat img(h, w, CV_8UC3, cv::Scalar(255, 255, 255));
+  const double y_range = 0.08, yaw_range = 0.064;  // axes span twice the box
+  auto px = [&](double ey, double eyaw) {
+    return cv::Point(static_cast<int>(m + (ey / y_range + 1.0) * 0.5 * (w - 2 * m)),
+                     static_cast<int>(h - m - (eyaw / yaw_range + 1.0) * 0.5 * (h - 2 * m)));
+  };
+  cv::rectangle(img, px(-y_range, -yaw_range), px(y_range, yaw_range), cv::Scalar(0, 0, 0), 1);
+  cv::line(img, px(-y_range, 0), px(y_range, 0), cv::Scalar(200, 200, 200), 1);
+  cv::line(img, px(0, -yaw_range), px(0, yaw_range), cv::Scalar(200, 200, 200), 1);
+  cv::rectangle(img, px(-0.04, -0.032), px(0.04, 0.032), cv::Scalar(0, 0, 255), 2);
+  for (const auto& p : points) {
+    const cv::Scalar colour = p[2] > 0.5 ? cv::Scalar(0, 140, 255) : cv::Scalar(200, 120, 0);
+    cv::circle(img, px(std::clamp(p[0], -y_range, y_range), std::clamp(p[1], -yaw_range, yaw_range)), 3, colour,
+               cv::FILLED, cv::LINE_AA);
+  }
+  const auto font = cv::FONT_HERSHEY_SIMPLEX;
+  cv::putText(img, "x: y error [m], -0.08 .. 0.08", cv::Point(m, h - 20), font, 0.5, cv::Scalar(0, 0, 0), 1,
+              cv::LINE_AA);
+  cv::putText(img, "up: yaw error [rad], -0.064 .. 0.064", cv::Point(10, 25), font, 0.5, cv::Scalar(0, 0, 0), 1,
+              cv::LINE_AA);
+  cv::putText(img, "red box: paper Table I max |y| 0.04 m, max |yaw| 0.032 rad", cv::Point(10, 45), font, 0.45,
+              cv::Scalar(0, 0, 255), 1, cv::LINE_AA);
+  cv::putText(img, "blue: Table I poses, orange: wide poses", cv::Point(m, h - 40), font, 0.45, cv::Scalar(120, 80, 0),
+              1, cv::LINE_AA);
+  if (!cv::imwrite(path, img)) std::fprintf(stderr, "cannot write %s\n", path.c_str());
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  const int poses = argc > 1 ? std::max(2, std::atoi(argv[1])) : 500;
+  CLI::App app{"Rail detection accuracy and speed on synthetic depth clouds with ground truth (paper Table I)"};
+  int poses = 500;
+  std::string png;
+  app.add_option("--poses", poses, "random poses (half in the Table I ranges, half wider)")
+      ->check(CLI::Range(2, 100000));
+  app.add_option("--png", png, "write a scatter of the y and yaw errors against the Table I box to this PNG");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;  // --help: 0; an unknown option or a bad value: 2
+  }
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress shows when piped
   const RailDetectorParams params;
+
   const RailDetector detector(params);
   DepthSceneParams scene;
   std::mt19937 rng(2024);
@@ -75,7 +137,11 @@ int main(int argc, char** argv) {
 
   // Half the poses in the ranges of the paper's Table I, half wider.
   Errors ours[2], baseline[2];
-  double detect_ms = 0.0;
+  double detect_ms = 0.0, gauge_sum = 0.0;
+  int gauges = 0, out_of_view = 0, out_of_view_reported = 0, in_view = 0, in_view_flagged = 0;
+  std::vector<std::array<double, 3>> scatter;
+  std::printf("Rail detection, %d random poses (640x480 synthetic active-stereo clouds)\n", poses);
+  std::fflush(stdout);
   for (int i = 0; i < poses; ++i) {
     const int set = i % 2;
     Pose2D truth;
@@ -90,6 +156,23 @@ int main(int argc, char** argv) {
     const auto found = detector.detect(cloud, scene.camera_in_base);
     detect_ms += (threadMs() - t0);
     ours[set].add(truth, found);
+    if (found.found()) {
+      gauge_sum += found.gauge_m - scene.rail_gauge_m;
+      ++gauges;
+      scatter.push_back({found.base_in_rail.y - truth.y, normalizeAngle(found.base_in_rail.yaw - truth.yaw),
+                         static_cast<double>(set)});
+      if (startInView(scene, truth)) {
+        ++in_view;
+        in_view_flagged += !found.xObserved();
+      } else {
+        ++out_of_view;
+        out_of_view_reported += !found.xObserved();
+      }
+    }
+    if ((i + 1) % 50 == 0) {
+      std::printf("  %d / %d poses\n", i + 1, poses);
+      std::fflush(stdout);
+    }
     baseline[set].add(truth, detector.detect(cloud, scene.camera_in_base, Pose2D(), RailFitMethod::kRansacBaseline));
   }
   Errors ours_all, base_all;
@@ -97,9 +180,8 @@ int main(int argc, char** argv) {
     ours_all.merge(ours[s]);
     base_all.merge(baseline[s]);
   }
-  std::printf("Rail detection, %d random poses (640x480 synthetic active-stereo clouds)\n", poses);
   std::printf(
-      "  'table I': x in [-0.82,-0.60] m, |y| <= 0.09 m, |yaw| <= 0.045 rad; 'wide': x in [-1.3,-0.4] m,"
+      "\n  'table I': x in [-0.82,-0.60] m, |y| <= 0.09 m, |yaw| <= 0.045 rad; 'wide': x in [-1.3,-0.4] m,"
       " |y| <= 0.35 m, |yaw| <= 0.35 rad\n\n");
   std::printf("%-22s %-10s %5s %8s %8s %8s %9s %8s %8s %9s\n", "method", "poses", "n", "miss[%]", "rms_x", "rms_y",
               "rms_yaw", "max_x", "max_y", "max_yaw");
@@ -136,11 +218,23 @@ int main(int argc, char** argv) {
     std::printf("%4dx%-7d %10d %12.2f %10.2f\n", w, h, w * h, ms, ms / 33.3);
   }
   std::printf("\nmean over the accuracy run (640x480): %.2f ms/cloud\n", detect_ms / poses);
+  const double gauge_bias = gauges ? gauge_sum / gauges : NAN;
+  const double unobserved_pct = out_of_view ? 100.0 * out_of_view_reported / out_of_view : 100.0;
+  std::printf("gauge bias (measured - true) over %d detections: %+.4f m\n", gauges, gauge_bias);
+  std::printf(
+      "rails' start out of view in %d found poses: %d reported as x unobserved (%.1f %%); start in view: "
+      "%d, wrongly flagged %d\n",
+      out_of_view, out_of_view_reported, unobserved_pct, in_view, in_view_flagged);
+  if (!png.empty()) {
+    writeScatterPng(png, scatter);
+    std::printf("wrote %s\n", png.c_str());
+  }
   std::printf(
       "RESULT {\"rms_x_m\": %.4f, \"rms_y_m\": %.4f, \"rms_yaw_rad\": %.4f, \"max_y_m\": %.4f, "
       "\"not_found_pct\": %.2f, \"baseline_rms_y_m\": %.4f, \"baseline_rms_yaw_rad\": %.4f, "
-      "\"ms_per_cloud_640x480\": %.2f}\n",
+      "\"ms_per_cloud_640x480\": %.2f, \"x_unobserved_reported_pct\": %.1f, \"gauge_bias_m\": %.4f}\n",
       ours_all.rms(ours_all.sx), ours_all.rms(ours_all.sy), ours_all.rms(ours_all.syaw), ours_all.max_y,
-      ours_all.notFoundPct(), base_all.rms(base_all.sy), base_all.rms(base_all.syaw), ms_640);
+      ours_all.notFoundPct(), base_all.rms(base_all.sy), base_all.rms(base_all.syaw), ms_640, unobserved_pct,
+      gauge_bias);
   return 0;
 }

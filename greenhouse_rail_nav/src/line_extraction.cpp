@@ -8,7 +8,10 @@ namespace greenhouse_rail_nav {
 namespace {
 
 bool acceptable(const LineFit2D& fit, const LineExtractionParams& params) {
-  return fit.linearity >= params.min_linearity && fit.length() >= params.min_length_m;
+  // Linearity alone lets a long wall with a short wall joined at the corner pass as one line; the RMS
+  // distance of the cells to the line does not.
+  return fit.linearity >= params.min_linearity && fit.length() >= params.min_length_m &&
+         fit.rms_residual <= params.split_inlier_m;
 }
 
 /// Splits points near one line into runs without gaps longer than max_gap (sorted along the line).

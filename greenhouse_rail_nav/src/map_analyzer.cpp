@@ -5,6 +5,9 @@
 #include <sstream>
 
 #include "greenhouse_rail_nav/cell_clustering.h"
+#include "greenhouse_rail_nav/headland_scan.h"
+#include "greenhouse_rail_nav/map_denoise.h"
+#include "greenhouse_rail_nav/rail_spacing.h"
 
 namespace greenhouse_rail_nav {
 namespace {
@@ -31,62 +34,83 @@ std::string fmt(double value, int decimals = 2) {
   return s.str();
 }
 
-/// The headland frame: origin on the rear wall line, u along it, v into the rows.
-struct HeadlandFrame {
-  Eigen::Vector2d origin, u, v;
-  Eigen::Vector2d toLocal(const Eigen::Vector2d& p) const { return {u.dot(p - origin), v.dot(p - origin)}; }
-  Eigen::Vector2d toMap(double pu, double pv) const { return origin + pu * u + pv * v; }
-};
-
-/// Walks along the headland from an outer row outward; returns the u where the first occupied cell is
-/// met, or NaN when the walk leaves the mapped area (unknown cell) without meeting a wall.
-double walkToWall(const OccupancyMap& map, const HeadlandFrame& frame, double u_start, double v, double direction) {
-  const double step = map.resolution * 0.5;
-  const double limit = std::hypot(map.widthMeters(), map.heightMeters());
-  for (double travelled = 0.0; travelled < limit; travelled += step) {
-    const double u = u_start + direction * travelled;
-    const std::int8_t value = map.valueAt(frame.toMap(u, v));
-    if (value >= 65) return u - direction * 0.25 * map.resolution;
-    if (value < 0) return std::nan("");
+/// Rear wall: the line with the most evidence of a greenhouse on one side of it, i.e. its own length plus
+/// the length of the lines perpendicular to it that lie within its span and entirely on one side (rows
+/// and side walls). A short line on the headland (a hose, a box edge) spans few rows; a side wall has the
+/// rows parallel to it. Returns the index and sets *side to +1 or -1 (the rows' side of its normal).
+int selectRearWall(const std::vector<LineSegment>& lines, double tolerance, double* side) {
+  int best = -1;
+  double best_score = -1.0;
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    const LineFit2D& wall = lines[i].fit;
+    double positive = 0.0, negative = 0.0;
+    for (std::size_t j = 0; j < lines.size(); ++j) {
+      if (j == i || !perpendicular(wall, lines[j].fit, tolerance)) continue;
+      const LineFit2D& other = lines[j].fit;
+      const double along = wall.along(other.centroid);
+      if (along < wall.s_min - 0.5 || along > wall.s_max + 0.5) continue;
+      const double a = wall.signedDistance(other.centroid + other.direction * other.s_min);
+      const double b = wall.signedDistance(other.centroid + other.direction * other.s_max);
+      if (std::min(a, b) >= -0.3) positive += other.length();
+      if (std::max(a, b) <= 0.3) negative += other.length();
+    }
+    const double score = wall.length() + std::max(positive, negative);
+    if (score > best_score) {
+      best_score = score;
+      best = static_cast<int>(i);
+      *side = positive >= negative ? 1.0 : -1.0;
+    }
   }
-  return std::nan("");
+  return best;
 }
 
-/// Side wall position from several walks across the headland at different depths. A wall stops every
-/// walk at the same place; clutter stops only some, and earlier; a door lets a walk out into unknown
-/// space. So the wall is the farthest place where at least two walks stop together, and more walks stop
-/// there than escape.
-bool findSideWall(const OccupancyMap& map, const HeadlandFrame& frame, double u_start, double edge_v, double direction,
-                  double* wall_u) {
-  std::vector<double> hits;
-  const int walks = 9;
-  for (int i = 1; i <= walks; ++i) {
-    const double u = walkToWall(map, frame, u_start, edge_v * i / (walks + 1.0), direction);
-    if (std::isfinite(u)) hits.push_back(u);
+/// A row found across the headland: where its line crosses the edge, its direction and its run starts.
+struct RowCandidate {
+  int line = -1;
+  double u0 = 0.0, slope = 0.0;  ///< the line as u = u0 + slope * v (headland frame)
+  std::vector<double> starts;    ///< v of each run start beyond the minimum headland depth
+  double far_v = 0.0;            ///< largest v where the row shows
+  double start_v = NAN;          ///< the run start at the edge (NaN: the row's start is not seen there)
+  LineFit2D fit;                 ///< refitted on its cells beyond the edge, directed into the rows
+};
+
+/// Line through the cells of a line segment, optionally only those with v >= v_min, as u = u0 + slope * v.
+bool fitRowLine(const LineSegment& segment, const HeadlandFrame& frame, double v_min, double inlier_m, LineFit2D* fit,
+                double* u0, double* slope) {
+  std::vector<Eigen::Vector2d> points;
+  for (const auto& p : segment.points) {
+    if (std::abs(segment.fit.signedDistance(p)) <= inlier_m && frame.toLocal(p).y() >= v_min) points.push_back(p);
   }
-  const int escaped = walks - static_cast<int>(hits.size());
-  std::sort(hits.begin(), hits.end(), [direction](double a, double b) { return direction * a > direction * b; });
-  const double agree = 2.0 * map.resolution;
-  for (const double h : hits) {
-    double sum = 0.0;
-    int count = 0;
-    for (const double other : hits) {
-      if (std::abs(other - h) <= agree) {
-        sum += other;
-        ++count;
-      }
-    }
-    if (count >= 2) {
-      // Where most walks went on into unmapped space there is no wall, only something on the floor.
-      if (count <= escaped) return false;
-      *wall_u = sum / count;
-      return true;
-    }
-  }
-  return false;
+  if (points.size() < 3) return false;
+  *fit = fitLine(points);
+  if (fit->direction.dot(frame.v) < 0.0) fit->flip();
+  const Eigen::Vector2d c = frame.toLocal(fit->centroid);
+  const double dv = fit->direction.dot(frame.v), du = fit->direction.dot(frame.u);
+  if (dv < 0.5) return false;
+  *slope = du / dv;
+  *u0 = c.x() - *slope * c.y();
+  return true;
+}
+
+std::string joinReasons(const std::vector<std::string>& reasons) {
+  std::string out;
+  for (const auto& r : reasons) out += (out.empty() ? "" : "; ") + r;
+  return out;
 }
 
 }  // namespace
+
+const char* toString(MapStatus status) {
+  switch (status) {
+    case MapStatus::kOk:
+      return "ok";
+    case MapStatus::kUncertain:
+      return "uncertain";
+    case MapStatus::kFailed:
+      break;
+  }
+  return "failed";
+}
 
 std::string MapAnalyzerParams::validate() const {
   auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
@@ -109,16 +133,27 @@ std::string MapAnalyzerParams::validate() const {
   if (!positive(edge_tolerance_m)) return "edge_tolerance_m must be > 0 [m]";
   if (!(spacing_tolerance > 0.0 && spacing_tolerance < 0.5)) return "spacing_tolerance must be in (0, 0.5)";
   if (!std::isfinite(keep_out_margin_m)) return "keep_out_margin_m must be a finite number [m]";
+  if (!(speckle_max_area_m2 >= 0.0 && speckle_max_area_m2 <= 0.1)) return "speckle_max_area_m2 must be in [0, 0.1]";
+  if (!(spacing_search_ratio >= 1.0 && spacing_search_ratio <= 2.0)) return "spacing_search_ratio must be in [1, 2]";
+  if (!(positive(spacing_fit_tolerance_m) && spacing_fit_tolerance_m < 0.25 * rail_set_spacing_m))
+    return "spacing_fit_tolerance_m must be > 0 and < a quarter of rail_set_spacing_m [m]";
+  if (!(positive(row_heading_tolerance_rad) && row_heading_tolerance_rad < 0.2))
+    return "row_heading_tolerance_rad must be in (0, 0.2) [rad]";
+  if (!positive(edge_straightness_m)) return "edge_straightness_m must be > 0 [m]";
+  if (!(side_wall_min_support > 0.0 && side_wall_min_support <= 1.0)) return "side_wall_min_support must be in (0, 1]";
   return "";
 }
 
-MapAnalysis analyzeMap(const OccupancyMap& map, const MapAnalyzerParams& params) {
+MapAnalysis analyzeMap(const OccupancyMap& input, const MapAnalyzerParams& params) {
   MapAnalysis result;
+  OccupancyMap map = input;
+  result.speckle_cells_removed = removeSpeckle(&map, params.speckle_max_area_m2);
   const auto clusters =
       clusterOccupiedCells(map, params.cluster_link_radius_m, static_cast<std::size_t>(params.min_cluster_cells));
   result.lines = extractLines(clusters, params.lines);
   const auto& lines = result.lines;
-  const std::string found = "found " + std::to_string(clusters.size()) +
+  const std::string found = "removed " + std::to_string(result.speckle_cells_removed) + " speckle cells; found " +
+                            std::to_string(clusters.size()) +
                             " clusters of >= " + std::to_string(params.min_cluster_cells) + " occupied cells and " +
                             std::to_string(lines.size()) + " straight lines";
   if (lines.empty()) {
@@ -126,144 +161,361 @@ MapAnalysis analyzeMap(const OccupancyMap& map, const MapAnalyzerParams& params)
     return result;
   }
 
-  // Rear wall: the line most other lines are perpendicular to (rows and side walls), longest on ties.
-  int best_score = -1;
-  for (std::size_t i = 0; i < lines.size(); ++i) {
-    int score = 0;
-    for (std::size_t j = 0; j < lines.size(); ++j) {
-      score += j != i && perpendicular(lines[i].fit, lines[j].fit, params.perpendicular_tolerance_rad);
-    }
-    if (score > best_score ||
-        (score == best_score &&
-         lines[i].fit.length() > lines[static_cast<std::size_t>(result.rear_wall)].fit.length())) {
-      best_score = score;
-      result.rear_wall = static_cast<int>(i);
-    }
-  }
+  double side = 1.0;
+  result.rear_wall = selectRearWall(lines, params.perpendicular_tolerance_rad, &side);
   const LineFit2D& wall = lines[static_cast<std::size_t>(result.rear_wall)].fit;
-  // The rows lie on the side of the rear wall where the perpendicular lines are.
-  HeadlandFrame frame{wall.centroid, wall.direction, Eigen::Vector2d(-wall.direction.y(), wall.direction.x())};
-  double side = 0.0;
-  for (const auto& line : lines) {
-    if (perpendicular(wall, line.fit, params.perpendicular_tolerance_rad)) side += frame.toLocal(line.fit.centroid).y();
-  }
-  if (side < 0.0) {
-    frame.v = -frame.v;
-  }
+  HeadlandFrame frame;
+  frame.origin = wall.centroid;
+  frame.v = side * Eigen::Vector2d(-wall.direction.y(), wall.direction.x());
   frame.u = Eigen::Vector2d(frame.v.y(), -frame.v.x());  // u points right when looking into the rows
   result.into_rows = frame.v;
+  const std::string wall_text = "rear wall of " + fmt(wall.length(), 1) + " m";
+  const double wall_u_min = frame.toLocal(wall.centroid + wall.direction * wall.s_min).x();
+  const double wall_u_max = frame.toLocal(wall.centroid + wall.direction * wall.s_max).x();
+  const double span_lo = std::min(wall_u_min, wall_u_max) - 1.0, span_hi = std::max(wall_u_min, wall_u_max) + 1.0;
 
-  // Row candidates: perpendicular lines that start well away from the rear wall, on the rows' side.
-  struct Row {
-    int line;
-    double start_v;
-  };
-  std::vector<Row> candidates;
+  // Row candidates: lines perpendicular to the rear wall within its span, whose runs (stretches looking
+  // like a row, nothing wider beside them) start beyond the minimum headland depth.
+  const double inlier = params.lines.split_inlier_m * 1.5;
+  std::vector<RowCandidate> candidates;
   for (std::size_t i = 0; i < lines.size(); ++i) {
     if (static_cast<int>(i) == result.rear_wall ||
         !perpendicular(wall, lines[i].fit, params.perpendicular_tolerance_rad))
       continue;
-    double start_v = std::numeric_limits<double>::max();
+    RowCandidate row;
+    row.line = static_cast<int>(i);
+    if (!fitRowLine(lines[i], frame, -1e9, inlier, &row.fit, &row.u0, &row.slope)) continue;
+    if (row.u0 < span_lo || row.u0 > span_hi) continue;
+    double v_lo = 1e9, v_hi = -1e9;
     for (const auto& p : lines[i].points) {
-      if (std::abs(lines[i].fit.signedDistance(p)) <= params.lines.split_inlier_m * 1.5)
-        start_v = std::min(start_v, frame.toLocal(p).y());
+      const double v = frame.toLocal(p).y();
+      v_lo = std::min(v_lo, v);
+      v_hi = std::max(v_hi, v);
     }
-    start_v -= 0.5 * map.resolution;  // the row starts at the near face of its first cell, not its centre
-    if (start_v >= params.min_headland_depth_m) candidates.push_back({static_cast<int>(i), start_v});
+    // A line reaching back to the rear wall is a side wall (or a partition), not a row.
+    if (v_lo < 0.5 * params.min_headland_depth_m) continue;
+    const auto starts =
+        rowRunStarts(map, frame, row.u0, row.slope, std::max(0.0, v_lo - 1.0), v_hi + map.resolution, &row.far_v);
+    // A line that looks like a row right from the rear wall is a side wall (or a partition), not a row.
+    if (starts.empty() || starts.front() < 0.5 * params.min_headland_depth_m) continue;
+    for (const double s : starts)
+      if (s >= params.min_headland_depth_m) row.starts.push_back(s);
+    if (!row.starts.empty()) candidates.push_back(row);
   }
-  const std::string wall_text = "rear wall of " + fmt(wall.length(), 1) + " m";
   if (candidates.empty()) {
     result.message = found + " (" + wall_text +
-                     "), but none perpendicular to it starting >= " + fmt(params.min_headland_depth_m, 1) +
+                     "), but no row perpendicular to it starting >= " + fmt(params.min_headland_depth_m, 1) +
                      " m from it; expected at least one row or ventilation line perpendicular to the rear wall";
     return result;
   }
-  // Headland edge: the start most rows agree on (ties: the nearest, since occlusion and gaps can only
+  // Headland edge: the run start most rows agree on (ties: the nearest, since occlusion and gaps can only
   // make a row seem to start later), refined as the median of the agreeing starts.
   double seed_v = 0.0;
   std::size_t best_support = 0;
   for (const auto& c : candidates) {
-    std::size_t support = 0;
-    for (const auto& other : candidates) support += std::abs(other.start_v - c.start_v) <= params.edge_tolerance_m;
-    if (support > best_support || (support == best_support && c.start_v < seed_v)) {
-      best_support = support;
-      seed_v = c.start_v;
+    for (const double s : c.starts) {
+      std::size_t support = 0;
+      for (const auto& other : candidates)
+        support += std::any_of(other.starts.begin(), other.starts.end(),
+                               [&](double o) { return std::abs(o - s) <= params.edge_tolerance_m; });
+      if (support > best_support || (support == best_support && s < seed_v)) {
+        best_support = support;
+        seed_v = s;
+      }
     }
   }
-  std::vector<double> starts;
-  for (const auto& c : candidates)
-    if (std::abs(c.start_v - seed_v) <= params.edge_tolerance_m) starts.push_back(c.start_v);
-  const double edge_v = median(starts);
-  Eigen::Vector2d row_direction = Eigen::Vector2d::Zero();
-  std::vector<std::pair<double, int>> row_positions;  // u where each row meets the edge, line index
-  for (const auto& c : candidates) {
-    if (std::abs(c.start_v - edge_v) > params.edge_tolerance_m) {
-      result.warnings.push_back("line starting " + fmt(c.start_v) + " m from the rear wall ignored: the edge is at " +
-                                fmt(edge_v) + " m");
-      continue;
+  std::vector<double> agreeing;
+  for (auto& c : candidates) {
+    for (const double s : c.starts) {
+      if (std::abs(s - seed_v) <= params.edge_tolerance_m) {
+        c.start_v = s;
+        agreeing.push_back(s);
+        break;
+      }
     }
-    LineFit2D fit = lines[static_cast<std::size_t>(c.line)].fit;
-    if (fit.direction.dot(frame.v) < 0.0) fit.flip();
-    row_direction += fit.direction * static_cast<double>(fit.count);
-    // Intersection of the row line with the edge line v = edge_v.
-    const Eigen::Vector2d c_local = frame.toLocal(fit.centroid);
-    const double dv = fit.direction.dot(frame.v), du = fit.direction.dot(frame.u);
-    row_positions.emplace_back(c_local.x() + (edge_v - c_local.y()) / dv * du, c.line);
   }
-  if (row_positions.empty()) {
+  const double edge_v = median(agreeing);
+  // Rows: candidates that go on into the greenhouse beyond the edge (a box edge on the headland does not).
+  struct Row {
+    double u;
+    int line;
+    LineFit2D fit;
+    double start_v;                   ///< NaN: the row's start is not seen at the edge
+    double d_min = 0.0, d_max = 0.0;  ///< lateral extent of its cells about u [m]
+    bool heading_ok = true;
+  };
+  std::vector<Row> rows;
+  for (auto& c : candidates) {
+    if (c.far_v < edge_v + 0.5) continue;
+    // Something row-like starting well before the edge is a wall or partition (a side wall behind a
+    // door), not a row: rows start at the edge or, when occluded, later.
+    if (c.starts.front() < edge_v - params.edge_tolerance_m) continue;
+    LineFit2D fit;
+    double u0 = c.u0, slope = c.slope;
+    if (!fitRowLine(lines[static_cast<std::size_t>(c.line)], frame, edge_v - 0.05, inlier, &fit, &u0, &slope)) continue;
+    rows.push_back({u0 + slope * edge_v, c.line, fit, c.start_v});
+    if (!std::isfinite(c.start_v)) {
+      result.warnings.push_back("row at " + fmt(u0 + slope * edge_v) +
+                                " m along the rear wall does not start at the edge");
+    }
+  }
+  if (rows.empty()) {
     result.message = found + " (" + wall_text + "), " + std::to_string(candidates.size()) +
-                     " lines perpendicular to it but their starts disagree by more than " +
-                     fmt(params.edge_tolerance_m) + " m; expected rows starting along one headland edge";
+                     " lines perpendicular to it, none going on beyond a common headland edge; expected rows "
+                     "starting along one headland edge";
     return result;
   }
-  std::sort(row_positions.begin(), row_positions.end());
-  for (const auto& rp : row_positions) result.rows.push_back(rp.second);
-  // The rear wall's normal measures the same greenhouse axis, from many more cells: it joins the mean.
+  std::sort(rows.begin(), rows.end(), [](const Row& a, const Row& b) { return a.u < b.u; });
+  // Two lines closer than half a spacing are one row seen twice (a plant row's two edges).
+  std::vector<Row> merged;
+  for (const auto& r : rows) {
+    if (!merged.empty() && r.u - merged.back().u < 0.5 * params.rail_set_spacing_m / params.spacing_search_ratio) {
+      if (r.fit.count > merged.back().fit.count) merged.back() = r;
+      continue;
+    }
+    merged.push_back(r);
+  }
+  rows = merged;
+  for (const auto& r : rows) result.rows.push_back(r.line);
+
+  // Heading: the rows' directions and the rear wall's normal measure the same axis; weighted by cells.
+  Eigen::Vector2d row_direction = Eigen::Vector2d::Zero();
+  for (const auto& r : rows) row_direction += r.fit.direction * static_cast<double>(r.fit.count);
+  const Eigen::Vector2d rows_mean = row_direction.normalized();
   row_direction += frame.v * static_cast<double>(wall.count);
   row_direction.normalize();
   const double heading = std::atan2(row_direction.y(), row_direction.x());
-
-  // Side walls beyond the outer rows, then every gap between neighbours holds round(gap / spacing) sets.
-  double left_u = 0.0, right_u = 0.0;
-  result.left_wall_found = findSideWall(map, frame, row_positions.front().first, edge_v, -1.0, &left_u);
-  result.right_wall_found = findSideWall(map, frame, row_positions.back().first, edge_v, +1.0, &right_u);
-  std::vector<double> positions;
-  if (result.left_wall_found) positions.push_back(left_u);
-  for (const auto& rp : row_positions) positions.push_back(rp.first);
-  if (result.right_wall_found) positions.push_back(right_u);
-  const double spacing = params.rail_set_spacing_m;
-  std::vector<double> set_u;
-  for (std::size_t k = 0; k + 1 < positions.size(); ++k) {
-    const double gap = positions[k + 1] - positions[k];
-    const long n = std::lround(gap / spacing);
-    if (n == 0) {
-      result.warnings.push_back("two lines only " + fmt(gap) + " m apart (spacing " + fmt(spacing) + " m)");
-      continue;
-    }
-    if (std::abs(gap - n * spacing) > params.spacing_tolerance * spacing) {
-      result.warnings.push_back("gap of " + fmt(gap) + " m is not a multiple of the spacing " + fmt(spacing) +
-                                " m; assumed " + std::to_string(n) + " rail sets");
-    }
-    for (long j = 0; j < n; ++j) set_u.push_back(positions[k] + (j + 0.5) * gap / static_cast<double>(n));
+  int rows_off_heading = 0;
+  for (auto& r : rows) {
+    // A short row's direction is known only to about a cell (and the scatter of its pots) over its length.
+    const double allowed =
+        params.row_heading_tolerance_rad + (map.resolution + 2.0 * r.fit.rms_residual) / std::max(0.5, r.fit.length());
+    r.heading_ok = angleBetweenLines(r.fit.direction, rows_mean) <= allowed;
+    rows_off_heading += !r.heading_ok;
   }
-  result.edge_start = frame.toMap(positions.front(), edge_v);
-  result.edge_end = frame.toMap(positions.back(), edge_v);
-  result.left_wall = frame.toMap(left_u, edge_v);
-  result.right_wall = frame.toMap(right_u, edge_v);
-  for (const double u : set_u) {
+  const double rows_vs_wall = angleBetweenLines(rows_mean, frame.v);
+  // Each row's place at the edge from its cells within the first metres beyond the edge, measured across
+  // the greenhouse's axis (rows are parallel): a short piece of a row with a gap has a poor direction of
+  // its own, but its cells still say where it is.
+  {
+    const Eigen::Vector2d across(row_direction.y(), -row_direction.x());
+    const double step = 0.5 * map.resolution;
+    for (auto& r : rows) {
+      const Eigen::Vector2d at_edge = frame.toMap(r.u, edge_v);
+      std::vector<std::size_t> seen;
+      double sum = 0.0, d_min = 1e9, d_max = -1e9;
+      for (double t = -0.05; t <= 3.0; t += step) {
+        for (double d = -0.2; d <= 0.2; d += step) {
+          int c = 0, q = 0;
+          const Eigen::Vector2d p = at_edge + t * row_direction + d * across;
+          if (!map.worldToCell(p, &c, &q) || map.at(c, q) < 65) continue;
+          const std::size_t index = static_cast<std::size_t>(q) * map.width + c;
+          if (std::find(seen.begin(), seen.end(), index) != seen.end()) continue;
+          seen.push_back(index);
+          const double lateral = across.dot(map.cellCentre(c, q) - at_edge);
+          sum += lateral;
+          d_min = std::min(d_min, lateral);
+          d_max = std::max(d_max, lateral);
+        }
+      }
+      if (seen.size() >= 3) {
+        const double mean = sum / seen.size();
+        r.u += mean / std::max(0.5, across.dot(frame.u));
+        r.d_min = d_min - mean - 0.5 * map.resolution;
+        r.d_max = d_max - mean + 0.5 * map.resolution;
+      }
+    }
+  }
+
+  // Side walls by scanlines from the outer rows outwards.
+  const double max_travel = (span_hi - span_lo) + 2.0;
+  SideScan left =
+      scanToSideWall(map, frame, rows.front().u - 0.25, edge_v, -1.0, params.side_wall_min_support, max_travel);
+  SideScan right =
+      scanToSideWall(map, frame, rows.back().u + 0.25, edge_v, +1.0, params.side_wall_min_support, max_travel);
+  // No floor beyond the outermost line: that line is the side wall itself (seen through a door, it looked
+  // like a row). Its inner face bounds the rail sets.
+  if (!left.wall_found && left.floor_extent_m < 0.3 && rows.size() >= 2) {
+    left.wall_found = true;
+    left.wall_u = rows.front().u + rows.front().d_max;
+    rows.erase(rows.begin());
+  }
+  if (!right.wall_found && right.floor_extent_m < 0.3 && rows.size() >= 2) {
+    right.wall_found = true;
+    right.wall_u = rows.back().u + rows.back().d_min;
+    rows.pop_back();
+  }
+  result.rows.clear();
+  for (const auto& r : rows) result.rows.push_back(r.line);
+  double sq_start_dev = 0.0;
+  int with_start = 0;
+  for (const auto& r : rows) {
+    if (!std::isfinite(r.start_v)) continue;
+    sq_start_dev += (r.start_v - edge_v) * (r.start_v - edge_v);
+    ++with_start;
+  }
+  result.left_wall_found = left.wall_found;
+  result.right_wall_found = right.wall_found;
+
+  // Lines across the headland (walls, rows) and the gaps between them.
+  struct Boundary {
+    double u;
+    std::string name;
+    bool heading_ok;
+  };
+  std::vector<Boundary> bounds;
+  if (left.wall_found) bounds.push_back({left.wall_u, "left side wall", true});
+  for (const auto& r : rows) bounds.push_back({r.u, "row at " + fmt(r.u) + " m", r.heading_ok});
+  if (right.wall_found) bounds.push_back({right.wall_u, "right side wall", true});
+  std::vector<double> gaps;
+  for (std::size_t k = 0; k + 1 < bounds.size(); ++k) gaps.push_back(bounds[k + 1].u - bounds[k].u);
+  const double fit_tol = std::max(params.spacing_fit_tolerance_m, 1.5 * map.resolution);
+  const SpacingEstimate spacing =
+      estimateSpacing(gaps, params.rail_set_spacing_m, params.spacing_search_ratio, fit_tol);
+  result.spacing_m = gaps.empty() ? 0.0 : spacing.spacing_m;
+  const double s = gaps.empty() ? params.rail_set_spacing_m : spacing.spacing_m;
+
+  // Checks behind the whole result.
+  auto check = [&](const std::string& name, bool passed, double value, double limit, const std::string& detail) {
+    result.checks.push_back({name, passed, value, limit, detail});
+    return passed;
+  };
+  const double row_span = rows.back().u - rows.front().u;
+  const bool wall_ok = check("rear_wall_spans_rows", wall.length() >= 0.8 * row_span, wall.length(), 0.8 * row_span,
+                             "rear wall length [m] against 0.8 of the rows' span");
+  const double edge_rms = with_start ? std::sqrt(sq_start_dev / with_start) : INFINITY;
+  const bool edge_ok =
+      check("edge_straight",
+            with_start >= std::min<int>(2, static_cast<int>(rows.size())) &&
+                2 * with_start >= static_cast<int>(rows.size()) && edge_rms <= params.edge_straightness_m,
+            edge_rms, params.edge_straightness_m,
+            "RMS of the row starts about the edge [m]; " + std::to_string(with_start) + " of " +
+                std::to_string(rows.size()) + " rows start at it");
+  const bool heading_ok = check("rows_agree_in_heading",
+                                rows_vs_wall <= params.row_heading_tolerance_rad + 2.0 * map.resolution / wall.length(),
+                                rows_vs_wall, params.row_heading_tolerance_rad,
+                                "angle between the rows' mean direction and the rear wall's normal [rad]");
+  check("each_row_parallel", rows_off_heading == 0, rows_off_heading, 0,
+        "rows whose own direction disagrees with the others' (the sets beside them are uncertain)");
+  double worst_residual = 0.0;
+  for (const double r : spacing.residual_m) worst_residual = std::max(worst_residual, r);
+  const bool spacing_regular = check("spacing_regular", spacing.regular, worst_residual, fit_tol,
+                                     "largest misfit of a gap to a whole number of spacings [m]");
+  const bool spacing_unique = check("spacing_unambiguous", spacing.hypotheses <= 1, spacing.hypotheses, 1,
+                                    "patterns of rail sets per gap that fit every gap within the spacing search range");
+  const bool spacing_confirmed =
+      check("spacing_confirmed",
+            gaps.size() >= 2 || std::abs(s - params.rail_set_spacing_m) <= 0.05 * params.rail_set_spacing_m, s,
+            params.rail_set_spacing_m,
+            "spacing measured from " + std::to_string(gaps.size()) +
+                " gaps [m] against the configured one (one gap alone must agree within 5 %)");
+  check("side_walls_found", left.wall_found && right.wall_found, left.wall_found + right.wall_found, 2,
+        "side walls found by scanlines across the headland");
+  if (!gaps.empty() && std::abs(s - params.rail_set_spacing_m) > params.spacing_tolerance * params.rail_set_spacing_m)
+    result.warnings.push_back("measured rail-set spacing " + fmt(s) + " m differs from the configured " +
+                              fmt(params.rail_set_spacing_m) + " m; the measured one is used");
+  std::vector<std::string> global_reasons;
+  if (!wall_ok) global_reasons.push_back("rear wall shorter than the span of the rows");
+  if (!edge_ok) global_reasons.push_back("headland edge not confirmed by the row starts");
+  if (!heading_ok) global_reasons.push_back("rows disagree in heading with the rear wall");
+  if (!spacing_confirmed) global_reasons.push_back("spacing measured from one gap only and not the configured one");
+
+  // Rail sets: whole numbers of spacings in each gap; on a side without a wall, sets by the spacing as
+  // far as the mapped floor goes, all uncertain.
+  struct SetPlan {
+    double u;
+    std::vector<std::string> reasons;
+  };
+  std::vector<SetPlan> plans;
+  auto open_side = [&](const SideScan& scan, double u_out, double dir, const char* name) {
+    const int n = static_cast<int>(std::floor((scan.floor_extent_m + 0.25) / s + 0.25));
+    std::vector<SetPlan> extra;
+    for (int k = 0; k < n; ++k)
+      extra.push_back(
+          {u_out + dir * (k + 0.5) * s, {std::string("no ") + name + " side wall found: placed by the spacing"}});
+    return extra;
+  };
+  if (!left.wall_found) {
+    auto extra = open_side(left, rows.front().u, -1.0, "left");
+    std::reverse(extra.begin(), extra.end());
+    plans.insert(plans.end(), extra.begin(), extra.end());
+  }
+  for (std::size_t k = 0; k < gaps.size(); ++k) {
+    const int n = spacing.sets_per_gap[k];
+    std::vector<std::string> reasons;
+    if (!spacing.gap_fits[k])
+      reasons.push_back("gap of " + fmt(gaps[k]) + " m between " + bounds[k].name + " and " + bounds[k + 1].name +
+                        " is not a whole number of spacings (" + fmt(s) + " m)");
+    if (spacing.gap_ambiguous[k])
+      reasons.push_back("gap of " + fmt(gaps[k]) + " m fits more than one number of rail sets");
+    for (const auto* b : {&bounds[k], &bounds[k + 1]})
+      if (!b->heading_ok) reasons.push_back(b->name + " disagrees in heading with the other rows");
+    for (int j = 0; j < n; ++j) plans.push_back({bounds[k].u + (j + 0.5) * gaps[k] / n, reasons});
+  }
+  if (!right.wall_found) {
+    const auto extra = open_side(right, rows.back().u, +1.0, "right");
+    plans.insert(plans.end(), extra.begin(), extra.end());
+  }
+  if (!spacing_regular && spacing_unique) global_reasons.push_back("rows and walls are not a regular pattern");
+  const double edge_u0 = plans.empty() ? bounds.front().u : std::min(bounds.front().u, plans.front().u - 0.5 * s);
+  const double edge_u1 = plans.empty() ? bounds.back().u : std::max(bounds.back().u, plans.back().u + 0.5 * s);
+  result.edge_start = frame.toMap(left.wall_found ? left.wall_u : edge_u0, edge_v);
+  result.edge_end = frame.toMap(right.wall_found ? right.wall_u : edge_u1, edge_v);
+  result.left_wall = frame.toMap(left.wall_u, edge_v);
+  result.right_wall = frame.toMap(right.wall_u, edge_v);
+  result.left_open = !left.wall_found;
+  result.right_open = !right.wall_found;
+  int good = 0;
+  for (const auto& plan : plans) {
     RailSetEstimate set;
     set.index = static_cast<int>(result.rail_sets.size());
-    const Eigen::Vector2d origin = frame.toMap(u, edge_v);
+    const Eigen::Vector2d origin = frame.toMap(plan.u, edge_v);
     set.rail_frame = Pose2D(origin.x(), origin.y(), heading);
     set.target_pose = set.rail_frame.compose(params.target_in_rail);
+    std::vector<std::string> reasons = global_reasons;
+    reasons.insert(reasons.end(), plan.reasons.begin(), plan.reasons.end());
+    set.good = reasons.empty();
+    set.reason = joinReasons(reasons);
+    good += set.good;
     result.rail_sets.push_back(set);
   }
+
   result.ok = !result.rail_sets.empty();
-  result.message = found + ": " + wall_text + ", " + std::to_string(result.rows.size()) +
+  int passed = 0;
+  std::vector<std::string> failed;
+  for (const auto& c : result.checks) {
+    passed += c.passed;
+    if (!c.passed) failed.push_back(c.name);
+  }
+  result.confidence = result.rail_sets.empty() ? 0.0
+                                               : static_cast<double>(passed) / result.checks.size() *
+                                                     static_cast<double>(good) / result.rail_sets.size();
+  result.status = !result.ok
+                      ? MapStatus::kFailed
+                      : (failed.empty() && good == static_cast<int>(result.rail_sets.size()) ? MapStatus::kOk
+                                                                                             : MapStatus::kUncertain);
+  std::vector<std::string> uncertain = global_reasons;
+  if (rows_off_heading > 0)
+    uncertain.push_back(std::to_string(rows_off_heading) + " rows disagree in heading with the others");
+  if (!left.wall_found) uncertain.push_back("no left side wall found: rail sets may go on beyond the leftmost row");
+  if (!right.wall_found) uncertain.push_back("no right side wall found: rail sets may go on beyond the rightmost row");
+  if (!spacing_regular || !spacing_unique) {
+    for (std::size_t k = 0; k < gaps.size(); ++k) {
+      if (!spacing.gap_fits[k] || spacing.gap_ambiguous[k])
+        uncertain.push_back(
+            "gap of " + fmt(gaps[k]) + " m between " + bounds[k].name + " and " + bounds[k + 1].name +
+            (spacing.gap_fits[k] ? " fits more than one number of rail sets" : " does not fit the spacing"));
+    }
+  }
+  if (result.status == MapStatus::kUncertain) {
+    result.uncertain_reasons = joinReasons(uncertain);
+    if (result.uncertain_reasons.empty()) result.uncertain_reasons = "failed checks: " + joinReasons(failed);
+  }
+  result.message = found + ": " + wall_text + ", " + std::to_string(rows.size()) +
                    " rows/ventilation lines, headland edge " + fmt(edge_v) + " m from the rear wall, side walls " +
-                   (result.left_wall_found ? "left " : "") + (result.right_wall_found ? "right " : "") +
-                   (result.left_wall_found || result.right_wall_found ? "found" : "not found") + ", " +
-                   std::to_string(result.rail_sets.size()) + " rail sets";
+                   (left.wall_found ? "left " : "") + (right.wall_found ? "right " : "") +
+                   (left.wall_found || right.wall_found ? "found" : "not found") + ", spacing " + fmt(s) + " m, " +
+                   std::to_string(result.rail_sets.size()) + " rail sets (" + std::to_string(good) + " good)";
   if (!result.ok) result.message += "; expected at least two lines (rows or walls) a rail-set spacing apart";
   return result;
 }

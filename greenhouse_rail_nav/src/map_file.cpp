@@ -1,5 +1,7 @@
 #include "greenhouse_rail_nav/map_file.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <fstream>
 
@@ -35,9 +37,58 @@ bool readKey(const YAML::Node& node, const std::string& key, const std::string& 
   return true;
 }
 
+/// Next whitespace-separated token of a PNM header, skipping '#' comments.
+bool pnmToken(std::istream& in, std::string* token) {
+  token->clear();
+  char c = 0;
+  while (in.get(c)) {
+    if (c == '#') {
+      std::string comment;
+      std::getline(in, comment);
+    } else if (!std::isspace(static_cast<unsigned char>(c))) {
+      token->push_back(c);
+      break;
+    }
+  }
+  while (in.get(c) && !std::isspace(static_cast<unsigned char>(c))) token->push_back(c);
+  return !token->empty();
+}
+
+bool parseSize(const std::string& token, std::uint64_t* value) {
+  if (token.empty() || token.size() > 19 || token.find_first_not_of("0123456789") != std::string::npos) return false;
+  *value = std::stoull(token);
+  return true;
+}
+
 }  // namespace
 
-bool loadMapYaml(const std::string& yaml_path, OccupancyMap* map, std::string* error) {
+bool readImageHeaderSize(const std::string& image_path, std::uint64_t* width, std::uint64_t* height) {
+  std::ifstream in(image_path, std::ios::binary);
+  if (!in) return false;
+  char magic[8] = {};
+  in.read(magic, 8);
+  if (in.gcount() >= 2 && magic[0] == 'P' && (magic[1] == '2' || magic[1] == '5')) {
+    in.clear();
+    in.seekg(2);
+    std::string w, h;
+    return pnmToken(in, &w) && pnmToken(in, &h) && parseSize(w, width) && parseSize(h, height);
+  }
+  static const unsigned char kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (in.gcount() == 8 && std::equal(magic, magic + 8, reinterpret_cast<const char*>(kPng))) {
+    unsigned char ihdr[16] = {};
+    in.read(reinterpret_cast<char*>(ihdr), 16);  // length, "IHDR", width, height (big-endian)
+    if (in.gcount() != 16) return false;
+    auto be32 = [](const unsigned char* b) {
+      return (std::uint64_t{b[0]} << 24) | (std::uint64_t{b[1]} << 16) | (std::uint64_t{b[2]} << 8) | b[3];
+    };
+    *width = be32(ihdr + 8);
+    *height = be32(ihdr + 12);
+    return true;
+  }
+  return false;
+}
+
+bool loadMapYaml(const std::string& yaml_path, OccupancyMap* map, std::string* error, std::uint64_t max_cells) {
   YAML::Node doc;
   try {
     doc = YAML::LoadFile(yaml_path);
@@ -58,7 +109,12 @@ bool loadMapYaml(const std::string& yaml_path, OccupancyMap* map, std::string* e
     return false;
   }
   std::string mode = "trinary";
-  if (doc["mode"]) mode = doc["mode"].as<std::string>();
+  try {
+    if (doc["mode"]) mode = doc["mode"].as<std::string>();
+  } catch (const YAML::Exception&) {
+    *error = yaml_path + ": 'mode' must be trinary or scale";
+    return false;
+  }
   if (!(resolution > 0.0) || !std::isfinite(resolution)) {
     *error = yaml_path + ": 'resolution' must be > 0, got " + std::to_string(resolution);
     return false;
@@ -76,7 +132,25 @@ bool loadMapYaml(const std::string& yaml_path, OccupancyMap* map, std::string* e
     return false;
   }
   const std::string image_path = (!image.empty() && image[0] == '/') ? image : directoryOf(yaml_path) + "/" + image;
-  const cv::Mat img = cv::imread(image_path, cv::IMREAD_GRAYSCALE);
+  std::uint64_t header_w = 0, header_h = 0;
+  if (readImageHeaderSize(image_path, &header_w, &header_h) &&
+      (header_w == 0 || header_h == 0 || header_w * header_h > max_cells)) {
+    *error = yaml_path + ": image '" + image_path + "' claims " + std::to_string(header_w) + " x " +
+             std::to_string(header_h) + " pixels; the limit is " + std::to_string(max_cells) + " cells";
+    return false;
+  }
+  cv::Mat img;
+  try {
+    img = cv::imread(image_path, cv::IMREAD_GRAYSCALE);
+  } catch (const cv::Exception& e) {
+    *error = yaml_path + ": cannot decode image '" + image_path + "': " + e.what();
+    return false;
+  }
+  if (!img.empty() && static_cast<std::uint64_t>(img.cols) * img.rows > max_cells) {
+    *error = yaml_path + ": image '" + image_path + "' has " + std::to_string(img.cols) + " x " +
+             std::to_string(img.rows) + " pixels; the limit is " + std::to_string(max_cells) + " cells";
+    return false;
+  }
   if (img.empty()) {
     *error = yaml_path + ": cannot read image '" + image_path + "'";
     return false;

@@ -72,6 +72,8 @@ RailLine transformed(const RailLine& rail, const Pose2D& t) {
   return out;
 }
 
+constexpr double kFloorBinM = 0.05;
+
 }  // namespace
 
 std::string RailDetectorParams::validate() const {
@@ -102,21 +104,32 @@ std::string RailDetectorParams::validate() const {
   if (ransac_iterations < 1) return "ransac_iterations must be >= 1";
   if (!positive(sigma_x_m) || !positive(sigma_y_m) || !positive(sigma_yaw_rad))
     return "sigma_x_m, sigma_y_m and sigma_yaw_rad must be > 0";
+  if (!(std::isfinite(start_view_margin_m) && start_view_margin_m >= 0.0 && start_view_margin_m < 1.0))
+    return "start_view_margin_m must be in [0, 1) [m]";
+  if (!positive(unobserved_sigma_x_m)) return "unobserved_sigma_x_m must be > 0 [m]";
   return "";
 }
 
 std::vector<Eigen::Vector3f> RailDetector::cropToRailBand(const OrganisedCloud& cloud,
                                                           const Eigen::Isometry3d& camera_in_base,
-                                                          std::size_t* finite_points) const {
+                                                          std::size_t* finite_points,
+                                                          std::vector<float>* nearest_floor_x) const {
   const Eigen::Matrix3f rot = camera_in_base.linear().cast<float>();
   const Eigen::Vector3f trans = camera_in_base.translation().cast<float>();
   const auto& p = params_;
   std::vector<Eigen::Vector3f> band;
   std::size_t finite = 0;
+  const int bins = static_cast<int>(std::ceil(2.0 * p.crop_y_max_m / kFloorBinM));
+  if (nearest_floor_x) nearest_floor_x->assign(static_cast<std::size_t>(bins), INFINITY);
   for (const auto& point : cloud.points) {
     if (!point.allFinite()) continue;
     ++finite;
     const Eigen::Vector3f b = rot * point + trans;
+    if (nearest_floor_x && b.z() < p.crop_z_min_m && b.z() > -0.05f && std::abs(b.y()) < p.crop_y_max_m) {
+      const int bin = std::clamp(static_cast<int>((b.y() + p.crop_y_max_m) / kFloorBinM), 0, bins - 1);
+      float& nearest = (*nearest_floor_x)[static_cast<std::size_t>(bin)];
+      nearest = std::min(nearest, b.x());
+    }
     if (b.z() >= p.crop_z_min_m && b.z() <= p.crop_z_max_m && b.x() >= p.crop_x_min_m && b.x() <= p.crop_x_max_m &&
         std::abs(b.y()) <= p.crop_y_max_m) {
       band.push_back(b);
@@ -140,7 +153,8 @@ RailDetection RailDetector::detect(const OrganisedCloud& cloud, const Eigen::Iso
     out.reason = "malformed cloud: width x height != number of points";
     return out;
   }
-  const auto band = cropToRailBand(cloud, camera_in_base, &out.finite_points);
+  std::vector<float> nearest_floor_x;
+  const auto band = cropToRailBand(cloud, camera_in_base, &out.finite_points, &nearest_floor_x);
   out.points_in_band = band.size();
   if (out.finite_points == 0) {
     out.status = RailDetection::Status::kBadInput;
@@ -205,12 +219,31 @@ RailDetection RailDetector::detect(const OrganisedCloud& cloud, const Eigen::Iso
   }
   if (!pairFromLines(lines, band, band_xy, method == RailFitMethod::kClusterLines, &out)) return out;
 
+  // Is the rails' start in view? Only if the floor just in front of each rail's start was seen; otherwise
+  // the first visible point of the rails is where they enter the image, not where they start.
+  bool start_seen = true;
+  const int bins = static_cast<int>(nearest_floor_x.size());
+  for (const RailLine& rail : out.rails) {
+    const Eigen::Vector2d start = rail.fit.centroid + rail.near_end * rail.fit.direction;
+    const int centre = static_cast<int>((start.y() + p.crop_y_max_m) / kFloorBinM);
+    float nearest = INFINITY;
+    for (int b = centre - 1; b <= centre + 1; ++b)
+      if (b >= 0 && b < bins) nearest = std::min(nearest, nearest_floor_x[static_cast<std::size_t>(b)]);
+    start_seen = start_seen && nearest <= start.x() - p.start_view_margin_m;
+  }
+
   // Mount correction, then the paper's output: base_link in the rail frame.
   out.rail_in_base = mount_correction.compose(out.rail_in_base);
   for (auto& rail : out.rails) rail = transformed(rail, mount_correction);
   out.base_in_rail = out.rail_in_base.inverse();
   out.status = RailDetection::Status::kFound;
   out.reason = "rails found: gauge " + fmt(out.gauge_m) + " m, r " + fmt(out.fit_score, 4);
+  if (!start_seen) {
+    out.status = RailDetection::Status::kFoundXUnobserved;
+    out.variance[0] = std::max(out.variance[0], p.unobserved_sigma_x_m * p.unobserved_sigma_x_m);
+    out.reason += "; rails' start out of view: x " + fmt(out.base_in_rail.x) + " m is where they enter the image, " +
+                  "the start is nearer";
+  }
   return out;
 }
 

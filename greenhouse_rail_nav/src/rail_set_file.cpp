@@ -51,6 +51,9 @@ bool saveRailSetFile(const RailSetFile& file, const std::string& path, std::stri
   out.SetDoublePrecision(6);
   out << YAML::BeginMap;
   out << YAML::Key << "frame_id" << YAML::Value << file.frame_id;
+  out << YAML::Key << "status" << YAML::Value << file.status;
+  out << YAML::Key << "confidence" << YAML::Value << file.confidence;
+  if (!file.reasons.empty()) out << YAML::Key << "reasons" << YAML::Value << file.reasons;
   out << YAML::Key << "headland_edge" << YAML::Value << YAML::BeginMap;
   emitPoint(out, "start", file.edge_start);
   emitPoint(out, "end", file.edge_end);
@@ -59,6 +62,8 @@ bool saveRailSetFile(const RailSetFile& file, const std::string& path, std::stri
   out << YAML::Key << "rail_sets" << YAML::Value << YAML::BeginSeq;
   for (const auto& set : file.rail_sets) {
     out << YAML::BeginMap << YAML::Key << "index" << YAML::Value << set.index;
+    out << YAML::Key << "status" << YAML::Value << (set.good ? "good" : "uncertain");
+    if (!set.good) out << YAML::Key << "reason" << YAML::Value << set.reason;
     emitPose(out, "target_pose", set.target_pose);
     emitPose(out, "rail_frame", set.rail_frame);
     out << YAML::EndMap;
@@ -71,6 +76,7 @@ bool saveRailSetFile(const RailSetFile& file, const std::string& path, std::stri
   }
   stream << "# Rail sets found by greenhouse_rail_nav/map_analyzer. Poses in frame_id: x, y [m], yaw [rad].\n"
          << "# target_pose is where the robot goes in front of each rail set; edit it if needed.\n"
+         << "# A mission visits only the sets with status good; uncertain sets say why.\n"
          << out.c_str() << "\n";
   return static_cast<bool>(stream);
 }
@@ -84,7 +90,15 @@ bool loadRailSetFile(const std::string& path, RailSetFile* file, std::string* er
     return false;
   }
   RailSetFile result;
-  if (doc["frame_id"]) result.frame_id = doc["frame_id"].as<std::string>();
+  try {
+    if (doc["frame_id"]) result.frame_id = doc["frame_id"].as<std::string>();
+    if (doc["status"]) result.status = doc["status"].as<std::string>();
+    if (doc["confidence"]) result.confidence = doc["confidence"].as<double>();
+    if (doc["reasons"]) result.reasons = doc["reasons"].as<std::string>();
+  } catch (const YAML::Exception&) {
+    *error = path + ": frame_id, status and reasons must be strings, confidence a number";
+    return false;
+  }
   const YAML::Node edge = doc["headland_edge"];
   if (!edge || !readPoint(edge["start"], path + ": headland_edge.start", &result.edge_start, error) ||
       !readPoint(edge["end"], path + ": headland_edge.end", &result.edge_end, error) ||
@@ -100,7 +114,19 @@ bool loadRailSetFile(const std::string& path, RailSetFile* file, std::string* er
   for (std::size_t i = 0; i < sets.size(); ++i) {
     const std::string where = path + ": rail_sets[" + std::to_string(i) + "]";
     RailSetEstimate set;
-    set.index = sets[i]["index"] ? sets[i]["index"].as<int>() : static_cast<int>(i);
+    try {
+      set.index = sets[i]["index"] ? sets[i]["index"].as<int>() : static_cast<int>(i);
+      const std::string status = sets[i]["status"] ? sets[i]["status"].as<std::string>() : "good";
+      if (status != "good" && status != "uncertain") {
+        *error = where + ".status: expected good or uncertain, got '" + status + "'";
+        return false;
+      }
+      set.good = status == "good";
+      if (sets[i]["reason"]) set.reason = sets[i]["reason"].as<std::string>();
+    } catch (const YAML::Exception&) {
+      *error = where + ": index must be an integer, status and reason strings";
+      return false;
+    }
     if (!readPose(sets[i]["target_pose"], where + ".target_pose", &set.target_pose, error) ||
         !readPose(sets[i]["rail_frame"], where + ".rail_frame", &set.rail_frame, error)) {
       return false;

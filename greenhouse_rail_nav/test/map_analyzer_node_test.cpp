@@ -1,5 +1,6 @@
 // rostest of map_analyzer: started by its launch file, fed a map file and maps on `map`.
 #include <cmath>
+#include <fstream>
 
 #include <geometry_msgs/PolygonStamped.h>
 #include <geometry_msgs/PoseArray.h>
@@ -11,7 +12,7 @@
 
 #include "../src/nodes/map_messages.h"
 #include "greenhouse_rail_nav/rail_set_file.h"
-#include "greenhouse_rail_nav/synthetic_greenhouse_map.h"
+#include "greenhouse_rail_nav/testing/synthetic_greenhouse_map.h"
 
 using namespace greenhouse_rail_nav;
 
@@ -131,7 +132,39 @@ TEST(MapAnalyzerNode, AnalysesMapsOnTheTopicAndNeverInventsPoses) {
   map_pub.publish(toMessage(single_truth.map, "map", ros::Time::now()));
   ASSERT_TRUE(waitFor([&] { return targets.count >= 4; }));
   EXPECT_EQ(targets.last->poses.size(), 6u);
+
+  // A greenhouse without its left side wall in the map: the sets left of the outermost row are uncertain.
+  // They are left out of rail_targets, published on rail_targets_uncertain, and marked in the file; the
+  // status says uncertain and why; the overlay PNG is written.
+  Latest<geometry_msgs::PoseArray> uncertain(nh, "topic/rail_targets_uncertain");
+  GreenhouseLayout open_left;
+  open_left.rail_sets = 7;
+  open_left.visible_rows = {2, 3, 5};
+  open_left.left_wall = false;
+  const auto open_truth = makeGreenhouseMap(open_left);
+  const int before = targets.count;
+  map_pub.publish(toMessage(open_truth.map, "map", ros::Time::now()));
+  ASSERT_TRUE(waitFor([&] { return targets.count > before && uncertain.count >= 1; }));
+  ASSERT_TRUE(waitFor([&] { return status.last->data.rfind("uncertain:", 0) == 0u; })) << status.last->data;
+  EXPECT_NE(status.last->data.find("no left side wall"), std::string::npos) << status.last->data;
+  EXPECT_EQ(targets.last->poses.size(), 5u);
+  EXPECT_GE(uncertain.last->poses.size(), 1u);
+  ASSERT_TRUE(loadRailSetFile(output_file, &file, &error)) << error;
+  EXPECT_EQ(file.status, "uncertain");
+  int good = 0;
+  for (const auto& set : file.rail_sets) {
+    good += set.good;
+    if (!set.good) EXPECT_FALSE(set.reason.empty());
+  }
+  EXPECT_EQ(good, 5);
+  std::string overlay;
+  ASSERT_TRUE(pnh.getParam("overlay_png", overlay));
+  std::ifstream png(overlay, std::ios::binary);
+  char magic[4] = {};
+  png.read(magic, 4);
+  EXPECT_EQ(std::string(magic + 1, 3), "PNG") << overlay;
   std::remove(output_file.c_str());
+  std::remove(overlay.c_str());
 }
 
 int main(int argc, char** argv) {

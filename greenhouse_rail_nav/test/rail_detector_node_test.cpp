@@ -14,7 +14,7 @@
 #include "../src/nodes/cloud_messages.h"
 #include "greenhouse_rail_nav/RailDetectionStatus.h"
 #include "greenhouse_rail_nav/mount_calibration.h"
-#include "greenhouse_rail_nav/synthetic_depth_cloud.h"
+#include "greenhouse_rail_nav/testing/synthetic_depth_cloud.h"
 
 using namespace greenhouse_rail_nav;
 using StatusMsg = greenhouse_rail_nav::RailDetectionStatus;

@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "greenhouse_rail_nav/map_file.h"
-#include "greenhouse_rail_nav/synthetic_greenhouse_map.h"
+#include "greenhouse_rail_nav/testing/synthetic_greenhouse_map.h"
 
 using namespace greenhouse_rail_nav;
 

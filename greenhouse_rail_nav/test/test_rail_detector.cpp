@@ -6,7 +6,7 @@
 
 #include "greenhouse_rail_nav/mount_calibration.h"
 #include "greenhouse_rail_nav/rail_detector.h"
-#include "greenhouse_rail_nav/synthetic_depth_cloud.h"
+#include "greenhouse_rail_nav/testing/synthetic_depth_cloud.h"
 
 using namespace greenhouse_rail_nav;
 
@@ -161,4 +161,30 @@ TEST(RailPair, CoverageTellsAPipeFromLeavesInARow) {
   EXPECT_GE(leaf_coverage, 8.0 / 38.0 - 1e-9);
   EXPECT_LE(leaf_coverage, 12.0 / 38.0 + 1e-9);
   EXPECT_EQ(lineCoverage({}, LineFit2D(), 0.05), 0.0);
+}
+
+TEST(RailDetector, RailStartOutOfViewIsReportedAsXUnobserved) {
+  const RailDetector detector{RailDetectorParams()};
+  DepthSceneParams scene;
+  // At the approach pose the floor in front of the rails is seen: x is observed.
+  scene.seed = 71;
+  const RailDetection far = detector.detect(renderDepthCloud(scene, Pose2D(-0.8, 0.02, 0.01)), scene.camera_in_base);
+  ASSERT_TRUE(far.found()) << far.reason;
+  EXPECT_TRUE(far.xObserved()) << far.reason;
+  EXPECT_LT(far.variance[0], 0.05);
+  // 0.3 m from the start the camera (floor seen from about 0.64 m ahead) cannot see it: y and yaw still
+  // hold, x is flagged with a large variance, and the true start is nearer than the reported one.
+  for (const Pose2D truth : {Pose2D(-0.3, 0.03, 0.02), Pose2D(-0.45, -0.05, -0.05)}) {
+    scene.seed = 72;
+    SCOPED_TRACE(truth.x);
+    const RailDetection near = detector.detect(renderDepthCloud(scene, truth), scene.camera_in_base);
+    ASSERT_TRUE(near.found()) << near.reason;
+    EXPECT_FALSE(near.xObserved()) << near.reason;
+    EXPECT_EQ(near.status, RailDetection::Status::kFoundXUnobserved);
+    EXPECT_GE(near.variance[0], 0.25 - 1e-9);
+    EXPECT_LE(near.base_in_rail.x, truth.x + 0.03);
+    EXPECT_NEAR(near.base_in_rail.y, truth.y, kTolY);
+    EXPECT_NEAR(normalizeAngle(near.base_in_rail.yaw - truth.yaw), 0.0, kTolYaw);
+    EXPECT_NE(near.reason.find("out of view"), std::string::npos) << near.reason;
+  }
 }

@@ -38,6 +38,10 @@ struct RailDetectorParams {
   int ransac_iterations = 500;           ///< baseline: RANSAC iterations per line
   /// Lower bounds of the reported standard deviations (the paper's RMS errors, Table I) [m, m, rad].
   double sigma_x_m = 0.11, sigma_y_m = 0.02, sigma_yaw_rad = 0.014;
+  /// The rails' start counts as seen only when the floor is seen at least this far in front of it [m].
+  double start_view_margin_m = 0.05;
+  /// Standard deviation of x reported when the rails' start is out of view [m].
+  double unobserved_sigma_x_m = 0.5;
 
   /// Empty if valid, else which key is wrong and what it must be.
   std::string validate() const;
@@ -45,7 +49,10 @@ struct RailDetectorParams {
 
 /// Outcome of one detection.
 struct RailDetection {
-  enum class Status { kFound, kNotFound, kBadInput };
+  /// kFoundXUnobserved: rails found, y and yaw valid, but their start is out of the camera's view (the
+  /// robot is too close or turned): x is then where the rails enter the image, and the true start is
+  /// nearer the robot (x in the rail frame is at least the reported one).
+  enum class Status { kFound, kFoundXUnobserved, kNotFound, kBadInput };
   Status status = Status::kNotFound;
   std::string reason;                ///< why not found / rejected, or a summary when found
   Pose2D rail_in_base;               ///< the rail frame in base_link (after the mount correction)
@@ -56,7 +63,9 @@ struct RailDetection {
   std::size_t finite_points = 0, points_in_band = 0, clusters = 0, lines = 0;
   std::vector<RailLine> rails;  ///< the two rails (base_link, after the mount correction)
 
-  bool found() const { return status == Status::kFound; }
+  /// Rails found (x may be unobserved).
+  bool found() const { return status == Status::kFound || status == Status::kFoundXUnobserved; }
+  bool xObserved() const { return status == Status::kFound; }
 };
 
 enum class RailFitMethod {
@@ -76,8 +85,11 @@ class RailDetector {
                        RailFitMethod method = RailFitMethod::kClusterLines) const;
 
   /// Step 1 alone: finite points moved to base_link and cropped to the rails' band, thinned to voxels.
+  /// nearest_floor_x, if given, receives the smallest x of a floor point per 5 cm bin of y over
+  /// [-crop_y_max_m, crop_y_max_m] (infinity where no floor was seen).
   std::vector<Eigen::Vector3f> cropToRailBand(const OrganisedCloud& cloud, const Eigen::Isometry3d& camera_in_base,
-                                              std::size_t* finite_points) const;
+                                              std::size_t* finite_points,
+                                              std::vector<float>* nearest_floor_x = nullptr) const;
 
   const RailDetectorParams& params() const { return params_; }
 

@@ -13,6 +13,7 @@
 #include "greenhouse_rail_nav/keep_out_grid.h"
 #include "greenhouse_rail_nav/map_analyzer.h"
 #include "greenhouse_rail_nav/map_file.h"
+#include "greenhouse_rail_nav/map_overlay.h"
 #include "greenhouse_rail_nav/rail_set_file.h"
 #include "map_messages.h"
 #include "param_reader.h"
@@ -24,6 +25,8 @@ struct NodeSettings {
   std::string map_file;     // empty: take the map from the `map` topic
   std::string output_file;  // empty: write no file
   std::string frame_id = "map";
+  std::string overlay_png;  // empty: no picture
+  int max_map_cells = 200000000;
   MapAnalyzerParams analysis;
 };
 
@@ -32,6 +35,8 @@ bool loadSettings(const ros::NodeHandle& pnh, NodeSettings* s, std::string* erro
   r.read("map_file", &s->map_file);
   r.read("output_file", &s->output_file);
   r.read("frame_id", &s->frame_id);
+  r.read("overlay_png", &s->overlay_png);
+  r.read("max_map_cells", &s->max_map_cells);
   auto& a = s->analysis;
   r.read("rail_set_spacing_m", &a.rail_set_spacing_m);
   r.read("rail_gauge_m", &a.rail_gauge_m);
@@ -51,8 +56,15 @@ bool loadSettings(const ros::NodeHandle& pnh, NodeSettings* s, std::string* erro
   r.read("edge_tolerance_m", &a.edge_tolerance_m);
   r.read("spacing_tolerance", &a.spacing_tolerance);
   r.read("keep_out_margin_m", &a.keep_out_margin_m);
+  r.read("speckle_max_area_m2", &a.speckle_max_area_m2);
+  r.read("spacing_search_ratio", &a.spacing_search_ratio);
+  r.read("spacing_fit_tolerance_m", &a.spacing_fit_tolerance_m);
+  r.read("row_heading_tolerance_rad", &a.row_heading_tolerance_rad);
+  r.read("edge_straightness_m", &a.edge_straightness_m);
+  r.read("side_wall_min_support", &a.side_wall_min_support);
   r.fail(a.validate());
   if (s->frame_id.empty()) r.fail("frame_id must not be empty");
+  if (s->max_map_cells < 1) r.fail("max_map_cells must be >= 1");
   *error = r.error();
   return error->empty();
 }
@@ -62,6 +74,7 @@ class MapAnalyzerNode {
   MapAnalyzerNode(ros::NodeHandle& nh, ros::NodeHandle& pnh, const NodeSettings& settings)
       : settings_(settings), updater_(nh, pnh) {
     targets_pub_ = nh.advertise<geometry_msgs::PoseArray>("rail_targets", 1, true);
+    uncertain_pub_ = nh.advertise<geometry_msgs::PoseArray>("rail_targets_uncertain", 1, true);
     frames_pub_ = nh.advertise<geometry_msgs::PoseArray>("rail_frames", 1, true);
     edge_pub_ = nh.advertise<geometry_msgs::PolygonStamped>("headland_edge", 1, true);
     keep_out_pub_ = nh.advertise<nav_msgs::OccupancyGrid>("keep_out_map", 1, true);
@@ -75,6 +88,16 @@ class MapAnalyzerNode {
   void subscribe(ros::NodeHandle& nh) { map_sub_ = nh.subscribe("map", 1, &MapAnalyzerNode::onMap, this); }
 
   void onMap(const nav_msgs::OccupancyGrid::ConstPtr& msg) {
+    if (static_cast<std::uint64_t>(msg->info.width) * msg->info.height >
+        static_cast<std::uint64_t>(settings_.max_map_cells)) {
+      ++rejected_maps_;
+      std_msgs::String s;
+      s.data = "rejected: map of " + std::to_string(msg->info.width) + " x " + std::to_string(msg->info.height) +
+               " cells is larger than max_map_cells (" + std::to_string(settings_.max_map_cells) + ")";
+      ROS_ERROR_STREAM("map_analyzer: " << s.data);
+      status_pub_.publish(s);
+      return;
+    }
     if (static_cast<std::uint64_t>(msg->info.width) * msg->info.height != msg->data.size() ||
         !(msg->info.resolution > 0.0f) || !std::isfinite(msg->info.resolution)) {
       ++rejected_maps_;
@@ -93,20 +116,30 @@ class MapAnalyzerNode {
     last_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     ++analyses_;
     ok_ = analysis.ok;
+    status_ = analysis.status;
+    uncertain_reasons_ = analysis.uncertain_reasons;
+    confidence_ = analysis.confidence;
     sets_ = analysis.rail_sets.size();
+    good_sets_ = 0;
+    for (const auto& set : analysis.rail_sets) good_sets_ += set.good;
     warnings_ = analysis.warnings.size();
     last_message_ = analysis.message;
     const ros::Time stamp = ros::Time::now();
     geometry_msgs::PoseArray targets, frames;
     targets.header.frame_id = frames.header.frame_id = frame_id;
     targets.header.stamp = frames.header.stamp = stamp;
+    geometry_msgs::PoseArray uncertain = targets;
     for (const auto& set : analysis.rail_sets) {  // empty when nothing usable was found: no invented poses
-      targets.poses.push_back(toPoseMessage(set.target_pose));
-      frames.poses.push_back(toPoseMessage(set.rail_frame));
+      // Only good sets go where a mission looks; uncertain ones are published apart for a person to check.
+      (set.good ? targets : uncertain).poses.push_back(toPoseMessage(set.target_pose));
+      if (set.good) frames.poses.push_back(toPoseMessage(set.rail_frame));
     }
+    uncertain_pub_.publish(uncertain);
     markers_pub_.publish(analysisMarkers(analysis, settings_.analysis.rail_gauge_m, frame_id, stamp));
     if (analysis.ok) {
       ROS_INFO_STREAM("map_analyzer: " << analysis.message);
+      if (analysis.status == MapStatus::kUncertain)
+        ROS_WARN_STREAM("map_analyzer: uncertain: " << analysis.uncertain_reasons);
       for (const auto& w : analysis.warnings) ROS_WARN_STREAM("map_analyzer: " << w);
       geometry_msgs::PolygonStamped edge;
       edge.header = targets.header;
@@ -121,6 +154,14 @@ class MapAnalyzerNode {
                                                       settings_.analysis.keep_out_margin_m),
                                       frame_id, stamp));
       writeFile(analysis, frame_id);
+      if (!settings_.overlay_png.empty()) {
+        std::string error;
+        if (writeMapOverlayPng(map, analysis, settings_.overlay_png, &error, settings_.analysis.keep_out_margin_m)) {
+          ROS_INFO_STREAM("map_analyzer: wrote the overlay " << settings_.overlay_png);
+        } else {
+          ROS_ERROR_STREAM("map_analyzer: " << error);
+        }
+      }
     } else {
       ROS_ERROR_STREAM("map_analyzer: no rail sets: " << analysis.message);
     }
@@ -135,6 +176,9 @@ class MapAnalyzerNode {
     if (settings_.output_file.empty()) return;
     RailSetFile file;
     file.frame_id = frame_id;
+    file.status = toString(analysis.status);
+    file.confidence = analysis.confidence;
+    file.reasons = analysis.uncertain_reasons;
     file.rail_sets = analysis.rail_sets;
     file.edge_start = analysis.edge_start;
     file.edge_end = analysis.edge_end;
@@ -151,7 +195,8 @@ class MapAnalyzerNode {
 
   void publishStatus() {
     std_msgs::String s;
-    s.data = (ok_ ? "ok: " : "failed: ") + last_message_;
+    s.data = std::string(toString(status_)) + ": " + last_message_;
+    if (status_ == MapStatus::kUncertain) s.data += "; uncertain because: " + uncertain_reasons_;
     status_pub_.publish(s);
   }
 
@@ -163,12 +208,16 @@ class MapAnalyzerNode {
       stat.summary(DiagnosticStatus::ERROR, last_message_);
     } else if (!file_error_.empty()) {
       stat.summary(DiagnosticStatus::ERROR, file_error_);
+    } else if (status_ == MapStatus::kUncertain) {
+      stat.summary(DiagnosticStatus::WARN, "uncertain: " + uncertain_reasons_);
     } else {
       stat.summary(warnings_ ? DiagnosticStatus::WARN : DiagnosticStatus::OK, last_message_);
     }
     stat.add("analyses", analyses_);
     stat.add("rejected maps", rejected_maps_);
     stat.add("rail sets", sets_);
+    stat.add("good rail sets", good_sets_);
+    stat.add("confidence", confidence_);
     stat.add("warnings", warnings_);
     stat.add("analysis time [ms]", last_ms_);
     stat.add("output file", settings_.output_file);
@@ -176,11 +225,14 @@ class MapAnalyzerNode {
 
   NodeSettings settings_;
   diagnostic_updater::Updater updater_;
-  ros::Publisher targets_pub_, frames_pub_, edge_pub_, keep_out_pub_, markers_pub_, status_pub_;
+  ros::Publisher targets_pub_, uncertain_pub_, frames_pub_, edge_pub_, keep_out_pub_, markers_pub_, status_pub_;
   ros::Subscriber map_sub_;
   ros::Timer diag_timer_;
-  std::size_t analyses_ = 0, rejected_maps_ = 0, sets_ = 0, warnings_ = 0;
+  std::size_t analyses_ = 0, rejected_maps_ = 0, sets_ = 0, good_sets_ = 0, warnings_ = 0;
   bool ok_ = false;
+  MapStatus status_ = MapStatus::kFailed;
+  std::string uncertain_reasons_;
+  double confidence_ = 0.0;
   double last_ms_ = 0.0;
   std::string last_message_, file_error_;
 };
@@ -201,7 +253,7 @@ int main(int argc, char** argv) {
   MapAnalyzerNode node(nh, pnh, settings);
   if (!settings.map_file.empty()) {
     OccupancyMap map;
-    if (!loadMapYaml(settings.map_file, &map, &error)) {
+    if (!loadMapYaml(settings.map_file, &map, &error, static_cast<std::uint64_t>(settings.max_map_cells))) {
       ROS_FATAL_STREAM("map_analyzer: cannot start: " << error);
       return 1;
     }

@@ -69,6 +69,8 @@ bool loadSettings(const ros::NodeHandle& pnh, NodeSettings* s, std::string* erro
   r.read("sigma_x_m", &d.sigma_x_m);
   r.read("sigma_y_m", &d.sigma_y_m);
   r.read("sigma_yaw_rad", &d.sigma_yaw_rad);
+  r.read("start_view_margin_m", &d.start_view_margin_m);
+  r.read("unobserved_sigma_x_m", &d.unobserved_sigma_x_m);
   r.read("gate_max_step_xy_m", &s->gate.max_step_xy_m);
   r.read("gate_max_step_yaw_rad", &s->gate.max_step_yaw_rad);
   r.read("gate_frames_to_accept_jump", &s->gate.frames_to_accept_jump);
@@ -187,7 +189,9 @@ class RailDetectorNode {
     pose.pose.covariance[14] = pose.pose.covariance[21] = pose.pose.covariance[28] = 1e3;  // z, roll, pitch: not seen
     pose.pose.covariance[35] = d.variance[2];
     pose_pub_.publish(pose);
-    finish(&status, greenhouse_rail_nav::RailDetectionStatus::FOUND,
+    finish(&status,
+           d.xObserved() ? greenhouse_rail_nav::RailDetectionStatus::FOUND
+                         : greenhouse_rail_nav::RailDetectionStatus::FOUND_X_UNOBSERVED,
            d.reason + (verdict == RailPoseGate::Verdict::kAcceptedJump ? " (jump accepted)" : ""));
   }
 
@@ -274,13 +278,14 @@ class RailDetectorNode {
     using Msg = greenhouse_rail_nav::RailDetectionStatus;
     if (clouds_ == 0) {
       stat.summary(DiagnosticStatus::WARN, "no cloud received on camera/depth/points");
-    } else if (last_code_ == Msg::FOUND) {
+    } else if (last_code_ == Msg::FOUND || last_code_ == Msg::FOUND_X_UNOBSERVED) {
       stat.summary(DiagnosticStatus::OK, last_reason_);
     } else {
       stat.summary(last_code_ == Msg::NO_TRANSFORM ? DiagnosticStatus::ERROR : DiagnosticStatus::WARN, last_reason_);
     }
     stat.add("clouds", clouds_);
     stat.add("found", counts_[Msg::FOUND]);
+    stat.add("found, start out of view", counts_[Msg::FOUND_X_UNOBSERVED]);
     stat.add("held back", counts_[Msg::HELD_BACK]);
     stat.add("not found", counts_[Msg::NOT_FOUND]);
     stat.add("bad input", counts_[Msg::BAD_INPUT]);
@@ -304,7 +309,7 @@ class RailDetectorNode {
   ros::ServiceServer calibrate_srv_;
   ros::Timer diag_timer_;
   std::size_t clouds_ = 0;
-  std::size_t counts_[5] = {0, 0, 0, 0, 0};
+  std::size_t counts_[6] = {0, 0, 0, 0, 0, 0};
   std::uint8_t last_code_ = 0;
   double mean_ms_ = 0.0;
   std::string last_reason_;

@@ -1,4 +1,4 @@
-#include "greenhouse_rail_nav/synthetic_depth_cloud.h"
+#include "greenhouse_rail_nav/testing/synthetic_depth_cloud.h"
 
 #include <algorithm>
 #include <cmath>

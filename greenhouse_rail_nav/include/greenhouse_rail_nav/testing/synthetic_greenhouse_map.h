@@ -23,13 +23,20 @@ struct GreenhouseLayout {
   double map_margin_m = 1.0;            ///< unknown border around the greenhouse [m]
   std::vector<int> visible_rows;        ///< row positions j shown; empty: each with row_probability
   double row_probability = 0.5;
-  double ventilation_fraction = 0.5;  ///< share of rows drawn as thin solid lines (others: dotted plants)
-  double wall_thickness_m = 0.15;     ///< [m]
-  double row_start_jitter_m = 0.03;   ///< random shift of where a row's first cell is [m]
-  double gap_probability = 0.3;       ///< chance a row has a gap
-  int clutter_objects = 4;            ///< boxes and trolleys on the headland floor
-  double speckle_per_m2 = 0.02;       ///< isolated false occupied cells on the headland [1/m^2]
-  bool side_walls = true;
+  double ventilation_fraction = 0.5;         ///< share of rows drawn as thin solid lines (others: dotted plants)
+  double wall_thickness_m = 0.15;            ///< [m]
+  double row_start_jitter_m = 0.03;          ///< random shift of where a row's first cell is [m]
+  double gap_probability = 0.3;              ///< chance a row has a gap
+  int clutter_objects = 4;                   ///< boxes and trolleys on the headland floor
+  double speckle_per_m2 = 0.02;              ///< isolated false occupied cells on the headland [1/m^2]
+  double speckle_free_fraction = 0.0;        ///< share of all free cells turned into single false occupied cells
+  int noise_lines = 0;                       ///< thin 1-2 m lines of false occupied cells on the headland, any angle
+  bool clutter_in_line = false;              ///< a box on the headland just in front of a drawn row, in line with it
+  bool side_walls = true;                    ///< false: neither side wall is in the map (overrides the two below)
+  bool left_wall = true;                     ///< false: the left side wall is missing from the map
+  bool right_wall = true;                    ///< false: the right side wall is missing from the map
+  double floor_beyond_missing_wall_m = 1.0;  ///< free floor mapped beyond a missing side wall [m]
+  double door_width_m = 0.0;  ///< > 0: a door of this width in each side wall on the headland (unknown beyond) [m]
   std::uint32_t seed = 1;
 };
 

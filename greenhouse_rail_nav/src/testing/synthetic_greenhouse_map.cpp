@@ -1,4 +1,4 @@
-#include "greenhouse_rail_nav/synthetic_greenhouse_map.h"
+#include "greenhouse_rail_nav/testing/synthetic_greenhouse_map.h"
 
 #include <algorithm>
 #include <cmath>
@@ -52,8 +52,11 @@ SyntheticGreenhouseMap makeGreenhouseMap(const GreenhouseLayout& layout) {
 
   // Grid: axis-aligned bounding box of the rotated greenhouse plus margin.
   Eigen::Vector2d lo(1e18, 1e18), hi(-1e18, -1e18);
-  for (const auto& corner : {Eigen::Vector2d(-t, -t), Eigen::Vector2d(width + t, -t), Eigen::Vector2d(-t, depth),
-                             Eigen::Vector2d(width + t, depth)}) {
+  const double left_x = -std::max(t, layout.side_walls && layout.left_wall ? 0.0 : layout.floor_beyond_missing_wall_m);
+  const double right_x =
+      width + std::max(t, layout.side_walls && layout.right_wall ? 0.0 : layout.floor_beyond_missing_wall_m);
+  for (const auto& corner : {Eigen::Vector2d(left_x, -t), Eigen::Vector2d(right_x, -t), Eigen::Vector2d(left_x, depth),
+                             Eigen::Vector2d(right_x, depth)}) {
     const Eigen::Vector2d p = layout.layout_in_map.transformPoint(corner);
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);
@@ -67,13 +70,21 @@ SyntheticGreenhouseMap makeGreenhouseMap(const GreenhouseLayout& layout) {
   LayoutPainter paint(&out.map, layout.layout_in_map);
   const std::int8_t occ = OccupancyMap::kOccupied, free = OccupancyMap::kFree;
 
-  // Free floor seen by the laser: the headland and the first metres of the paths between rows.
-  paint.rect(0.0, width, 0.0, depth, free);
+  const bool left_wall = layout.side_walls && layout.left_wall;
+  const bool right_wall = layout.side_walls && layout.right_wall;
+  const double beyond = layout.floor_beyond_missing_wall_m;
+  // Free floor seen by the laser: the headland and the first metres of the paths between rows; where a
+  // side wall is missing from the map, the laser saw floor beyond it.
+  paint.rect(left_wall ? 0.0 : -beyond, right_wall ? width : width + beyond, 0.0, depth, free);
   // Walls.
   paint.rect(-t, width + t, -t, 0.0, occ);
-  if (layout.side_walls) {
-    paint.rect(-t, 0.0, -t, depth, occ);
-    paint.rect(width, width + t, -t, depth, occ);
+  if (left_wall) paint.rect(-t, 0.0, -t, depth, occ);
+  if (right_wall) paint.rect(width, width + t, -t, depth, occ);
+  if (layout.door_width_m > 0.0) {
+    // A door on the headland in each side wall; the laser saw nothing through it.
+    const double y0 = 0.3 + unit(rng) * std::max(0.0, layout.headland_depth_m - layout.door_width_m - 0.6);
+    if (left_wall) paint.rect(-t - res, 0.0, y0, y0 + layout.door_width_m, OccupancyMap::kUnknown);
+    if (right_wall) paint.rect(width, width + t + res, y0, y0 + layout.door_width_m, OccupancyMap::kUnknown);
   }
   // Rows: ventilation lines are thin and solid, rows of plants are dotted (pots and stems) and wider.
   for (int j = 1; j < layout.rail_sets; ++j) {
@@ -110,6 +121,29 @@ SyntheticGreenhouseMap makeGreenhouseMap(const GreenhouseLayout& layout) {
     const double cx = sx + unit(rng) * std::max(0.0, width - 2.0 * sx);
     const double cy = 0.3 + unit(rng) * std::max(0.0, layout.headland_depth_m - 1.2 - sy);
     paint.rect(cx - sx / 2, cx + sx / 2, cy, cy + sy, occ);
+  }
+  if (layout.clutter_in_line && !out.rows_drawn.empty()) {
+    // A box right in front of a row, as wide as a trolley, 0.1-0.4 m before the row starts.
+    const int j = out.rows_drawn[static_cast<std::size_t>(unit(rng) * out.rows_drawn.size()) % out.rows_drawn.size()];
+    const double sx = 0.4 + 0.4 * unit(rng), sy = 0.4 + 0.6 * unit(rng);
+    const double y1 = layout.headland_depth_m - 0.1 - 0.3 * unit(rng);
+    paint.rect(j * layout.spacing_m - sx / 2, j * layout.spacing_m + sx / 2, std::max(0.2, y1 - sy), y1, occ);
+  }
+  for (int k = 0; k < layout.noise_lines; ++k) {
+    // A thin line of false cells (a hose, a reflection), 1-2 m long, anywhere on the headland.
+    const double length = 1.0 + unit(rng), angle = M_PI * unit(rng);
+    const double cx = 1.0 + unit(rng) * std::max(0.0, width - 2.0);
+    const double cy = 0.8 + unit(rng) * std::max(0.0, layout.headland_depth_m - 1.6);
+    for (double s = -0.5 * length; s <= 0.5 * length; s += 0.5 * res) {
+      const double x = cx + s * std::cos(angle), y = cy + s * std::sin(angle);
+      paint.rect(x - 0.5 * res, x + 0.5 * res, y - 0.5 * res, y + 0.5 * res, occ);
+    }
+  }
+  // Speckle noise: single false occupied cells anywhere the laser saw free floor.
+  if (layout.speckle_free_fraction > 0.0) {
+    for (auto& cell : out.map.cells) {
+      if (cell == free && unit(rng) < layout.speckle_free_fraction) cell = occ;
+    }
   }
   // Speckle noise on the headland floor.
   const int speckles = static_cast<int>(layout.speckle_per_m2 * width * layout.headland_depth_m);

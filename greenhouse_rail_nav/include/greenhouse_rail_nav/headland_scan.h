@@ -1,0 +1,46 @@
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "greenhouse_rail_nav/occupancy_map.h"
+
+namespace greenhouse_rail_nav {
+
+/// The headland frame: origin on the rear wall line, u along it (to the right looking into the rows),
+/// v from the rear wall into the rows.
+struct HeadlandFrame {
+  Eigen::Vector2d origin = Eigen::Vector2d::Zero(), u = Eigen::Vector2d::UnitX(), v = Eigen::Vector2d::UnitY();
+  Eigen::Vector2d toLocal(const Eigen::Vector2d& p) const { return {u.dot(p - origin), v.dot(p - origin)}; }
+  Eigen::Vector2d toMap(double pu, double pv) const { return origin + pu * u + pv * v; }
+};
+
+/// Where a row (a line along v at u = u0 + slope * v) has its runs: stretches where the map shows a row
+/// (occupied cells within row_half_width_m of the line and nothing wider, up to clutter_reach_m, beside
+/// it) without a gap longer than max_gap_m. Anything wider than a row (a box or trolley in line with it)
+/// breaks a run, so a run starts where the row itself does. Returns the v of each run's start [m] for runs
+/// of at least min_run_m, and *far_v the largest v showing the row.
+std::vector<double> rowRunStarts(const OccupancyMap& map, const HeadlandFrame& frame, double u0, double slope,
+                                 double v_from, double v_to, double* far_v, double row_half_width_m = 0.2,
+                                 double clutter_reach_m = 0.5, double max_gap_m = 0.3, double min_run_m = 0.4);
+
+/// Result of scanlines across the headland from the outermost row outwards.
+struct SideScan {
+  bool wall_found = false;
+  double wall_u = 0.0;  ///< inner face of the side wall [m, headland u]
+  int scanlines = 0;
+  int at_wall = 0;              ///< scanlines stopping at the wall (occupied or through a door into unknown)
+  int beyond_wall = 0;          ///< scanlines going on past it
+  double floor_extent_m = 0.0;  ///< median distance the scanlines travel from the start before stopping [m]
+};
+
+/// Many scanlines across the headland (between the rear wall and the edge) from u_start outwards
+/// (direction -1: left, +1: right), each stopping at the first occupied or unknown cell. A side wall is
+/// the farthest place where at least min_support of the scanlines stop at an occupied cell together
+/// (clutter stops some earlier; a door lets some into unknown space at the same place) and almost none
+/// go on beyond. max_travel_m bounds each walk.
+SideScan scanToSideWall(const OccupancyMap& map, const HeadlandFrame& frame, double u_start, double edge_v,
+                        double direction, double min_support, double max_travel_m);
+
+}  // namespace greenhouse_rail_nav

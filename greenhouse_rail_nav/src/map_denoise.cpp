@@ -1,0 +1,47 @@
+#include "greenhouse_rail_nav/map_denoise.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace greenhouse_rail_nav {
+
+std::size_t removeSpeckle(OccupancyMap* map, double min_area_m2, int occupied_value) {
+  const std::size_t min_cells =
+      std::max<std::size_t>(2, static_cast<std::size_t>(std::ceil(min_area_m2 / (map->resolution * map->resolution))));
+  std::vector<bool> seen(map->cells.size(), false);
+  std::vector<std::size_t> component, stack;
+  std::size_t cleared = 0;
+  const auto w = static_cast<std::size_t>(map->width);
+  for (std::size_t start = 0; start < map->cells.size(); ++start) {
+    if (seen[start] || map->cells[start] < occupied_value) continue;
+    component.clear();
+    stack.assign(1, start);
+    seen[start] = true;
+    // Depth-first flood fill; stops growing the list once the component is known to be large enough.
+    bool large = false;
+    while (!stack.empty()) {
+      const std::size_t i = stack.back();
+      stack.pop_back();
+      if (!large) component.push_back(i);
+      large = large || component.size() >= min_cells;
+      const int c = static_cast<int>(i % w), r = static_cast<int>(i / w);
+      for (int dr = -1; dr <= 1; ++dr) {
+        for (int dc = -1; dc <= 1; ++dc) {
+          const int nc = c + dc, nr = r + dr;
+          if (!map->inside(nc, nr)) continue;
+          const std::size_t j = static_cast<std::size_t>(nr) * w + static_cast<std::size_t>(nc);
+          if (seen[j] || map->cells[j] < occupied_value) continue;
+          seen[j] = true;
+          stack.push_back(j);
+        }
+      }
+    }
+    if (large) continue;
+    for (const std::size_t i : component) map->cells[i] = OccupancyMap::kFree;
+    cleared += component.size();
+  }
+  return cleared;
+}
+
+}  // namespace greenhouse_rail_nav

@@ -1,0 +1,237 @@
+// Regression tests for maps that used to come out wrong while the analysis said "ok": a noise line taken
+// for the rear wall, speckle across the side walls, clutter in line with a ventilation line, a wrong
+// configured spacing, a missing side wall, and a PGM whose header claims a huge image.
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include "greenhouse_rail_nav/map_analyzer.h"
+#include "greenhouse_rail_nav/map_file.h"
+#include "greenhouse_rail_nav/rail_spacing.h"
+#include "greenhouse_rail_nav/testing/synthetic_greenhouse_map.h"
+
+using namespace greenhouse_rail_nav;
+
+namespace {
+
+// What a mission needs: every set reported good is within 5 cm across and 0.5 degrees of a true one.
+constexpr double kAcross = 0.05;
+constexpr double kHeading = 0.5 * M_PI / 180.0;
+
+double acrossError(const Pose2D& est, const Pose2D& tru) {
+  return std::abs(-std::sin(tru.yaw) * (est.x - tru.x) + std::cos(tru.yaw) * (est.y - tru.y));
+}
+
+/// Every good set matches the true set with the same index (all true sets found), within tolerance.
+void expectAllGoodAndRight(const SyntheticGreenhouseMap& truth, const MapAnalysis& result) {
+  ASSERT_EQ(result.status, MapStatus::kOk) << result.message << " | " << result.uncertain_reasons;
+  ASSERT_EQ(result.rail_sets.size(), truth.rail_frames.size()) << result.message;
+  for (std::size_t i = 0; i < truth.rail_frames.size(); ++i) {
+    const auto& set = result.rail_sets[i];
+    EXPECT_TRUE(set.good) << i << ": " << set.reason;
+    EXPECT_LT(acrossError(set.rail_frame, truth.rail_frames[i]), kAcross) << "rail set " << i;
+    EXPECT_LT(std::abs(normalizeAngle(set.rail_frame.yaw - truth.rail_frames[i].yaw)), kHeading) << "rail set " << i;
+  }
+}
+
+/// Paints a thin line of occupied cells between two layout-frame points.
+void paintLine(OccupancyMap* map, const Pose2D& layout_in_map, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  const double length = (b - a).norm();
+  for (double s = 0.0; s <= length; s += 0.25 * map->resolution) {
+    int c = 0, r = 0;
+    if (map->worldToCell(layout_in_map.transformPoint(a + (b - a) * (s / length)), &c, &r))
+      map->at(c, r) = OccupancyMap::kOccupied;
+  }
+}
+
+}  // namespace
+
+TEST(MapRobustness, NoiseLineOnTheHeadlandIsNotTakenForTheRearWall) {
+  for (const double yaw : {0.0, 1.2, -2.5}) {
+    GreenhouseLayout layout;
+    layout.rail_sets = 5;
+    layout.visible_rows = {2, 3};
+    layout.clutter_objects = 0;
+    layout.layout_in_map = Pose2D(1.0, 2.0, yaw);
+    auto truth = makeGreenhouseMap(layout);
+    // Decoys: a 2 m line parallel to the rear wall in the middle of the headland, and a 1.5 m line along
+    // the rows near a side wall (either could pass for a wall with the rows on one side of it).
+    paintLine(&truth.map, layout.layout_in_map, {3.0, 2.0}, {5.0, 2.0});
+    paintLine(&truth.map, layout.layout_in_map, {0.8, 0.8}, {0.8, 2.3});
+    SCOPED_TRACE(yaw);
+    const auto result = analyzeMap(truth.map, MapAnalyzerParams());
+    expectAllGoodAndRight(truth, result);
+    const Eigen::Vector2d true_into_rows(std::cos(yaw + M_PI / 2), std::sin(yaw + M_PI / 2));
+    EXPECT_GT(result.into_rows.dot(true_into_rows), 0.999);
+  }
+}
+
+TEST(MapRobustness, SpeckleAcrossTheSideWallsAtFineResolution) {
+  for (const double res : {0.05, 0.025}) {
+    GreenhouseLayout layout;
+    layout.rail_sets = 9;
+    layout.resolution_m = res;
+    layout.row_probability = 0.6;
+    layout.speckle_free_fraction = 0.01;  // 1 % of the free cells
+    layout.seed = 5;
+    layout.layout_in_map = Pose2D(0.0, 0.0, 0.3);
+    const auto truth = makeGreenhouseMap(layout);
+    SCOPED_TRACE(res);
+    const auto result = analyzeMap(truth.map, MapAnalyzerParams());
+    EXPECT_GT(result.speckle_cells_removed, 100u);
+    EXPECT_TRUE(result.left_wall_found);
+    EXPECT_TRUE(result.right_wall_found);
+    expectAllGoodAndRight(truth, result);
+  }
+}
+
+TEST(MapRobustness, ClutterInLineWithAVentilationLineDoesNotMoveTheEdge) {
+  for (std::uint32_t seed = 1; seed <= 3; ++seed) {
+    GreenhouseLayout layout;
+    layout.rail_sets = 6;
+    layout.visible_rows = {2, 4};
+    layout.ventilation_fraction = 1.0;
+    layout.clutter_in_line = true;
+    layout.clutter_objects = 0;
+    layout.seed = seed;
+    const auto truth = makeGreenhouseMap(layout);
+    SCOPED_TRACE(seed);
+    const auto result = analyzeMap(truth.map, MapAnalyzerParams());
+    expectAllGoodAndRight(truth, result);
+    // The edge is at the rows' start, not at the box in front of one of them.
+    EXPECT_LT((result.edge_start - truth.edge_start).norm(), 0.1);
+    EXPECT_LT((result.edge_end - truth.edge_end).norm(), 0.1);
+  }
+}
+
+TEST(MapRobustness, SpacingIsMeasuredNotTakenFromTheConfiguration) {
+  GreenhouseLayout layout;
+  layout.rail_sets = 16;
+  layout.spacing_m = 1.8;
+  layout.row_probability = 0.5;
+  layout.seed = 9;
+  const auto truth = makeGreenhouseMap(layout);
+  MapAnalyzerParams params;
+  params.rail_set_spacing_m = 1.60;  // the default, on a greenhouse of 1.8 m
+  const auto result = analyzeMap(truth.map, params);
+  expectAllGoodAndRight(truth, result);
+  EXPECT_NEAR(result.spacing_m, 1.8, 0.02);
+  bool warned = false;
+  for (const auto& w : result.warnings) warned = warned || w.find("measured rail-set spacing") != std::string::npos;
+  EXPECT_TRUE(warned);
+}
+
+TEST(MapRobustness, MissingSideWallMarksTheOuterSetsUncertain) {
+  GreenhouseLayout layout;
+  layout.rail_sets = 7;
+  layout.visible_rows = {2, 3, 5};
+  layout.left_wall = false;
+  layout.floor_beyond_missing_wall_m = 1.0;
+  const auto truth = makeGreenhouseMap(layout);
+  const auto result = analyzeMap(truth.map, MapAnalyzerParams());
+  ASSERT_TRUE(result.ok) << result.message;
+  EXPECT_EQ(result.status, MapStatus::kUncertain);
+  EXPECT_TRUE(result.left_open);
+  EXPECT_FALSE(result.left_wall_found);
+  EXPECT_TRUE(result.right_wall_found);
+  EXPECT_NE(result.uncertain_reasons.find("no left side wall"), std::string::npos) << result.uncertain_reasons;
+  // Sets 0 and 1 (left of row 2) are uncertain; every good one is right.
+  int good = 0;
+  for (const auto& set : result.rail_sets) {
+    if (!set.good) {
+      EXPECT_NE(set.reason.find("no left side wall"), std::string::npos) << set.reason;
+      continue;
+    }
+    ++good;
+    double best = 1e9;
+    for (const auto& t : truth.rail_frames) best = std::min(best, acrossError(set.rail_frame, t));
+    EXPECT_LT(best, kAcross);
+  }
+  EXPECT_EQ(good, 5);  // sets 2..6
+}
+
+TEST(MapRobustness, TwoFarRowsWithoutWallsGiveAmbiguousSets) {
+  // Two rows 6.4 m apart and no side walls: 4 sets of 1.6 m or 5 of 1.28 m both fit; nothing says which.
+  GreenhouseLayout layout;
+  layout.rail_sets = 8;
+  layout.visible_rows = {2, 6};
+  layout.side_walls = false;
+  layout.floor_beyond_missing_wall_m = 0.0;
+  const auto truth = makeGreenhouseMap(layout);
+  const auto result = analyzeMap(truth.map, MapAnalyzerParams());
+  ASSERT_TRUE(result.ok) << result.message;
+  EXPECT_EQ(result.status, MapStatus::kUncertain);
+  for (const auto& set : result.rail_sets) EXPECT_FALSE(set.good);
+}
+
+TEST(MapRobustness, EveryResultCarriesItsChecks) {
+  GreenhouseLayout layout;
+  layout.rail_sets = 6;
+  layout.visible_rows = {1, 3, 5};
+  const auto result = analyzeMap(makeGreenhouseMap(layout).map, MapAnalyzerParams());
+  ASSERT_EQ(result.status, MapStatus::kOk) << result.uncertain_reasons;
+  EXPECT_NEAR(result.confidence, 1.0, 1e-9);
+  std::vector<std::string> names;
+  for (const auto& c : result.checks) {
+    names.push_back(c.name);
+    EXPECT_TRUE(c.passed) << c.name;
+  }
+  for (const char* expected : {"edge_straight", "rows_agree_in_heading", "spacing_regular", "spacing_unambiguous",
+                               "side_walls_found", "rear_wall_spans_rows"})
+    EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << expected;
+}
+
+TEST(MapRobustness, HugePgmHeaderIsRefusedWithTheSize) {
+  const std::string base = ::testing::TempDir() + "/greenhouse_rail_nav_huge_" + std::to_string(::getpid());
+  {
+    std::ofstream pgm(base + ".pgm", std::ios::binary);
+    pgm << "P5\n# comment\n100000 50000\n255\n";
+    pgm.write("\0\0\0\0", 4);
+    std::ofstream yaml(base + ".yaml");
+    yaml << "image: " << base << ".pgm\nresolution: 0.05\norigin: [0, 0, 0]\nnegate: 0\n"
+         << "occupied_thresh: 0.65\nfree_thresh: 0.196\n";
+  }
+  OccupancyMap map;
+  std::string error;
+  EXPECT_FALSE(loadMapYaml(base + ".yaml", &map, &error));
+  EXPECT_NE(error.find("100000 x 50000"), std::string::npos) << error;
+  // A small limit refuses an ordinary map too, naming both sizes.
+  {
+    std::ofstream pgm(base + ".pgm", std::ios::binary);
+    pgm << "P5\n30 20\n255\n" << std::string(600, '\xfe');
+  }
+  EXPECT_TRUE(loadMapYaml(base + ".yaml", &map, &error)) << error;
+  EXPECT_FALSE(loadMapYaml(base + ".yaml", &map, &error, 500));
+  EXPECT_NE(error.find("30 x 20"), std::string::npos) << error;
+  std::remove((base + ".pgm").c_str());
+  std::remove((base + ".yaml").c_str());
+}
+
+TEST(RailSpacing, RegularGapsGiveOneUnambiguousSpacing) {
+  const auto est = estimateSpacing({1.81, 3.59, 1.79, 5.42}, 1.6, 1.3, 0.08);
+  EXPECT_TRUE(est.regular);
+  EXPECT_EQ(est.hypotheses, 1);
+  EXPECT_NEAR(est.spacing_m, 1.8, 0.01);
+  EXPECT_EQ(est.sets_per_gap, (std::vector<int>{1, 2, 1, 3}));
+}
+
+TEST(RailSpacing, ABadGapIsMarkedAndDoesNotSpoilTheRest) {
+  const auto est = estimateSpacing({1.6, 1.6, 0.95, 2.25, 1.6, 3.2}, 1.6, 1.3, 0.08);
+  EXPECT_FALSE(est.regular);
+  EXPECT_NEAR(est.spacing_m, 1.6, 0.01);
+  EXPECT_TRUE(est.gap_fits[0]);
+  EXPECT_FALSE(est.gap_fits[2]);
+  EXPECT_FALSE(est.gap_fits[3]);
+  EXPECT_TRUE(est.gap_fits[5]);
+}
+
+TEST(RailSpacing, OneWideGapIsAmbiguous) {
+  const auto est = estimateSpacing({6.4}, 1.6, 1.3, 0.08);
+  EXPECT_GT(est.hypotheses, 1);
+  EXPECT_TRUE(est.gap_ambiguous[0]);
+  EXPECT_EQ(est.sets_per_gap[0], 4);  // nearest the configured spacing
+}
