@@ -37,7 +37,8 @@ std::string withDrive0(const std::string& replace_from, const std::string& repla
 }  // namespace
 
 TEST(RobotConfig, PaperFigure5Loads) {
-  const RobotConfig c = loadRobotConfigFile("data/figure5.yaml");
+  // The one copy of the Figure 5 robot file is thorvald_bringup's (tests run in thorvald_base/test).
+  const RobotConfig c = loadRobotConfigFile("../../thorvald_bringup/config/figure5.yaml");
   ASSERT_EQ(c.drives.size(), 4u);
   EXPECT_EQ(c.base_calculator, "pltf_clc_std::PltfClcStd");
   EXPECT_DOUBLE_EQ(c.drives[2].x, 0.547);
