@@ -1,5 +1,6 @@
 #include "thorvald_navigation/map_localizer.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -50,6 +51,7 @@ void MapLocalizer::setPose(const Pose2D& map_pose, const Pose2D& odom) {
   bad_scans_ = 0;
   confirm_left_ = 0;
   global_requested_ = false;
+  window_xy_m_ = 0.0;
   status_ = LocalizationStatus::kLocalized;
 }
 
@@ -71,7 +73,16 @@ LocalizationUpdate MapLocalizer::update(const Pose2D& odom, const std::vector<Ei
     return u;
   }
   if (global_requested_) {
-    const GlobalResult g = globalSearch(field_, map_, points_base, params_.global, params_.matcher);
+    GlobalSearchParams gp = params_.global;
+    if (window_xy_m_ > 0.0) {  // a local search: finer steps over the small window
+      gp.window_xy_m = window_xy_m_;
+      gp.window_yaw_rad = window_yaw_rad_;
+      gp.center = window_center_;
+      gp.step_xy_m = std::min(gp.step_xy_m, 0.1);
+      gp.step_yaw_rad = std::min(gp.step_yaw_rad, 0.05);
+      gp.min_clearance_m = 0.0;
+    }
+    const GlobalResult g = globalSearch(field_, map_, points_base, gp, params_.matcher);
     global_requested_ = false;
     if (!g.found) {
       status_ = LocalizationStatus::kLost;

@@ -57,7 +57,17 @@ class MapLocalizer {
   /// Sets the pose of base_link in the map at the moment odometry read `odom`.
   void setPose(const Pose2D& map_pose, const Pose2D& odom);
   /// The next scan runs a global search over the free map instead of tracking.
-  void requestGlobalLocalization() { global_requested_ = true; }
+  void requestGlobalLocalization() {
+    global_requested_ = true;
+    window_xy_m_ = 0.0;
+  }
+  /// The next scan searches within `xy_m` [m] and `yaw_rad` [rad] of `center` (a rough pose from a user).
+  void requestWindowedSearch(const Pose2D& center, double xy_m, double yaw_rad) {
+    global_requested_ = true;
+    window_center_ = center;
+    window_xy_m_ = xy_m;
+    window_yaw_rad_ = yaw_rad;
+  }
   /// One scan: `odom` is base_link in the odometry frame at the scan's time, `points_base` its hits in base_link.
   LocalizationUpdate update(const Pose2D& odom, const std::vector<Eigen::Vector2d>& points_base);
 
@@ -74,6 +84,8 @@ class MapLocalizer {
   Pose2D last_odom_;
   bool have_last_odom_ = false;
   bool global_requested_ = false;
+  Pose2D window_center_;
+  double window_xy_m_ = 0.0, window_yaw_rad_ = kPi;
   int bad_scans_ = 0;
   int confirm_left_ = 0;
   LocalizationStatus status_ = LocalizationStatus::kNoPose;

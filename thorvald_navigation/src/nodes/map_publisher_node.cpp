@@ -1,0 +1,48 @@
+// map_publisher: publishes a map_server YAML + PGM map on `map` (latched) and `map_metadata`, and answers
+// `static_map` (nav_msgs/GetMap), like map_server's map_server node.
+#include <string>
+
+#include <nav_msgs/GetMap.h>
+#include <nav_msgs/MapMetaData.h>
+#include <nav_msgs/OccupancyGrid.h>
+#include <ros/ros.h>
+
+#include "param_reader.h"
+#include "ros_conversions.h"
+#include "thorvald_navigation/map_file.h"
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "map_publisher");
+  ros::NodeHandle nh, pnh("~");
+  thorvald_navigation::ParamReader r(pnh);
+  std::string map_file, frame_id = "map";
+  r.read("map_file", &map_file);
+  r.read("frame_id", &frame_id);
+  if (map_file.empty()) r.fail("map_file (map_server YAML) must be set");
+  if (!r.error().empty()) {
+    ROS_FATAL_STREAM("map_publisher: " << r.error());
+    return 1;
+  }
+  r.warnUnread("map_publisher");
+  thorvald_navigation::Grid2D grid;
+  const std::string error = thorvald_navigation::loadMap(map_file, &grid);
+  if (!error.empty()) {
+    ROS_FATAL_STREAM("map_publisher: " << error);
+    return 1;
+  }
+  nav_msgs::OccupancyGrid map = thorvald_navigation::toGridMessage(grid, frame_id);
+  map.header.stamp = ros::Time::now();
+  map.info.map_load_time = map.header.stamp;
+  ros::Publisher map_pub = nh.advertise<nav_msgs::OccupancyGrid>("map", 1, true);
+  ros::Publisher meta_pub = nh.advertise<nav_msgs::MapMetaData>("map_metadata", 1, true);
+  map_pub.publish(map);
+  meta_pub.publish(map.info);
+  ros::ServiceServer srv = nh.advertiseService<nav_msgs::GetMap::Request, nav_msgs::GetMap::Response>(
+      "static_map", [&map](nav_msgs::GetMap::Request&, nav_msgs::GetMap::Response& res) {
+        res.map = map;
+        return true;
+      });
+  ROS_INFO("map_publisher: %s, %d x %d cells of %.3f m", map_file.c_str(), grid.width, grid.height, grid.resolution_m);
+  ros::spin();
+  return 0;
+}
