@@ -127,8 +127,12 @@ double DeadbandPositionController::update(double position_m, double dt_s) {
   const double to_edge_s = std::abs(actuator_pwm_ - edge) / params_.actuator_rate_pwm_per_s;
   const double coast_m = speed_mps_ * (0.5 * to_edge_s + params_.flow_lag_s);
   const double direction = error_to_target >= 0.0 ? 1.0 : -1.0;
-  if (profile_done &&
-      (std::abs(error_to_target) <= params_.stop_tolerance_m || (error_to_target - coast_m) * direction <= 0.0)) {
+  // Also before the profile has arrived: once the rover would coast to the target with the swashplate at
+  // neutral, it goes to neutral (on a short step the profile's braking comes too late for the slow actuator).
+  const bool coasts_there =
+      !velocity_mode_ && speed_mps_ * direction > 0.0 && (error_to_target - coast_m) * direction <= 0.0;
+  if ((profile_done && std::abs(error_to_target) <= params_.stop_tolerance_m) || coasts_there ||
+      (profile_done && (error_to_target - coast_m) * direction <= 0.0)) {
     at_rest_ = true;
     integral_mps_ = 0.0;
     return send(params_.neutral_pwm, dt_s);

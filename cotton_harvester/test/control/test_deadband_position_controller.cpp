@@ -41,8 +41,7 @@ TEST(DeadbandPositionController, RejectsUnsoundParameters) {
 
 // On the simulated drive (deadband 80-98, 12 PWM/s actuator, 0.4 s flow lag) through the serial frames: every
 // step forward and back ends within the 5 cm band, sooner and with less overshoot than the paper's PID on the
-// same drive. Tolerances: the goals (overshoot <= 0.05 m, settling <= 10 s) are checked on the 1 m and 2 m steps;
-// the 0.3 m step is allowed 0.08 m (see the README's table).
+// same drive. Tolerances: the goals, overshoot <= 0.05 m and settling <= 10 s.
 TEST(DeadbandPositionController, StepsSettleFasterThanThePapersPid) {
   const SimulatedNavigationParams drive;
   RoverControllerParams paper;
@@ -54,7 +53,7 @@ TEST(DeadbandPositionController, StepsSettleFasterThanThePapersPid) {
     ASSERT_GE(response.settling_s, 0.0);
     EXPECT_LE(response.settling_s, 10.0);
     EXPECT_LE(std::abs(response.final_error_m), 0.05);
-    EXPECT_LE(response.overshoot_m, std::abs(step) >= 1.0 ? 0.05 : 0.08);
+    EXPECT_LE(response.overshoot_m, 0.05);
     if (step == 1.0) {
       EXPECT_LT(response.settling_s, paper_1m.settling_s);
       EXPECT_LT(response.overshoot_m, paper_1m.overshoot_m);
