@@ -175,8 +175,10 @@ void BaseDriver::applyCommand(double now_s) {
 }
 
 bool BaseDriver::writeThrough(double now_s) {
-  if (last_write_ >= 0.0 && now_s - last_write_ < options_.min_write_interval_s) return false;
+  // Only write-throughs count against the interval: a command right after a cycle's write still goes out at once.
+  if (last_write_through_ >= 0.0 && now_s - last_write_through_ < options_.min_write_interval_s) return false;
   applyCommand(now_s);
+  last_write_through_ = now_s;
   return true;
 }
 

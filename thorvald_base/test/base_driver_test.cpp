@@ -439,6 +439,12 @@ TEST(BaseDriver, ANewCommandIsWrittenThroughAtOnce) {
   for (auto* d : rig.drives) EXPECT_CALL(*d, setCommand(_)).Times(0);
   ASSERT_TRUE(rig.driver->setCommand({0.3, 0.0, 0.0}, 1.006));
   EXPECT_FALSE(rig.driver->writeThrough(1.006));
+  // A cycle's own write does not hold back the next write-through.
+  for (auto* d : rig.drives) testing::Mock::VerifyAndClearExpectations(d);
+  for (auto* d : rig.drives) EXPECT_CALL(*d, setCommand(speed(1.5))).Times(2);
+  rig.driver->update(1.0075);
+  ASSERT_TRUE(rig.driver->setCommand({0.3, 0.0, 0.0}, 1.0076));
+  EXPECT_TRUE(rig.driver->writeThrough(1.0076));
   // The same stop checks: with the safety stop engaged a write-through sends zero.
   for (auto* d : rig.drives) testing::Mock::VerifyAndClearExpectations(d);
   rig.driver->setSafetyStop(true);

@@ -2,13 +2,15 @@
 //  - latency from a twist_mux/cmd_vel message to the last drive's command frame on the bus (p50, p99);
 //  - frames per second the virtual bus carries between two processes;
 //  - base_driver's CPU at 50 Hz with 9 drives (from /proc/<pid>/stat, pid asked from the node itself).
-// When done it asks base_driver and can_device_sim to shut down, so the launch ends by itself, cleanly.
+// When done it asks base_driver and can_device_sim to shut down and, when roslaunch started it, sends roslaunch the
+// SIGINT of a Ctrl-C, so the launch ends by itself, cleanly (exit code 0, no "REQUIRED process has died").
 //   roslaunch thorvald_can_devices hardware_bench.launch
 //   (the node's options: --bus NAME --samples N --last-node N; --help lists them)
 #include <geometry_msgs/Twist.h>
 #include <ros/master.h>
 #include <ros/network.h>
 #include <ros/ros.h>
+#include <signal.h>
 #include <unistd.h>
 #include <xmlrpcpp/XmlRpcClient.h>
 
@@ -16,6 +18,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <vector>
 
@@ -155,5 +158,9 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "hardware_bench: could not ask %s to shut down\n", node);
     }
   }
+  // roslaunch keeps its master running after the nodes end: ask it to stop as Ctrl-C would, when it started us.
+  std::ifstream parent("/proc/" + std::to_string(::getppid()) + "/cmdline");
+  const std::string parent_cmd((std::istreambuf_iterator<char>(parent)), std::istreambuf_iterator<char>());
+  if (parent_cmd.find("roslaunch") != std::string::npos) ::kill(::getppid(), SIGINT);
   return latency_ms.size() > 0 ? 0 : 1;
 }

@@ -35,7 +35,8 @@ DeviceSim::DeviceSim(const thorvald_base::RobotConfig& config) {
 
 void DeviceSim::spinOnce(double now_s, CanBus& bus) {
   CanFrame f;
-  while (bus.receive(&f)) {
+  // Bounded like the host: a flood cannot stop the simulated devices from stepping.
+  for (size_t n = 0; n < kMaxFramesPerSpin && bus.receive(&f); ++n) {
     ++frames_handled_;
     for (auto& d : thorvald_) d.handle(f, bus);
     for (auto& a : cia402_) a.handle(f, bus, now_s);

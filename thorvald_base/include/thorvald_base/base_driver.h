@@ -68,8 +68,8 @@ class BaseDriver {
   /// Takes a new command at time now_s [s]. Rejects (returns false, counts) a non-finite one.
   bool setCommand(const Twist2D& cmd, double now_s);
   /// Sends the current command to the drives now (after setCommand), with the same limits and stop checks as a
-  /// cycle, without reading the drives or integrating odometry. Returns false (nothing sent) when the last write
-  /// was less than min_write_interval_s ago; the next cycle then sends it.
+  /// cycle, without reading the drives or integrating odometry. Returns false (nothing sent) when the last
+  /// write-through was less than min_write_interval_s ago; the next write-through or cycle then sends it.
   bool writeThrough(double now_s);
   /// One control cycle at time now_s [s]: command the drives, run them, read them, integrate odometry.
   void update(double now_s);
@@ -129,7 +129,7 @@ class BaseDriver {
   unsigned long rejected_commands_ = 0;
   unsigned long cycles_ = 0;
   SpeedLimiter limiter_;
-  double last_write_ = -1.0;
+  double last_write_ = -1.0, last_write_through_ = -1.0;
   double wheel_factor_ = 1.0;
   std::string battery_text_;
   bool battery_slow_ = false, battery_stop_ = false;

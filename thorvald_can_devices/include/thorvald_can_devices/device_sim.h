@@ -16,7 +16,10 @@ namespace thorvald_can_devices {
 class DeviceSim {
  public:
   explicit DeviceSim(const thorvald_base::RobotConfig& config);
-  /// Reads every waiting frame from `bus` and answers it, then steps all devices to now_s.
+  /// Frames one spinOnce() reads at most (the rest waits for the next one).
+  static constexpr size_t kMaxFramesPerSpin = 1000;
+  /// Reads the waiting frames from `bus` (at most kMaxFramesPerSpin) and answers them, then steps all devices to
+  /// now_s.
   void spinOnce(double now_s, CanBus& bus);
   /// Injects (active) or removes a fault. `target`: driveN, batN or "bus"; faults: silent, stall, encoder (drives),
   /// alarm, silent (batteries), bus_off, error_passive (bus; removal sends the controller-restarted frame).

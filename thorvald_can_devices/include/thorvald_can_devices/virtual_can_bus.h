@@ -79,6 +79,7 @@ class VirtualCanBus : public CanBus {
   std::vector<Peer> out_;
   std::vector<int> in_;
   size_t next_in_ = 0;
+  int calls_since_accept_ = 0;
   BusStatus status_;
   unsigned long foreign_refused_ = 0, endpoints_refused_ = 0;
 };
