@@ -181,8 +181,17 @@ class RosMissionIO : public MissionIO {
     std::lock_guard<std::mutex> l(mutex_);
     rail_.stamp_s = m.header.stamp.toSec();
     rail_.robot_in_rail = Pose2D(m.x, m.y, m.yaw);
-    rail_.status =
-        m.status == RailDetectionStatus::FOUND ? RailObservation::Status::kFound : RailObservation::Status::kNotFound;
+    switch (m.status) {
+      case RailDetectionStatus::FOUND:
+        rail_.status = RailObservation::Status::kFound;
+        break;
+      case RailDetectionStatus::FOUND_X_UNOBSERVED:
+        rail_.status = RailObservation::Status::kXUnobserved;
+        break;
+      default:
+        rail_.status = RailObservation::Status::kNotFound;
+        break;
+    }
   }
   void onSurface(const SurfaceState& m) {
     std::lock_guard<std::mutex> l(mutex_);
