@@ -17,6 +17,7 @@
 #include <functional>
 #include <random>
 #include <string>
+#include <thread>
 
 #include <thorvald_base/odometry_trial.h>
 
@@ -145,7 +146,8 @@ int main(int argc, char** argv) {
   app.add_option("--sensor-seconds", sensor_seconds, "simulated seconds per scene with sensors")
       ->check(CLI::Range(0.1, 3600.0));
   app.add_option("--frames", frames, "camera frames timed alone")->check(CLI::Range(1, 100000));
-  app.add_option("--render-threads", render_threads, "llvmpipe threads (LP_NUM_THREADS); 0: its default")
+  app.add_option("--render-threads", render_threads,
+                 "llvmpipe threads (LP_NUM_THREADS) and depth-image threads; 0: every core")
       ->check(CLI::Range(0, 64));
   try {
     app.parse(argc, argv);
@@ -154,6 +156,8 @@ int main(int argc, char** argv) {
   }
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // each line shows as it is done, also when piped
   if (render_threads > 0) setenv("LP_NUM_THREADS", std::to_string(render_threads).c_str(), 1);
+  const int image_threads =
+      render_threads > 0 ? render_threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 
   const double load_start = loadAverage();
   std::printf("load average at start: %.2f (real-time x per CPU second is what one free core would give)\n",
@@ -199,7 +203,7 @@ int main(int argc, char** argv) {
       const double w = cpuNow();
       const SensorPose cam = mount(gh, {0.5, 0, 0.75}, opticalPitched(0.6));
       gh_renderer.render(gh.sim->data(), cam, cameraView(depth, false), gh.sim->robot(0).root_body, &view);
-      depthFromView(view, caster, cam, depth, rng, &depth_img);
+      depthFromView(view, caster, cam, depth, rng, &depth_img, image_threads);
       cam_cpu += cpuNow() - w;
       ++depth_frames;
     }
@@ -232,7 +236,7 @@ int main(int argc, char** argv) {
     if (zed_due.due(t)) {
       const SensorPose cam = mount(cotton, {1.2, 0, 2.2}, opticalPitched(M_PI / 2));
       cotton_renderer.render(cotton.sim->data(), cam, cameraView(zed, true), cotton.sim->robot(0).root_body, &view);
-      depthFromView(view, cotton_caster, cam, zed, rng, &depth_img);
+      depthFromView(view, cotton_caster, cam, zed, rng, &depth_img, image_threads);
       colorFromView(view, cotton.sim->model(), zed_color, &color_img);
       for (size_t i = 0; i < color_img.rgb.size(); i += 3)
         white += color_img.rgb[i] == 255 && color_img.rgb[i + 1] == 255;
@@ -254,14 +258,14 @@ int main(int argc, char** argv) {
   for (int i = 0; i < frames; ++i) {
     const SensorPose cam = mount(gh, {0.5, 0, 0.75}, opticalPitched(0.6));
     gh_renderer.render(gh.sim->data(), cam, cameraView(depth, false), gh.sim->robot(0).root_body, &view);
-    depthFromView(view, caster, cam, depth, rng, &depth_img);
+    depthFromView(view, caster, cam, depth, rng, &depth_img, image_threads);
   }
   const double ms_depth = 1e3 * (cpuNow() - c) / frames, ms_depth_wall = 1e3 * (wallNow() - w) / frames;
   w = wallNow(), c = cpuNow();
   for (int i = 0; i < frames; ++i) {
     const SensorPose cam = mount(cotton, {1.2, 0, 2.2}, opticalPitched(M_PI / 2));
     cotton_renderer.render(cotton.sim->data(), cam, cameraView(zed, true), cotton.sim->robot(0).root_body, &view);
-    depthFromView(view, cotton_caster, cam, zed, rng, &depth_img);
+    depthFromView(view, cotton_caster, cam, zed, rng, &depth_img, image_threads);
     colorFromView(view, cotton.sim->model(), zed_color, &color_img);
   }
   const double ms_rgbd = 1e3 * (cpuNow() - c) / frames, ms_rgbd_wall = 1e3 * (wallNow() - w) / frames;

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <thread>
 
 namespace thorvald_sim {
 
@@ -168,7 +169,10 @@ namespace {
 // reproducible from the sensor's seed): splitmix64 for uniforms, the polar method for normals.
 class PixelNoise {
  public:
-  explicit PixelNoise(std::mt19937& rng) : state_((static_cast<uint64_t>(rng()) << 32) | rng()) {}
+  explicit PixelNoise(std::mt19937& rng) {
+    const uint64_t high = rng();  // two statements: the order of the draws is fixed
+    state_ = (high << 32) | rng();
+  }
   double uniform() { return (next() >> 11) * 0x1.0p-53; }
   double normal() {
     if (have_spare_) {
@@ -191,7 +195,7 @@ class PixelNoise {
     z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
     return z ^ (z >> 31);
   }
-  uint64_t state_;
+  uint64_t state_ = 0;
   double spare_ = 0.0;
   bool have_spare_ = false;
 };
@@ -199,57 +203,86 @@ class PixelNoise {
 }  // namespace
 
 void depthFromView(const RenderedView& view, const RayCaster& caster, const SensorPose& pose, const DepthCameraSpec& s,
-                   std::mt19937& rng, DepthImage* img) {
+                   std::mt19937& rng, DepthImage* img, int threads) {
   const Intrinsics k = intrinsics(s);
   img->width = s.width;
   img->height = s.height;
   const float nan = std::numeric_limits<float>::quiet_NaN();
   img->points.assign(static_cast<size_t>(s.width) * s.height, Eigen::Vector3f(nan, nan, nan));
   if (view.width != s.width || view.height != s.height) return;
-  PixelNoise noise(rng);
   const mjModel* m = caster.model();
   const mjData* d = caster.data();
-  // Each geom's pose once per frame (a frame sees few geoms, many pixels each).
+  // Each seen geom's pose once per frame (a frame sees few geoms, many pixels each).
   struct Frame {
     Eigen::Matrix3d R;
     Eigen::Vector3d c;
   };
-  std::vector<int> slot(m->ngeom, -1);
-  std::vector<Frame> frames;
-  const double min_cos = std::cos(s.grazing_limit_rad);
-  for (int v = 0; v < s.height; ++v) {
-    const double y = (v - k.cy) / k.fy;
-    for (int u = 0; u < s.width; ++u) {
-      const size_t i = static_cast<size_t>(v) * s.width + u;
-      const int g = view.geom[i];
-      const double z = view.depth_m[i];
-      if (g < 0 || z < s.range_min_m || z > s.range_max_m) continue;
-      if (s.dropout > 0 && noise.uniform() < s.dropout) continue;
-      if (slot[g] < 0) {
-        Frame f;
-        for (int r = 0; r < 3; ++r)
-          for (int c = 0; c < 3; ++c) f.R(r, c) = d->geom_xmat[9 * g + 3 * r + c];
-        f.c = Eigen::Vector3d(d->geom_xpos[3 * g], d->geom_xpos[3 * g + 1], d->geom_xpos[3 * g + 2]);
-        slot[g] = static_cast<int>(frames.size());
-        frames.push_back(f);
-      }
-      const Frame& f = frames[slot[g]];
-      const Eigen::Vector3d ray((u - k.cx) / k.fx, y, 1.0);  // z = 1
-      const Eigen::Vector3d dir = pose.rotation * (ray / ray.norm());
-      const int type = m->geom_type[g];
-      double cos_incidence;
-      if (type == mjGEOM_PLANE) {
-        cos_incidence = std::fabs(f.R.col(2).dot(dir));
-      } else {
-        const Eigen::Vector3d n =
-            geomNormal(type, m->geom_size + 3 * g, f.R, f.c, pose.origin + pose.rotation * (ray * z), dir);
-        cos_incidence = -n.dot(dir);
-      }
-      if (cos_incidence < min_cos) continue;  // seen more obliquely than grazing_limit
-      const double zn = z + (s.noise_coeff > 0 ? s.noise_coeff * z * z * noise.normal() : 0.0);
-      img->points[i] = (ray * zn).cast<float>();
-    }
+  std::vector<Frame> frames(m->ngeom);
+  std::vector<char> seen(m->ngeom, 0);
+  for (int g : view.geom)
+    if (g >= 0) seen[g] = 1;
+  for (int g = 0; g < m->ngeom; ++g) {
+    if (!seen[g]) continue;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) frames[g].R(r, c) = d->geom_xmat[9 * g + 3 * r + c];
+    frames[g].c = Eigen::Vector3d(d->geom_xpos[3 * g], d->geom_xpos[3 * g + 1], d->geom_xpos[3 * g + 2]);
   }
+  const double min_cos = std::cos(s.grazing_limit_rad);
+  // Rows in a fixed number of blocks, each with its own noise stream drawn in order from `rng`: the image is the
+  // same whatever the number of threads.
+  constexpr int kBlocks = 8;
+  std::vector<PixelNoise> noises;
+  for (int b = 0; b < kBlocks; ++b) noises.emplace_back(rng);
+  auto block = [&](int b) {
+    PixelNoise& noise = noises[b];
+    const int v0 = s.height * b / kBlocks, v1 = s.height * (b + 1) / kBlocks;
+    for (int v = v0; v < v1; ++v) {
+      const double y = (v - k.cy) / k.fy;
+      for (int u = 0; u < s.width; ++u) {
+        const size_t i = static_cast<size_t>(v) * s.width + u;
+        const int g = view.geom[i];
+        const double z = view.depth_m[i];
+        if (g < 0 || z < s.range_min_m || z > s.range_max_m) continue;
+        if (s.dropout > 0 && noise.uniform() < s.dropout) continue;
+        const Frame& f = frames[g];
+        const Eigen::Vector3d ray((u - k.cx) / k.fx, y, 1.0);  // z = 1
+        const Eigen::Vector3d dir = pose.rotation * (ray / ray.norm());
+        const int type = m->geom_type[g];
+        double cos_incidence;
+        if (type == mjGEOM_PLANE) {
+          cos_incidence = std::fabs(f.R.col(2).dot(dir));
+        } else if (type == mjGEOM_BOX) {  // the face nearest to the point
+          const Eigen::Vector3d p = f.R.transpose() * (pose.origin + pose.rotation * (ray * z) - f.c);
+          const mjtNum* half = m->geom_size + 3 * g;
+          int face = 0;
+          double gap = std::fabs(std::fabs(p[0]) - half[0]);
+          for (int a = 1; a < 3; ++a) {
+            const double ga = std::fabs(std::fabs(p[a]) - half[a]);
+            if (ga < gap) gap = ga, face = a;
+          }
+          cos_incidence = std::fabs(f.R.col(face).dot(dir));
+        } else {
+          const Eigen::Vector3d n =
+              geomNormal(type, m->geom_size + 3 * g, f.R, f.c, pose.origin + pose.rotation * (ray * z), dir);
+          cos_incidence = -n.dot(dir);
+        }
+        if (cos_incidence < min_cos) continue;  // seen more obliquely than grazing_limit
+        const double zn = z + (s.noise_coeff > 0 ? s.noise_coeff * z * z * noise.normal() : 0.0);
+        img->points[i] = (ray * zn).cast<float>();
+      }
+    }
+  };
+  threads = std::max(1, std::min(threads, kBlocks));
+  if (threads == 1) {
+    for (int b = 0; b < kBlocks; ++b) block(b);
+    return;
+  }
+  std::vector<std::thread> workers;
+  for (int t = 0; t < threads; ++t)
+    workers.emplace_back([&, t]() {
+      for (int b = t; b < kBlocks; b += threads) block(b);
+    });
+  for (auto& w : workers) w.join();
 }
 
 DepthImage depthFromView(const RenderedView& view, const RayCaster& caster, const SensorPose& pose,

@@ -216,6 +216,32 @@ TEST(CameraRenderer, NoiseGrowsWithDepthAndDropoutsHappen) {
   EXPECT_NEAR(1.0 - n / (64.0 * 48.0), 0.1, 0.03);
 }
 
+TEST(CameraRenderer, DepthImageDoesNotDependOnTheThreads) {
+  StaticWorld w(ts::makeGreenhouseWorld(ts::GreenhouseParams(), nullptr));
+  ts::CameraRenderer renderer(w.model.get());
+  ts::RayCaster caster(w.model.get(), w.data.get(), -1);
+  ts::DepthCameraSpec spec;
+  spec.width = 160, spec.height = 120;
+  const auto cam = optical({-1.2, 1.6, 0.8}, {1.0, 0.0, -0.6}, {0, 0, -1});
+  ts::RenderedView view;
+  renderer.render(w.data.get(), cam, viewOf(spec), -1, &view);
+  ts::DepthImage one, three;
+  std::mt19937 rng1(5), rng3(5);
+  ts::depthFromView(view, caster, cam, spec, rng1, &one, 1);
+  ts::depthFromView(view, caster, cam, spec, rng3, &three, 3);
+  int valid = 0;
+  for (size_t i = 0; i < one.points.size(); ++i) {
+    if (!std::isfinite(one.points[i].z())) {
+      EXPECT_FALSE(std::isfinite(three.points[i].z()));
+      continue;
+    }
+    ++valid;
+    EXPECT_EQ(one.points[i], three.points[i]);
+  }
+  EXPECT_GT(valid, 160 * 120 / 2);
+  EXPECT_EQ(rng1(), rng3());  // the caller's engine advanced the same
+}
+
 TEST(CameraRenderer, BollPixelIsWhiteAndSkyIsBackground) {
   ts::CottonRowTruth t;
   StaticWorld w(ts::makeCottonRowWorld(ts::CottonRowParams(), &t));

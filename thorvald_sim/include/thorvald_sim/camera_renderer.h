@@ -81,10 +81,11 @@ class CameraRenderer {
 /// prepare). Same outputs as simulateDepth on the same geometry.
 DepthImage depthFromView(const RenderedView& view, const RayCaster& caster, const SensorPose& pose,
                          const DepthCameraSpec& spec, std::mt19937& rng);
-/// The same into `out`, reusing its memory (a camera's frames are the same size every time). The per-pixel noise
-/// comes from a fast generator seeded by one draw from `rng`.
+/// The same into `out`, reusing its memory (a camera's frames are the same size every time), with the rows split
+/// over `threads` threads. The per-pixel noise comes from fast generators seeded from `rng`, one per fixed block of
+/// rows, so the image does not depend on the number of threads.
 void depthFromView(const RenderedView& view, const RayCaster& caster, const SensorPose& pose,
-                   const DepthCameraSpec& spec, std::mt19937& rng, DepthImage* out);
+                   const DepthCameraSpec& spec, std::mt19937& rng, DepthImage* out, int threads = 1);
 
 /// Colour image (each pixel the colour of its geom, the background beyond `range_max_m` or where nothing is seen)
 /// from a rendered view of the same size and optics.

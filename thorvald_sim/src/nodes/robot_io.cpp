@@ -9,7 +9,9 @@
 #include <sensor_msgs/Range.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
 
+#include <algorithm>
 #include <cmath>
+#include <thread>
 
 #include "thorvald_sim/scene.h"
 
@@ -287,7 +289,8 @@ void RobotIo::publishCamera(Sensor& s, const SensorPose& pose, const ros::Time& 
   ++camera_frames_;
   if (depth) {
     const RayCaster normals(sim_.model(), sim_.data(), sim_.robot(index_).root_body);
-    depthFromView(view_, normals, optical, c.depth, s.rng, &depth_img_);
+    depthFromView(view_, normals, optical, c.depth, s.rng, &depth_img_,
+                  static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
     const DepthImage& img = depth_img_;
     sensor_msgs::PointCloud2 cloud;
     cloud.header.stamp = now;
