@@ -107,28 +107,32 @@ std::string RailDetectorParams::validate() const {
   if (!(std::isfinite(start_view_margin_m) && start_view_margin_m >= 0.0 && start_view_margin_m < 1.0))
     return "start_view_margin_m must be in [0, 1) [m]";
   if (!positive(unobserved_sigma_x_m)) return "unobserved_sigma_x_m must be > 0 [m]";
+  if (!(std::isfinite(pipe_radius_m) && pipe_radius_m >= 0.0 && pipe_radius_m < 0.2))
+    return "pipe_radius_m must be in [0, 0.2) [m]";
   return "";
 }
 
 std::vector<Eigen::Vector3f> RailDetector::cropToRailBand(const OrganisedCloud& cloud,
                                                           const Eigen::Isometry3d& camera_in_base,
                                                           std::size_t* finite_points,
-                                                          std::vector<float>* nearest_floor_x) const {
+                                                          std::vector<float>* floor_cells) const {
   const Eigen::Matrix3f rot = camera_in_base.linear().cast<float>();
   const Eigen::Vector3f trans = camera_in_base.translation().cast<float>();
   const auto& p = params_;
   std::vector<Eigen::Vector3f> band;
   std::size_t finite = 0;
-  const int bins = static_cast<int>(std::ceil(2.0 * p.crop_y_max_m / kFloorBinM));
-  if (nearest_floor_x) nearest_floor_x->assign(static_cast<std::size_t>(bins), INFINITY);
+  const int cols = static_cast<int>(std::ceil(2.0 * p.crop_y_max_m / kFloorBinM));
+  const int rows = static_cast<int>(std::ceil((p.crop_x_max_m - p.crop_x_min_m) / kFloorBinM));
+  if (floor_cells) floor_cells->assign(static_cast<std::size_t>(cols * rows), 0.0f);
   for (const auto& point : cloud.points) {
     if (!point.allFinite()) continue;
     ++finite;
     const Eigen::Vector3f b = rot * point + trans;
-    if (nearest_floor_x && b.z() < p.crop_z_min_m && b.z() > -0.05f && std::abs(b.y()) < p.crop_y_max_m) {
-      const int bin = std::clamp(static_cast<int>((b.y() + p.crop_y_max_m) / kFloorBinM), 0, bins - 1);
-      float& nearest = (*nearest_floor_x)[static_cast<std::size_t>(bin)];
-      nearest = std::min(nearest, b.x());
+    if (floor_cells && b.z() < p.crop_z_min_m && b.z() > -0.05f && std::abs(b.y()) < p.crop_y_max_m &&
+        b.x() >= p.crop_x_min_m && b.x() < p.crop_x_max_m) {
+      const int col = std::clamp(static_cast<int>((b.y() + p.crop_y_max_m) / kFloorBinM), 0, cols - 1);
+      const int row = std::clamp(static_cast<int>((b.x() - p.crop_x_min_m) / kFloorBinM), 0, rows - 1);
+      (*floor_cells)[static_cast<std::size_t>(row * cols + col)] = 1.0f;
     }
     if (b.z() >= p.crop_z_min_m && b.z() <= p.crop_z_max_m && b.x() >= p.crop_x_min_m && b.x() <= p.crop_x_max_m &&
         std::abs(b.y()) <= p.crop_y_max_m) {
@@ -153,8 +157,8 @@ RailDetection RailDetector::detect(const OrganisedCloud& cloud, const Eigen::Iso
     out.reason = "malformed cloud: width x height != number of points";
     return out;
   }
-  std::vector<float> nearest_floor_x;
-  const auto band = cropToRailBand(cloud, camera_in_base, &out.finite_points, &nearest_floor_x);
+  std::vector<float> floor_cells;
+  const auto band = cropToRailBand(cloud, camera_in_base, &out.finite_points, &floor_cells);
   out.points_in_band = band.size();
   if (out.finite_points == 0) {
     out.status = RailDetection::Status::kBadInput;
@@ -217,19 +221,26 @@ RailDetection RailDetector::detect(const OrganisedCloud& cloud, const Eigen::Iso
                  std::to_string(band.size()) + " points in the rails' band";
     return out;
   }
-  if (!pairFromLines(lines, band, band_xy, method == RailFitMethod::kClusterLines, &out)) return out;
+  if (!pairFromLines(lines, band, band_xy, method == RailFitMethod::kClusterLines, camera_in_base.translation(), &out))
+    return out;
 
   // Is the rails' start in view? Only if the floor just in front of each rail's start was seen; otherwise
   // the first visible point of the rails is where they enter the image, not where they start.
+  // The floor grid (5 cm cells) must show floor just before each rail's start, on the rail's line.
   bool start_seen = true;
-  const int bins = static_cast<int>(nearest_floor_x.size());
+  const int cols = static_cast<int>(std::ceil(2.0 * p.crop_y_max_m / kFloorBinM));
+  const int rows = static_cast<int>(std::ceil((p.crop_x_max_m - p.crop_x_min_m) / kFloorBinM));
+  auto floor_seen = [&](const Eigen::Vector2d& q) {
+    const int col = static_cast<int>(std::floor((q.y() + p.crop_y_max_m) / kFloorBinM));
+    const int row = static_cast<int>(std::floor((q.x() - p.crop_x_min_m) / kFloorBinM));
+    return col >= 0 && col < cols && row >= 0 && row < rows &&
+           floor_cells[static_cast<std::size_t>(row * cols + col)] > 0.0f;
+  };
   for (const RailLine& rail : out.rails) {
     const Eigen::Vector2d start = rail.fit.centroid + rail.near_end * rail.fit.direction;
-    const int centre = static_cast<int>((start.y() + p.crop_y_max_m) / kFloorBinM);
-    float nearest = INFINITY;
-    for (int b = centre - 1; b <= centre + 1; ++b)
-      if (b >= 0 && b < bins) nearest = std::min(nearest, nearest_floor_x[static_cast<std::size_t>(b)]);
-    start_seen = start_seen && nearest <= start.x() - p.start_view_margin_m;
+    const Eigen::Vector2d before = start - (p.start_view_margin_m + 0.5 * kFloorBinM) * rail.fit.direction;
+    const Eigen::Vector2d further = before - kFloorBinM * rail.fit.direction;
+    start_seen = start_seen && (floor_seen(before) || floor_seen(further));
   }
 
   // Mount correction, then the paper's output: base_link in the rail frame.
@@ -247,9 +258,24 @@ RailDetection RailDetector::detect(const OrganisedCloud& cloud, const Eigen::Iso
   return out;
 }
 
+RailLine RailDetector::axisLine(const RailLine& rail, const Eigen::Vector3d& camera_xyz) const {
+  if (params_.pipe_radius_m <= 0.0) return rail;
+  // In the plane across the pipe the camera sits at lateral distance h and height v above the pipe's
+  // centre; the visible half of the surface, weighted by its projected area, has its mean pi/4 * r * cos
+  // (elevation) nearer the camera than the axis, across the rail.
+  const double h = rail.fit.signedDistance(camera_xyz.head<2>());
+  const double v = camera_xyz.z() - (rail.height_m - 0.5 * params_.pipe_radius_m);
+  const double cos_elevation = std::abs(h) / std::max(1e-6, std::hypot(h, v));
+  const double offset = M_PI / 4.0 * params_.pipe_radius_m * cos_elevation;
+  const Eigen::Vector2d left(-rail.fit.direction.y(), rail.fit.direction.x());
+  RailLine out = rail;
+  out.fit.centroid -= (h >= 0.0 ? 1.0 : -1.0) * offset * left;
+  return out;
+}
+
 bool RailDetector::pairFromLines(const std::vector<RailLine>& lines, const std::vector<Eigen::Vector3f>& band,
                                  const std::vector<Eigen::Vector2d>& band_xy, bool search_points_for_partner,
-                                 RailDetection* out) const {
+                                 const Eigen::Vector3d& camera_xyz, RailDetection* out) const {
   const auto& p = params_;
   std::string why = "no rail at " + fmt(p.rail_gauge_m) + " +- " + fmt(p.gauge_tolerance_m) + " m beside any of " +
                     std::to_string(lines.size()) + " straight lines";
@@ -303,7 +329,7 @@ bool RailDetector::pairFromLines(const std::vector<RailLine>& lines, const std::
       }
     }
     if (!partner) continue;
-    const RailPair pair = makeRailPair(best, *partner);
+    const RailPair pair = makeRailPair(axisLine(best, camera_xyz), axisLine(*partner, camera_xyz));
     const Pose2D base_in_rail = pair.rail_in_base.inverse();
     if (std::abs(base_in_rail.y) > p.max_lateral_offset_m) {
       why = "rail pair found " + fmt(base_in_rail.y) + " m to the side (limit " + fmt(p.max_lateral_offset_m) +

@@ -42,6 +42,10 @@ struct RailDetectorParams {
   double start_view_margin_m = 0.05;
   /// Standard deviation of x reported when the rails' start is out of view [m].
   double unobserved_sigma_x_m = 0.5;
+  /// Pipe radius [m]: the camera sees the side of a pipe that faces it, whose points lie nearer the camera
+  /// than the pipe's axis; each rail line is moved back by the mean offset of the visible half of a
+  /// cylinder (pi/4 * radius * cos of the viewing elevation). 0: no correction.
+  double pipe_radius_m = 0.0255;
 
   /// Empty if valid, else which key is wrong and what it must be.
   std::string validate() const;
@@ -85,18 +89,21 @@ class RailDetector {
                        RailFitMethod method = RailFitMethod::kClusterLines) const;
 
   /// Step 1 alone: finite points moved to base_link and cropped to the rails' band, thinned to voxels.
-  /// nearest_floor_x, if given, receives the smallest x of a floor point per 5 cm bin of y over
-  /// [-crop_y_max_m, crop_y_max_m] (infinity where no floor was seen).
+  /// floor_cells, if given, receives a grid of 5 cm cells over the crop region (rows along x from
+  /// crop_x_min_m, columns along y from -crop_y_max_m): 1 where a floor point was seen, 0 elsewhere.
   std::vector<Eigen::Vector3f> cropToRailBand(const OrganisedCloud& cloud, const Eigen::Isometry3d& camera_in_base,
                                               std::size_t* finite_points,
-                                              std::vector<float>* nearest_floor_x = nullptr) const;
+                                              std::vector<float>* floor_cells = nullptr) const;
 
   const RailDetectorParams& params() const { return params_; }
 
  private:
   bool pairFromLines(const std::vector<RailLine>& lines, const std::vector<Eigen::Vector3f>& band,
                      const std::vector<Eigen::Vector2d>& band_xy, bool search_points_for_partner,
-                     RailDetection* out) const;
+                     const Eigen::Vector3d& camera_xyz, RailDetection* out) const;
+
+  /// The rail's axis from the line through its visible points (see pipe_radius_m).
+  RailLine axisLine(const RailLine& rail, const Eigen::Vector3d& camera_xyz) const;
 
   RailDetectorParams params_;
 };

@@ -71,6 +71,7 @@ bool loadSettings(const ros::NodeHandle& pnh, NodeSettings* s, std::string* erro
   r.read("sigma_yaw_rad", &d.sigma_yaw_rad);
   r.read("start_view_margin_m", &d.start_view_margin_m);
   r.read("unobserved_sigma_x_m", &d.unobserved_sigma_x_m);
+  r.read("pipe_radius_m", &d.pipe_radius_m);
   r.read("gate_max_step_xy_m", &s->gate.max_step_xy_m);
   r.read("gate_max_step_yaw_rad", &s->gate.max_step_yaw_rad);
   r.read("gate_frames_to_accept_jump", &s->gate.frames_to_accept_jump);
