@@ -1,5 +1,6 @@
 // Cost of one base_driver cycle (commands + simulated drives + odometry) against the number of drives.
-// Usage: cycle_bench [--cycles N]
+// Usage: cycle_bench [--cycles N]   (--help for details)
+#include <CLI/CLI.hpp>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -27,6 +28,15 @@ thorvald_base::RobotConfig ringRobot(int n) {
     d.y = n == 1 ? 0.0 : std::sin(2 * M_PI * i / n);
     r.drives.push_back(d);
   }
+  if (n == 1) {
+    // One steered drive needs passive wheels off its axle to determine the motion (Figure 10 d, g).
+    for (double y : {-0.35, 0.35}) {
+      thorvald_base::PassiveWheelConfig p;
+      p.x = -0.5;
+      p.y = y;
+      r.passive_wheels.push_back(p);
+    }
+  }
   return r;
 }
 
@@ -34,8 +44,15 @@ thorvald_base::RobotConfig ringRobot(int n) {
 
 int main(int argc, char** argv) {
   int cycles = 20000;
-  for (int i = 1; i < argc; ++i)
-    if (!std::strcmp(argv[i], "--cycles") && i + 1 < argc) cycles = std::atoi(argv[++i]);
+  CLI::App app("Cost of one base_driver cycle against the number of drives", "cycle_bench");
+  app.add_option("--cycles", cycles, "cycles per robot and estimator")
+      ->check(CLI::Range(1, 100000000))
+      ->capture_default_str();
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;  // --help: 0; an unknown option or a bad value: 2, named by CLI11
+  }
   std::printf("%-8s %16s %16s %18s\n", "drives", "ls cycle [us]", "paper cycle [us]", "ls per drive [us]");
   double us9 = 0;
   for (int n : {1, 2, 4, 9, 16, 32}) {
@@ -61,6 +78,7 @@ int main(int argc, char** argv) {
     }
     if (n == 9) us9 = us[0];
     std::printf("%-8d %16.2f %16.2f %18.2f\n", n, us[0], us[1], us[0] / n);
+    std::fflush(stdout);  // progress when piped
   }
   std::printf("a 50 Hz control loop has 20000 us per cycle\n");
   std::printf("RESULT {\"cycle_us_9_drives\": %.2f}\n", us9);

@@ -1,9 +1,9 @@
 // Odometry accuracy of the two estimators on the same simulated drive: the Figure 7 robot driving the paper's
 // 77 s loop, readings corrupted alike (quantisation, noise, 1% radius error on two wheels, one slipping wheel).
-// Usage: odometry_bench [--seeds N] [--csv path.csv]   (the CSV holds the three paths of the first seed)
+// Usage: odometry_bench [--seeds N] [--csv path.csv] [--png paths.png]   (--help for details)
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <fstream>
 #include <string>
 
@@ -11,14 +11,17 @@
 
 int main(int argc, char** argv) {
   int seeds = 5;
-  std::string csv;
-  for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--seeds") && i + 1 < argc)
-      seeds = std::atoi(argv[++i]);
-    else if (!std::strcmp(argv[i], "--csv") && i + 1 < argc)
-      csv = argv[++i];
+  std::string csv, png;
+  CLI::App app("Odometry accuracy of the least-squares and the paper's random-pairs estimators on the Figure 7 robot",
+               "odometry_bench");
+  app.add_option("--seeds", seeds, "number of seeds (1, 2, ...)")->check(CLI::Range(1, 1000))->capture_default_str();
+  app.add_option("--csv", csv, "write the three paths of the first seed to this CSV file");
+  app.add_option("--png", png, "draw the paths of all seeds into this PNG (matplotlib, /usr/bin/python3)");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;  // --help: 0; an unknown option or a bad value: 2, named by CLI11
   }
-  if (seeds < 1) seeds = 1;
   const auto robot = thorvald_base::figure7Robot();
   const auto loop = thorvald_base::paperLoop();
   const thorvald_base::TrialCorruption corruption;
@@ -30,10 +33,26 @@ int main(int argc, char** argv) {
   std::printf("%-6s %12s %12s %12s %14s %14s\n", "seed", "truth [m]", "ls [m]", "paper [m]", "ls err [%]",
               "paper err [%]");
   double sum_ls = 0, sum_paper = 0, sum_dist = 0;
+  const std::string all_paths = png.empty() ? "" : png + ".csv";
+  std::ofstream paths;
+  if (!all_paths.empty()) {
+    paths.open(all_paths);
+    if (!paths) {
+      std::fprintf(stderr, "odometry_bench: cannot write %s\n", all_paths.c_str());
+      return 1;
+    }
+    paths << "seed,t,truth_x,truth_y,ls_x,ls_y,paper_x,paper_y\n";
+  }
   for (int s = 1; s <= seeds; ++s) {
     const auto r = thorvald_base::runOdometryTrial(robot, loop, corruption, static_cast<unsigned>(s));
     std::printf("%-6d %12.2f %12.2f %12.2f %14.3f %14.3f\n", s, r.distance_truth_m, r.distance_ls_m, r.distance_paper_m,
                 r.errorPctLs(), r.errorPctPaper());
+    std::fflush(stdout);  // progress when piped
+    for (const auto& p : r.path) {
+      if (!paths.is_open()) break;
+      paths << s << ',' << p.t << ',' << p.truth.x << ',' << p.truth.y << ',' << p.least_squares.x << ','
+            << p.least_squares.y << ',' << p.paper.x << ',' << p.paper.y << '\n';
+    }
     sum_ls += r.errorPctLs();
     sum_paper += r.errorPctPaper();
     sum_dist += r.distance_truth_m;
@@ -45,6 +64,17 @@ int main(int argc, char** argv) {
             << ',' << p.paper.x << ',' << p.paper.y << '\n';
       }
     }
+  }
+  if (paths.is_open()) {
+    paths.close();
+    const std::string cmd =
+        std::string("/usr/bin/python3 '") + ODOMETRY_PLOT_SCRIPT + "' '" + all_paths + "' '" + png + "'";
+    if (std::system(cmd.c_str()) != 0) {
+      std::fprintf(stderr, "odometry_bench: drawing %s failed (needs python3-matplotlib)\n", png.c_str());
+      return 1;
+    }
+    std::remove(all_paths.c_str());
+    std::printf("paths of %d seeds drawn into %s\n", seeds, png.c_str());
   }
   const double ls = sum_ls / seeds, paper = sum_paper / seeds;
   std::printf(
