@@ -19,7 +19,7 @@ import rospy
 import rostest
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
-from std_msgs.msg import Bool
+from std_msgs.msg import Bool, String
 
 JS_EVENT_BUTTON, JS_EVENT_AXIS, JS_EVENT_INIT = 0x01, 0x02, 0x80
 BUTTONS, AXES = 11, 8          # xpad layout
@@ -99,6 +99,10 @@ class RobotPad(unittest.TestCase):
 
     def test_held_stick_drives_continuously(self):
         wait_for(lambda: self.speed() is not None, DEADLINE, 'odometry from base_driver')
+        # The fail-safe safety_watchdog lock is released once safety_heartbeat runs.
+        locks = Series('/%s/twist_mux/engaged_locks' % self.robot, String)
+        wait_for(lambda: locks.last() is not None and locks.last()[1].data == '', DEADLINE,
+                 'twist_mux to report no engaged lock')
         os.mkfifo(self.path)
         self.open_writer()
         init = b''.join(event(JS_EVENT_BUTTON | JS_EVENT_INIT, i, 0) for i in range(BUTTONS))
