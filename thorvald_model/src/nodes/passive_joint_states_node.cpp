@@ -6,16 +6,22 @@
 
 #include "thorvald_base/robot_config.h"
 #include "thorvald_model/model_builder.h"
+#include "thorvald_base/ros/param_reader.h"
 #include "thorvald_base/ros/robot_config_params.h"
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "passive_joint_states");
   ros::NodeHandle nh, pnh("~");
   std::vector<std::string> names;
+  double rate = 10.0;
   try {
-    const auto config = thorvald_base::robotConfigFromParams(nh);
-    std::string tf_prefix;
-    if (!pnh.getParam("tf_prefix", tf_prefix)) {
+    thorvald_base::ParamReader params(pnh);
+    std::string tf_prefix = params.text("tf_prefix", "");
+    rate = params.number("rate", 10.0, thorvald_base::ParamRange::aboveUpTo(0.0, 1000.0), "Hz");
+    const auto config = thorvald_base::robotConfigFromParams(nh, params.text("robot_file", ""));
+    for (const auto& w : config.warnings) ROS_WARN_STREAM(w);
+    params.finish();
+    if (tf_prefix.empty()) {
       std::string key;
       if (nh.searchParam("tf_prefix", key)) nh.getParam(key, tf_prefix);
     }
@@ -23,11 +29,6 @@ int main(int argc, char** argv) {
     names = thorvald_model::passiveJointNames(config, tf_prefix);
   } catch (const std::exception& e) {
     ROS_FATAL("passive_joint_states cannot start: %s", e.what());
-    return 1;
-  }
-  const double rate = pnh.param("rate", 10.0);
-  if (!(rate > 0.0)) {
-    ROS_FATAL("passive_joint_states cannot start: ~rate is %f, expected > 0 [Hz]", rate);
     return 1;
   }
   if (names.empty()) {

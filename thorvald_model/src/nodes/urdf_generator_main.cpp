@@ -3,7 +3,10 @@
 
 #include <ros/ros.h>
 
+#include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstring>
+#include <set>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -15,19 +18,6 @@
 
 namespace {
 
-const char* kUsage =
-    "usage: urdf_generator [--config <robot.yaml> | --param-ns <namespace>] [--tf-prefix <p>]\n"
-    "                      [--robot-name <n>] [--extras <fragment.urdf>]... [--output <file>]\n"
-    "                      [--mujoco] [--floating-base]\n"
-    "  --config      robot file; without it the robot file is read from the parameter server under\n"
-    "                --param-ns (default: this process's namespace, e.g. ROS_NAMESPACE)\n"
-    "  --tf-prefix   prefix of every link and joint name (as base_driver's tf_prefix)\n"
-    "  --robot-name  <robot name=...> (default thorvald)\n"
-    "  --extras      URDF fragment merged into the model (repeatable; an empty value is ignored)\n"
-    "  --output      file to write (default stdout)\n"
-    "  --mujoco      add MuJoCo compiler options (keep fixed links as bodies, drop visuals)\n"
-    "  --floating-base  add a `world` link and a floating joint to base_link\n";
-
 struct Arguments {
   std::string config, param_ns, output;
   bool from_param_server = true;
@@ -36,46 +26,44 @@ struct Arguments {
   std::vector<std::string> extras;
 };
 
-/// Parses the command line; throws std::invalid_argument with the problem.
-Arguments parseArguments(const std::vector<std::string>& args) {
-  Arguments a;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& key = args[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= args.size()) throw std::invalid_argument(key + " needs a value");
-      return args[++i];
-    };
-    if (key == "--config") {
-      a.config = value();
-      a.from_param_server = false;
-    } else if (key == "--param-ns") {
-      a.param_ns = value();
-    } else if (key == "--tf-prefix") {
-      a.model.tf_prefix = value();
-      while (!a.model.tf_prefix.empty() && a.model.tf_prefix.front() == '/') a.model.tf_prefix.erase(0, 1);
-      while (!a.model.tf_prefix.empty() && a.model.tf_prefix.back() == '/') a.model.tf_prefix.pop_back();
-    } else if (key == "--robot-name") {
-      a.model.robot_name = value();
-    } else if (key == "--extras") {
-      const std::string path = value();
-      if (!path.empty()) a.extras.push_back(path);  // empty: a launch file's optional fragment left unset
-    } else if (key == "--output") {
-      a.output = value();
-    } else if (key == "--mujoco") {
-      a.write.mujoco_compiler = true;
-    } else if (key == "--floating-base") {
-      a.model.floating_base = true;
-    } else if (key == "-h" || key == "--help") {
-      std::cout << kUsage;
-      std::exit(0);
-    } else if (key.rfind("__", 0) == 0 || key.rfind("_", 0) == 0) {
-      continue;  // roslaunch remappings (__name:=, __log:=) when started as a node
-    } else if (key.empty()) {
-      continue;  // an empty launch argument expands to ""
-    } else {
-      throw std::invalid_argument("unknown argument '" + key + "'");
-    }
+/// Parses the command line with CLI11: --help exits 0, an unknown option or a missing value exits 2 naming it.
+/// roslaunch's own arguments (__name:=, __log:=) and empty words that are no option's value are dropped first.
+Arguments parseArguments(int argc, char** argv) {
+  std::vector<std::string> words;
+  ros::removeROSArgs(argc, argv, words);
+  static const std::set<std::string> takes_value = {"--config",     "--param-ns", "--tf-prefix",
+                                                    "--robot-name", "--extras",   "--output"};
+  std::vector<std::string> kept;
+  for (size_t i = 1; i < words.size(); ++i) {
+    // An empty word is the value of an option left unset in a launch file; on its own it is dropped.
+    if (!words[i].empty() || takes_value.count(words[i - 1])) kept.push_back(words[i]);
   }
+  Arguments a;
+  CLI::App app("Writes a Thorvald robot's URDF from its robot file (a path, or the parameter server).",
+               "urdf_generator");
+  app.add_option("--config", a.config,
+                 "robot file; without it the robot file is read from the parameter server under --param-ns");
+  app.add_option("--param-ns", a.param_ns,
+                 "namespace of the robot file on the parameter server (default: this "
+                 "process's namespace, e.g. ROS_NAMESPACE)");
+  app.add_option("--tf-prefix", a.model.tf_prefix, "prefix of every link and joint name (as base_driver's tf_prefix)");
+  app.add_option("--robot-name", a.model.robot_name, "<robot name=...>")->capture_default_str();
+  app.add_option("--extras", a.extras, "URDF fragment merged into the model (repeatable; empty values are ignored)")
+      ->take_all();
+  app.add_option("--output", a.output, "file to write (default stdout)");
+  app.add_flag("--mujoco", a.write.mujoco_compiler,
+               "add MuJoCo compiler options (keep fixed links as bodies, drop visuals)");
+  app.add_flag("--floating-base", a.model.floating_base, "add a `world` link and a floating joint to base_link");
+  std::reverse(kept.begin(), kept.end());  // CLI11 takes the arguments last-first
+  try {
+    app.parse(kept);
+  } catch (const CLI::ParseError& e) {
+    std::exit(app.exit(e) == 0 ? 0 : 2);  // --help: 0; an unknown option or a bad value: 2, named by CLI11
+  }
+  a.from_param_server = a.config.empty();
+  a.extras.erase(std::remove(a.extras.begin(), a.extras.end(), std::string()), a.extras.end());
+  while (!a.model.tf_prefix.empty() && a.model.tf_prefix.front() == '/') a.model.tf_prefix.erase(0, 1);
+  while (!a.model.tf_prefix.empty() && a.model.tf_prefix.back() == '/') a.model.tf_prefix.pop_back();
   a.write.tf_prefix = a.model.tf_prefix;
   return a;
 }
@@ -100,10 +88,11 @@ thorvald_base::RobotConfig readFromParameterServer(int argc, char** argv, const 
 
 int main(int argc, char** argv) {
   try {
-    const Arguments args = parseArguments(std::vector<std::string>(argv + 1, argv + argc));
+    const Arguments args = parseArguments(argc, argv);
     const thorvald_base::RobotConfig config = args.from_param_server
                                                   ? readFromParameterServer(argc, argv, args.param_ns)
                                                   : thorvald_base::loadRobotConfigFile(args.config);
+    for (const auto& w : config.warnings) std::cerr << "urdf_generator: " << w << "\n";
     const thorvald_model::UrdfTree tree = thorvald_model::buildModel(config, args.model);
     for (const auto& w : tree.warnings) std::cerr << "urdf_generator: " << config.source << ": " << w << "\n";
     std::vector<thorvald_model::UrdfFragment> fragments;
@@ -117,8 +106,6 @@ int main(int argc, char** argv) {
       if (!out) throw std::runtime_error(args.output + ": cannot write the file");
     }
     return 0;
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "urdf_generator: " << e.what() << "\n" << kUsage;
   } catch (const std::exception& e) {
     std::cerr << "urdf_generator: " << e.what() << "\n";
   }
