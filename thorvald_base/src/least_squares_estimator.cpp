@@ -57,8 +57,12 @@ VelocityEstimate LeastSquaresEstimator::estimate(const std::vector<WheelObservat
   const double dof = std::max(1.0, wsum - 3.0);
   const double sigma2 = std::max(sse / dof, 1e-6);  // floor: encoder resolution is never perfect
   out.twist = {x(0), x(1), x(2)};
-  out.covariance = sigma2 * normal.completeOrthogonalDecomposition().pseudoInverse();
-  out.valid = out.twist.finite();
+  auto decomposition = normal.completeOrthogonalDecomposition();
+  out.covariance = sigma2 * decomposition.pseudoInverse();
+  // Wheels that leave a direction of (vx, vy, wz) unobserved (e.g. one drive left online) give no estimate: a
+  // minimum-norm guess would report "no motion" with a small covariance while the robot moves.
+  decomposition.setThreshold(1e-9);
+  out.valid = out.twist.finite() && decomposition.rank() == 3;
   return out;
 }
 

@@ -100,3 +100,14 @@ TEST(Odometry, CrabMove) {
   EXPECT_NEAR(odom.pose().y, 1.0, 1e-9);
   EXPECT_NEAR(odom.pose().x, 0.0, 1e-12);
 }
+
+TEST(LeastSquaresEstimator, ReportsMotionItCannotResolve) {
+  LeastSquaresEstimator ls;
+  // One wheel alone: its contact point's velocity leaves rotation and translation mixed up.
+  const VelocityEstimate one = ls.estimate({{0.5, 0.0, 0.3, 1.0, true}});
+  EXPECT_FALSE(one.valid);
+  // Two wheels at different places determine the motion.
+  const VelocityEstimate two = ls.estimate({{0.5, 0.0, 0.0, 1.0, true}, {-0.5, 0.0, 0.0, 1.0, true}});
+  EXPECT_TRUE(two.valid);
+  EXPECT_NEAR(two.twist.vx, 1.0, 1e-9);
+}

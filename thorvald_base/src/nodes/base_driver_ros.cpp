@@ -423,6 +423,13 @@ void BaseDriverRos::diagnoseBase(diagnostic_updater::DiagnosticStatusWrapper& st
   } else {
     stat.summary(DiagnosticStatus::OK, toString(reason));
   }
+  bool wheels_turn = false;
+  for (const auto& fb : driver_->feedback()) wheels_turn = wheels_turn || std::fabs(fb.wheel_speed_radps) > 1e-3;
+  if (wheels_turn && !driver_->velocity().valid) {
+    stat.mergeSummary(DiagnosticStatus::ERROR,
+                      "odometry cannot resolve the motion: the wheels turn but too few of them report to determine "
+                      "(vx, vy, wz)");
+  }
   stat.add("mode", simple_sim_ ? "simulation" : "hardware");
   stat.add("kinematics", driver_->calculator().name());
   stat.add("cycle rate [Hz]", cycle_rate_hz_);
