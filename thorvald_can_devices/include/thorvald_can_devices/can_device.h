@@ -35,7 +35,7 @@ class CanDevice {
   bool bus_off_ = false;
 };
 
-/// Seconds without a heartbeat after which a node is lost (CAN_PROTOCOLS.md: 2 s).
+/// Seconds without a heartbeat after which a node is lost (docs/can_protocols.md: 2 s).
 constexpr double kHeartbeatTimeoutS = 2.0;
 
 }  // namespace thorvald_can_devices

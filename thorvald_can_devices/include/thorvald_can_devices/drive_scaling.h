@@ -6,7 +6,7 @@
 
 namespace thorvald_can_devices {
 
-/// Conversions between joint units and the Thorvald drive's integers (CAN_PROTOCOLS.md "Scaling").
+/// Conversions between joint units and the Thorvald drive's integers (docs/can_protocols.md).
 /// All take the drive's robot-file entry; angles [rad], speeds [rad/s], motor speeds [rpm].
 struct ThorvaldScaling {
   /// Wheel speed -> propulsion command, ±1000 full scale (clamped, rounded).
