@@ -145,3 +145,58 @@ TEST(ParamReader, HasCountsAsRead) {
   EXPECT_FALSE(r.has("other"));
   EXPECT_TRUE(r.unread().empty());
 }
+
+namespace {
+XmlRpc::XmlRpcValue list(std::initializer_list<XmlRpc::XmlRpcValue> values) {
+  XmlRpc::XmlRpcValue out;
+  out.setSize(static_cast<int>(values.size()));
+  int i = 0;
+  for (const auto& v : values) out[i++] = v;
+  return out;
+}
+}  // namespace
+
+TEST(ParamReader, ReadsLists) {
+  ParamReader r = reader({{"gains", list({XmlRpc::XmlRpcValue(1), XmlRpc::XmlRpcValue(0.5)})},
+                          {"sensors", list({XmlRpc::XmlRpcValue("left"), XmlRpc::XmlRpcValue("right")})},
+                          {"mask", list({XmlRpc::XmlRpcValue(true), XmlRpc::XmlRpcValue(false)})}});
+  EXPECT_EQ(r.numbers("gains", {}, ParamRange::atLeast(0), "", 2, 2), (std::vector<double>{1.0, 0.5}));
+  EXPECT_EQ(r.texts("sensors", {}, 1, 8, true), (std::vector<std::string>{"left", "right"}));
+  EXPECT_EQ(r.flags("mask", {}), (std::vector<bool>{true, false}));
+  EXPECT_EQ(r.numbers("unset", {3.0}, ParamRange::any()), (std::vector<double>{3.0}));
+  EXPECT_THAT(r.effectiveValues(),
+              HasSubstr("gains=[1, 0.5], sensors=['left', 'right'], mask=[true, false], unset=[3] (default)"));
+  EXPECT_TRUE(r.finish().empty());
+}
+
+TEST(ParamReader, RefusesBadListsNamingTheElement) {
+  ParamReader r = reader({{"not_a_list", XmlRpc::XmlRpcValue(1.0)},
+                          {"short", list({XmlRpc::XmlRpcValue(1.0)})},
+                          {"negative", list({XmlRpc::XmlRpcValue(1.0), XmlRpc::XmlRpcValue(-2.0)})},
+                          {"mixed", list({XmlRpc::XmlRpcValue("a"), XmlRpc::XmlRpcValue(2)})},
+                          {"twice", list({XmlRpc::XmlRpcValue("a"), XmlRpc::XmlRpcValue("a")})},
+                          {"bools", list({XmlRpc::XmlRpcValue(true), XmlRpc::XmlRpcValue("no")})}});
+  EXPECT_THAT(errorOf([&] { r.numbers("not_a_list", {}, ParamRange::any()); }),
+              HasSubstr("~not_a_list: found the number 1, expected a list, each a number"));
+  EXPECT_THAT(errorOf([&] { r.numbers("short", {}, ParamRange::any(), "m", 2, 2); }),
+              HasSubstr("found a list of 1 values, expected a list of exactly 2 elements"));
+  EXPECT_THAT(errorOf([&] { r.numbers("negative", {}, ParamRange::atLeast(0)); }),
+              HasSubstr("~negative[1]: found the number -2, expected a number in >= 0"));
+  EXPECT_THAT(errorOf([&] { r.texts("mixed", {}); }), HasSubstr("~mixed[1]: found the integer 2, expected a string"));
+  EXPECT_THAT(errorOf([&] { r.texts("twice", {}, 0, 10, true); }), HasSubstr("~twice[1]: found the string 'a'"));
+  EXPECT_THAT(errorOf([&] { r.flags("bools", {}); }), HasSubstr("~bools[1]: found the string 'no'"));
+}
+
+TEST(ParamReader, RawAndRejectedParameters) {
+  XmlRpc::XmlRpcValue tree;
+  tree["vx"] = 1.0;
+  ParamReader r = reader({{"limits", tree}, {"limits/vx", XmlRpc::XmlRpcValue(1.0)}, {"odom_frame_id", 1}});
+  XmlRpc::XmlRpcValue got;
+  EXPECT_TRUE(r.raw("limits", &got));
+  EXPECT_EQ(got.getType(), XmlRpc::XmlRpcValue::TypeStruct);
+  EXPECT_FALSE(r.raw("absent", &got));
+  EXPECT_THAT(errorOf([&] { r.reject("odom_frame_id", "this node publishes no odometry"); }),
+              HasSubstr("~odom_frame_id is not supported: this node publishes no odometry"));
+  r.reject("other_unset", "never set, never an error");
+  EXPECT_TRUE(r.unread().empty());
+}

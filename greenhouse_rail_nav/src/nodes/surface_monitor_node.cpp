@@ -22,24 +22,6 @@
 namespace greenhouse_rail_nav {
 namespace {
 
-std::vector<std::string> readNames(const ros::NodeHandle& pnh, thorvald_base::ParamReader& params,
-                                   const std::string& name, const std::vector<std::string>& fallback) {
-  params.alsoRead(name);
-  XmlRpc::XmlRpcValue v;
-  if (!pnh.getParam(name, v)) return fallback;
-  if (v.getType() != XmlRpc::XmlRpcValue::TypeArray)
-    throw thorvald_base::ParamError(params.node() + ": parameter ~" + name + ": found " +
-                                    thorvald_base::describeParamValue(v) + ", expected a list of sensor names");
-  std::vector<std::string> out;
-  for (int i = 0; i < v.size(); ++i) {
-    if (v[i].getType() != XmlRpc::XmlRpcValue::TypeString)
-      throw thorvald_base::ParamError(params.node() + ": parameter ~" + name + "[" + std::to_string(i) + "]: found " +
-                                      thorvald_base::describeParamValue(v[i]) + ", expected a name");
-    out.push_back(static_cast<std::string>(v[i]));
-  }
-  return out;
-}
-
 uint8_t toMsg(Surface s) {
   switch (s) {
     case Surface::kFloor:
@@ -66,9 +48,10 @@ class SurfaceMonitor {
     cp.confirm_readings = params.integer("confirm_readings", cp.confirm_readings, 1, 100);
     const std::string problems = cp.validate();
     if (!problems.empty()) throw thorvald_base::ParamError(params.node() + ": " + problems);
-    sensors_ = readNames(pnh, params, "sensors", {"front_right", "front_left", "mid_right", "mid_left"});
-    front_ = indices(params, readNames(pnh, params, "front_sensors", {"front_right", "front_left"}), "front_sensors");
-    wheels_ = indices(params, readNames(pnh, params, "wheel_sensors", {"mid_right", "mid_left"}), "wheel_sensors");
+    sensors_ = params.texts("sensors", {"front_right", "front_left", "mid_right", "mid_left"}, 1, 16, true);
+    front_ =
+        indices(params, params.texts("front_sensors", {"front_right", "front_left"}, 0, 16, true), "front_sensors");
+    wheels_ = indices(params, params.texts("wheel_sensors", {"mid_right", "mid_left"}, 0, 16, true), "wheel_sensors");
     floor_radius_ = params.number("floor_wheel_radius", 0.175, thorvald_base::ParamRange::aboveUpTo(0.0, 2.0), "m");
     rail_radius_ = params.number("rail_wheel_radius", 0.12, thorvald_base::ParamRange::aboveUpTo(0.0, 2.0), "m");
     set_radius_ = params.flag("set_wheel_radius", true);

@@ -200,6 +200,123 @@ std::string ParamReader::choice(const std::string& name, const std::string& fall
   return out;
 }
 
+namespace {
+
+std::string sizeText(size_t min_size, size_t max_size) {
+  const size_t unbounded = std::numeric_limits<size_t>::max();
+  if (min_size == max_size) return " of exactly " + std::to_string(min_size) + " elements";
+  if (max_size != unbounded && min_size > 0)
+    return " of " + std::to_string(min_size) + " to " + std::to_string(max_size) + " elements";
+  if (max_size != unbounded) return " of at most " + std::to_string(max_size) + " elements";
+  if (min_size > 0) return " of at least " + std::to_string(min_size) + " elements";
+  return "";
+}
+
+template <typename T, typename Format>
+std::string listText(const std::vector<T>& values, Format format) {
+  std::string out = "[";
+  for (size_t i = 0; i < values.size(); ++i) out += (i ? ", " : "") + format(values[i]);
+  return out + "]";
+}
+
+}  // namespace
+
+bool ParamReader::fetchList(const std::string& name, XmlRpc::XmlRpcValue& v, size_t min_size, size_t max_size,
+                            const std::string& expected) {
+  if (!fetch(name, v)) return false;
+  if (v.getType() != XmlRpc::XmlRpcValue::TypeArray) fail(name, v, expected);
+  const size_t n = static_cast<size_t>(v.size());
+  if (n < min_size || n > max_size) fail(name, v, expected);
+  return true;
+}
+
+std::vector<double> ParamReader::numbers(const std::string& name, const std::vector<double>& fallback,
+                                         const ParamRange& range, const std::string& unit, size_t min_size,
+                                         size_t max_size) {
+  const bool bounded = std::isfinite(range.min) || std::isfinite(range.max);
+  const std::string each = std::string("a number") + (bounded ? " in " + range.text() : "");
+  const std::string expected =
+      "a list" + sizeText(min_size, max_size) + ", each " + each + (unit.empty() ? "" : " [" + unit + "]");
+  XmlRpc::XmlRpcValue v;
+  if (!fetchList(name, v, min_size, max_size, expected)) {
+    record(name, listText(fallback, formatNumber), false);
+    return fallback;
+  }
+  std::vector<double> out;
+  for (int i = 0; i < v.size(); ++i) {
+    const std::string element = name + "[" + std::to_string(i) + "]";
+    double value = 0.0;
+    if (v[i].getType() == XmlRpc::XmlRpcValue::TypeDouble) {
+      value = static_cast<double>(v[i]);
+    } else if (v[i].getType() == XmlRpc::XmlRpcValue::TypeInt) {
+      value = static_cast<int>(v[i]);
+    } else {
+      fail(element, v[i], each);
+    }
+    if (!std::isfinite(value) || !range.contains(value)) fail(element, v[i], each);
+    out.push_back(value);
+  }
+  record(name, listText(out, formatNumber), true);
+  return out;
+}
+
+std::vector<bool> ParamReader::flags(const std::string& name, const std::vector<bool>& fallback, size_t min_size,
+                                     size_t max_size) {
+  const auto format = [](bool b) { return std::string(b ? "true" : "false"); };
+  XmlRpc::XmlRpcValue v;
+  if (!fetchList(name, v, min_size, max_size, "a list" + sizeText(min_size, max_size) + " of true/false")) {
+    record(name, listText(fallback, format), false);
+    return fallback;
+  }
+  std::vector<bool> out;
+  for (int i = 0; i < v.size(); ++i) {
+    if (v[i].getType() != XmlRpc::XmlRpcValue::TypeBoolean)
+      fail(name + "[" + std::to_string(i) + "]", v[i], "true or false");
+    out.push_back(static_cast<bool>(v[i]));
+  }
+  record(name, listText(out, format), true);
+  return out;
+}
+
+std::vector<std::string> ParamReader::texts(const std::string& name, const std::vector<std::string>& fallback,
+                                            size_t min_size, size_t max_size, bool unique) {
+  const auto format = [](const std::string& t) { return "'" + t + "'"; };
+  const std::string expected =
+      std::string("a list") + sizeText(min_size, max_size) + " of " + (unique ? "distinct " : "") + "strings";
+  XmlRpc::XmlRpcValue v;
+  if (!fetchList(name, v, min_size, max_size, expected)) {
+    record(name, listText(fallback, format), false);
+    return fallback;
+  }
+  std::vector<std::string> out;
+  for (int i = 0; i < v.size(); ++i) {
+    const std::string element = name + "[" + std::to_string(i) + "]";
+    if (v[i].getType() != XmlRpc::XmlRpcValue::TypeString) fail(element, v[i], "a string");
+    const std::string t = static_cast<std::string>(v[i]);
+    if (unique && std::find(out.begin(), out.end(), t) != out.end())
+      fail(element, v[i], "a string not already in the list");
+    out.push_back(t);
+  }
+  record(name, listText(out, format), true);
+  return out;
+}
+
+bool ParamReader::raw(const std::string& name, XmlRpc::XmlRpcValue* value) {
+  XmlRpc::XmlRpcValue v;
+  if (!fetch(name, v)) {
+    record(name, "(not set)", false);
+    return false;
+  }
+  record(name, describeParamValue(v), true);
+  *value = v;
+  return true;
+}
+
+void ParamReader::reject(const std::string& name, const std::string& why) {
+  XmlRpc::XmlRpcValue v;
+  if (fetch(name, v)) throw ParamError(node_ + ": parameter ~" + name + " is not supported: " + why);
+}
+
 bool ParamReader::has(const std::string& name) {
   XmlRpc::XmlRpcValue v;
   return fetch(name, v);

@@ -87,6 +87,20 @@ class ParamReader {
   std::string text(const std::string& name, const std::string& fallback);
   /// One of `allowed`.
   std::string choice(const std::string& name, const std::string& fallback, const std::vector<std::string>& allowed);
+  /// A list of numbers, each within `range`, with between `min_size` and `max_size` elements.
+  std::vector<double> numbers(const std::string& name, const std::vector<double>& fallback, const ParamRange& range,
+                              const std::string& unit = "", size_t min_size = 0,
+                              size_t max_size = std::numeric_limits<size_t>::max());
+  /// A list of true/false values with between `min_size` and `max_size` elements.
+  std::vector<bool> flags(const std::string& name, const std::vector<bool>& fallback, size_t min_size = 0,
+                          size_t max_size = std::numeric_limits<size_t>::max());
+  /// A list of strings with between `min_size` and `max_size` elements; `unique` refuses a repeated entry.
+  std::vector<std::string> texts(const std::string& name, const std::vector<std::string>& fallback, size_t min_size = 0,
+                                 size_t max_size = std::numeric_limits<size_t>::max(), bool unique = false);
+  /// The raw value of a structured parameter (a map or list a library parses itself); false if not set.
+  bool raw(const std::string& name, XmlRpc::XmlRpcValue* value);
+  /// A parameter this node does not support: throws ParamError naming `why` if it is set.
+  void reject(const std::string& name, const std::string& why);
   /// True if the parameter is set (it is then counted as read, e.g. by a library reading it itself).
   bool has(const std::string& name);
 
@@ -109,6 +123,9 @@ class ParamReader {
   bool fetch(const std::string& name, XmlRpc::XmlRpcValue& value);
   [[noreturn]] void fail(const std::string& name, const XmlRpc::XmlRpcValue& found, const std::string& expected) const;
   void record(const std::string& name, const std::string& value, bool set);
+  /// Fetches a list parameter and checks its type and size; false if not set.
+  bool fetchList(const std::string& name, XmlRpc::XmlRpcValue& value, size_t min_size, size_t max_size,
+                 const std::string& expected);
 
   std::unique_ptr<ParamSource> source_;
   std::string node_;
