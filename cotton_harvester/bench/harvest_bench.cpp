@@ -1,0 +1,134 @@
+// The paper's harvest experiments (§2.13, Tables 2 and 3) in MuJoCo: the rover drives a row of cotton plants, its
+// camera is rendered by the simulator, perception finds the bolls and the end-effector, the harvest state machine
+// moves the rover (deadband-aware position control of the hydrostatic drive) and the arm, and the vacuum takes the
+// bolls it really reaches. Potted: six defoliated plants 30 cm apart with three bolls each on a 0.2513 deg slope;
+// field: 5.3 m of row on a 2.7668 deg slope. Each run has other plants (seed). Prints a Table 2/3 row per run and
+// the averages, and ends with
+//   RESULT {"potted_ct_s": .., "potted_asr_pct": .., "field_ct_s": .., "field_asr_pct": .., "rtf": ..}
+//   rosrun cotton_harvester harvest_bench [--potted-runs 5] [--field-runs 2] [--seed 1] [--png FILE]
+//                                          [--debug-image FILE]
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "cotton_harvester/sim/harvest_run.h"
+
+using namespace cotton_harvester;
+
+namespace {
+
+double value(const std::optional<double>& v) { return v ? *v : 0.0; }
+
+void printHeader(const char* title) {
+  std::printf("\n%s\n%-8s %5s %5s %5s %5s %6s %8s %7s %7s %7s %6s %6s %6s %7s %6s %5s\n", title, "run", "bolls",
+              "reach", "det", "tried", "picked", "time_s", "OV_cm/s", "PR_b/s", "CT_s", "ASR%", "DP%", "MRR%",
+              "outcome", "frames", "rtf");
+}
+
+void printRow(const std::string& name, const sim::HarvestRunReport& r) {
+  const auto& c = r.counts;
+  const auto& m = r.metrics;
+  std::printf("%-8s %5d %5d %5d %5d %6d %8.1f %7.2f %7.3f %7.1f %6.1f %6.1f %6.1f %7s %6d %5.2f\n", name.c_str(),
+              r.bolls_present, r.bolls_reachable, c.detected, c.reached, c.picked, c.time_s, m.operation_velocity_cm_s,
+              m.production_rate_bolls_s, value(m.cycle_time_s), value(m.action_success_pct),
+              value(m.detection_performance_pct), value(m.reaching_ratio_pct), r.outcome.c_str(), r.frames,
+              r.wall_time_s > 0 ? r.sim_time_s / r.wall_time_s : 0.0);
+  std::fflush(stdout);
+}
+
+struct Totals {
+  control::HarvestCounts counts;
+  int runs = 0, reachable = 0, failed = 0;
+  double sim_s = 0.0, wall_s = 0.0;
+  void add(const sim::HarvestRunReport& r) {
+    ++runs;
+    counts.bolls_present += r.bolls_present;
+    counts.detected += r.counts.detected;
+    counts.reached += r.counts.reached;
+    counts.picked += r.counts.picked;
+    counts.skipped += r.counts.skipped;
+    counts.pick_attempts += r.counts.pick_attempts;
+    counts.time_s += r.counts.time_s;
+    counts.distance_m += r.counts.distance_m;
+    reachable += r.bolls_reachable;
+    sim_s += r.sim_time_s;
+    wall_s += r.wall_time_s;
+    failed += r.error.empty() && r.divergences == 0 ? 0 : 1;
+  }
+};
+
+/// Runs `runs` harvests of one experiment, prints their rows and the pooled row (metrics of the summed counts).
+bool verbose = false;
+int potted_plants = 6;
+std::string frames_dir;
+
+control::HarvestMetrics experiment(const char* title, bool field, int runs, unsigned seed, Totals* totals,
+                                   const std::string& png, const std::string& debug_image) {
+  printHeader(title);
+  Totals t;
+  for (int i = 0; i < runs; ++i) {
+    sim::HarvestRunConfig config = field ? sim::fieldConfig(seed + i) : sim::pottedConfig(seed + i);
+    if (!field && potted_plants != 6) {
+      config.sim.row.plants = potted_plants;
+      config.machine.row_length_m = 1.6 + 0.3 * potted_plants - 0.3;
+    }
+    if (i == 0) config.debug_image_path = debug_image;
+    config.verbose = verbose;
+    if (i == 0 && !field) config.frames_dir = frames_dir;
+    const sim::HarvestRunReport r = runHarvest(config);
+    if (!r.error.empty()) std::printf("run %d failed: %s\n", i + 1, r.error.c_str());
+    printRow("run" + std::to_string(i + 1), r);
+    if (i == 0 && !png.empty() && !writePathPng(r, png)) std::printf("could not write %s\n", png.c_str());
+    t.add(r);
+  }
+  const control::HarvestMetrics m = control::computeMetrics(t.counts);
+  sim::HarvestRunReport pooled;
+  pooled.counts = t.counts;
+  pooled.metrics = m;
+  pooled.bolls_present = t.counts.bolls_present;
+  pooled.bolls_reachable = t.reachable;
+  pooled.outcome = "-";
+  pooled.sim_time_s = t.sim_s;
+  pooled.wall_time_s = t.wall_s;
+  printRow("all", pooled);
+  totals->sim_s += t.sim_s;
+  totals->wall_s += t.wall_s;
+  totals->failed += t.failed;
+  return m;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Harvest of simulated cotton rows in MuJoCo (paper Tables 2 and 3)"};
+  int potted_runs = 5, field_runs = 2;
+  unsigned seed = 1;
+  std::string png, debug_image;
+  app.add_option("--potted-runs", potted_runs, "runs of the potted test (Table 2)")->check(CLI::Range(0, 100));
+  app.add_option("--field-runs", field_runs, "runs of the field-like test (Table 3)")->check(CLI::Range(0, 100));
+  app.add_option("--seed", seed, "seed of the first run's plants");
+  app.add_option("--png", png, "top view of the first potted run: path, picked and missed bolls");
+  app.add_option("--debug-image", debug_image, "camera frame of the first potted run with its detections");
+  app.add_option("--potted-plants", potted_plants, "plants of the potted row (the paper: 6)")->check(CLI::Range(1, 60));
+  app.add_option("--frames-dir", frames_dir, "write every frame of the first potted run with its detections here");
+  app.add_flag("--verbose", verbose, "print the state machine's transitions");
+  CLI11_PARSE(app, argc, argv);
+
+  Totals totals;
+  control::HarvestMetrics potted, field;
+  if (potted_runs > 0)
+    potted = experiment("Table 2: potted, defoliated (6 plants x 3 bolls, slope 0.2513 deg)", false, potted_runs, seed,
+                        &totals, png, debug_image);
+  if (field_runs > 0)
+    field = experiment("Table 3: field-like (5.3 m of row, slope 2.7668 deg)", true, field_runs, seed + 100, &totals,
+                       "", "");
+  std::printf("\npaper: potted CT 17.3 s, ASR 88.9 %%, DP 96.7 %%, MRR 94.4 %%; field CT 38.4 s, ASR 78.6 %%\n");
+  std::printf(
+      "RESULT {\"potted_ct_s\": %.2f, \"potted_asr_pct\": %.1f, \"field_ct_s\": %.2f, \"field_asr_pct\": %.1f, "
+      "\"rtf\": %.2f, \"failed_runs\": %d}\n",
+      value(potted.cycle_time_s), value(potted.action_success_pct), value(field.cycle_time_s),
+      value(field.action_success_pct), totals.wall_s > 0 ? totals.sim_s / totals.wall_s : 0.0, totals.failed);
+  return totals.failed == 0 ? 0 : 1;
+}

@@ -1,0 +1,32 @@
+# The cotton rover harvesting a row in MuJoCo: the simulated rover (thorvald_sim's physics and camera renderer),
+# the harvest stack's plant on it, the headless harvest run, harvest_bench and its test. Included by the
+# package's CMakeLists.txt after the perception and control libraries.
+find_package(thorvald_sim REQUIRED)
+find_package(mujoco REQUIRED)
+find_path(CLI11_INCLUDE_DIR CLI/CLI.hpp)
+if(NOT CLI11_INCLUDE_DIR)
+  message(FATAL_ERROR "cotton_harvester needs CLI11 (Debian: libcli11-dev)")
+endif()
+
+add_library(cotton_harvester_sim
+  src/sim/rover_sim.cpp
+  src/sim/sim_harvest_plant.cpp
+  src/sim/harvest_run.cpp
+)
+target_include_directories(cotton_harvester_sim PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include ${thorvald_sim_INCLUDE_DIRS})
+target_link_libraries(cotton_harvester_sim cotton_harvester_control cotton_harvester_perception ${thorvald_sim_LIBRARIES}
+  mujoco::mujoco ${OpenCV_LIBRARIES})
+
+add_executable(harvest_bench bench/harvest_bench.cpp)
+target_include_directories(harvest_bench PRIVATE ${CLI11_INCLUDE_DIR})
+target_link_libraries(harvest_bench cotton_harvester_sim)
+
+install(TARGETS cotton_harvester_sim harvest_bench
+  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+
+if(CATKIN_ENABLE_TESTING)
+  catkin_add_gtest(test_mujoco_harvest test/sim/test_mujoco_harvest.cpp)
+  target_link_libraries(test_mujoco_harvest cotton_harvester_sim)
+endif()

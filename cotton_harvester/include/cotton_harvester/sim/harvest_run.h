@@ -1,0 +1,58 @@
+#pragma once
+
+#include <functional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "cotton_harvester/control/harvest_machine.h"
+#include "cotton_harvester/control/harvest_metrics.h"
+#include "cotton_harvester/sim/sim_harvest_plant.h"
+
+namespace cotton_harvester {
+namespace sim {
+
+/// One harvest of a simulated row: the simulator, the stack and the state machine's settings.
+struct HarvestRunConfig {
+  RoverSimParams sim;
+  control::HarvestParams machine;  ///< row_length_m is how far the rover drives
+  double time_limit_s = 900.0;     ///< simulated time after which the run is stopped (preempted)
+  std::string debug_image_path;    ///< when set: a PNG of the first frame with a boll and the end-effector found
+  std::string frames_dir;          ///< when set: every camera frame with its detections as PNG (frame_NNNN.png)
+  bool verbose = false;            ///< print every transition of the machine (simulated time, state, outcome)
+};
+
+/// What came out of a run. `counts.picked` and the metrics are the simulation's (bolls the vacuum really took);
+/// `machine_picked` is what the state machine believed.
+struct HarvestRunReport {
+  std::string outcome;  ///< the machine's: finished, aborted, preempted
+  control::HarvestCounts counts;
+  control::HarvestMetrics metrics;
+  int machine_picked = 0;
+  int bolls_present = 0;
+  int bolls_reachable = 0;  ///< truth: bolls inside the arm's workspace along the driven stretch
+  int frames = 0, frames_with_effector = 0;
+  int effector_rejected = 0, effector_from_calibration = 0;
+  double sim_time_s = 0.0, wall_time_s = 0.0;
+  std::set<std::string> states_visited;
+  std::vector<std::pair<double, double>> rover_track;  ///< (time [s], encoder position [m])
+  std::vector<BollTruth> bolls;                        ///< truth at the end: positions, captured or not
+  Eigen::Vector3d rover_start = Eigen::Vector3d::Zero(), rover_end = Eigen::Vector3d::Zero();
+  int divergences = 0;
+  std::string error;  ///< set when the run could not be done (model, renderer)
+};
+
+/// Builds the world and the rover, runs the harvest state machine on SimHarvestPlant until it ends (or the time
+/// limit), and scores it against the simulation's truth. Never throws; `error` says what went wrong.
+HarvestRunReport runHarvest(const HarvestRunConfig& config);
+
+/// The paper's two experiments (§2.13): potted defoliated plants (Table 2) and a field-like undefoliated row
+/// (Table 3). `seed` varies the plants.
+HarvestRunConfig pottedConfig(unsigned seed);
+HarvestRunConfig fieldConfig(unsigned seed);
+
+/// Writes a top view of the run (rover path along the row, picked bolls green, missed red) as PNG.
+bool writePathPng(const HarvestRunReport& report, const std::string& path);
+
+}  // namespace sim
+}  // namespace cotton_harvester

@@ -1,0 +1,156 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+#include <thorvald_sim/camera_renderer.h>
+#include <thorvald_sim/mjcf_compiler.h>
+#include <thorvald_sim/world.h>
+
+#include "cotton_harvester/control/hydrostatic_drive_model.h"
+
+namespace cotton_harvester {
+namespace sim {
+
+/// The rover's build (paper §2.1). Lengths [m], masses [kg]. The camera frame: x across the row (towards the
+/// rover's left, the direction the horizontal arm extends), y along the row (forward), z down.
+struct RoverGeometry {
+  double wheel_radius_m = 0.3048;
+  double front_length_m = 1.45;   ///< articulation joint to the front end
+  double rear_length_m = 1.95;    ///< articulation joint to the rear end
+  double width_m = 2.12;          ///< outer width
+  double wheel_width_m = 0.30;    ///< the wheels' centres lie half of it inside the outer width
+  double axle_to_joint_m = 0.91;  ///< both axles to the articulation joint
+  double articulation_limit_deg = 45.0;
+  double camera_height_m = 2.20;      ///< above the ground, rover level and at rest
+  double camera_ahead_m = 1.30;       ///< camera ahead of the articulation joint
+  double arm_base_offset_m = 0.55;    ///< the arm's vertical axis is at camera x = -this
+  double horizontal_travel_m = 0.70;  ///< horizontal axis (§2.1)
+  double min_depth_m = 0.30;          ///< end-effector top face below the camera, highest position
+  double max_depth_m = 1.93;          ///< lowest position: 27 cm of ground clearance (§2.1)
+  double effector_half_m = 0.05;      ///< end-effector housing: a box of this half side ...
+  double effector_height_m = 0.08;    ///< ... and this height
+  double rear_mass_kg = 520.0, front_mass_kg = 380.0, wheel_mass_kg = 40.0;
+  std::string check() const;  ///< empty when sound
+};
+
+/// The simulator's figures: physics, the actuators' speeds and the vacuum. None of these is known to the harvest
+/// stack; it only sees the encoder, the potentiometer, the stepper counters and the camera.
+struct RoverSimParams {
+  RoverGeometry geometry;
+  control::HydrostaticDriveParams drive;  ///< swashplate PWM -> pump flow with the deadband and lag
+  double timestep_s = 0.002;
+  double wheel_damping = 3000.0;       ///< wheel velocity servo gain [N m s/rad] (hydraulic motors are stiff)
+  double vertical_speed_mps = 0.365;   ///< stepper: 150 steps/s at 410.7 steps/m (eq. 7)
+  double horizontal_speed_mps = 0.30;  ///< stepper: 2000 steps/s on a 20-tooth 3 mm belt
+  double capture_radius_m = 0.05;      ///< a boll whose centre is this close to the nozzle is sucked in ...
+  double capture_time_s = 0.3;         ///< ... after the vacuum ran this long with it there
+  double start_x_m = -0.6;             ///< articulation joint's start position along the row (world x)
+  thorvald_sim::CottonRowParams row;   ///< the row of plants with bolls
+  int camera_width = 1280, camera_height = 720;
+  double fx = 699.936, cx = 685.286, cy = 361.248;  ///< the ZED's calibration (paper eq. 1)
+  double depth_noise_coeff = 0.001;                 ///< active-stereo noise coefficient [1/m]
+  double depth_dropout = 0.005;
+  unsigned seed = 1;
+  std::string check() const;  ///< empty when sound
+};
+
+/// A boll the simulation knows (truth, for scoring only).
+struct BollTruth {
+  int geom = -1;
+  int plant = 0;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();  ///< world [m]
+  bool captured = false;
+  double captured_at_s = 0.0;
+  double near_nozzle_s = 0.0;  ///< vacuum time with the boll within the capture radius
+};
+
+/// The cotton rover and a row of cotton in MuJoCo: a centre-articulated body on four wheels driven by a
+/// hydrostatic pump (the swashplate servo's PWM, its slew, the 80-98 deadband and the flow lag from
+/// HydrostaticDriveModel set the wheels' speed; the wheels then roll by contact physics on the sloped ground), an
+/// articulation joint held by the valve and read by a potentiometer, a 2-axis Cartesian arm whose steppers move
+/// at a fixed speed, an orange vacuum end-effector, and the downward ZED camera rendered by thorvald_sim's
+/// CameraRenderer (colour and an organised cloud with stereo noise). A pick happens in the simulation: a boll whose
+/// centre stays within the capture radius of the nozzle while the vacuum runs is sucked in and leaves the world.
+/// Not thread-safe; the renderer's OpenGL context belongs to the constructing thread.
+class RoverSim {
+ public:
+  /// Builds the world and the rover. Throws std::invalid_argument on bad parameters, thorvald_sim::ModelError or
+  /// thorvald_sim::RenderError when MuJoCo or the renderer refuse.
+  explicit RoverSim(const RoverSimParams& params);
+  ~RoverSim();
+
+  // ---- What the rover's controllers command and read (the hardware interface) ----
+  /// Swashplate servo PWM (65-120, neutral 90); clamped to the servo's range, NaN is ignored.
+  void setSwashplatePwm(double pwm);
+  /// Wheel encoder: whole pulses of metres_per_pulse travelled, from the simulated front wheels' rotation.
+  std::int32_t encoderCount() const;
+  /// Articulation potentiometer angle [deg] (the joint's angle; the valve holds it at the commanded angle).
+  double potentiometerDeg() const;
+  void setArticulationDeg(double angle_deg);
+  /// Stepper targets: horizontal extension [0, travel] and end-effector depth below the camera [m]; clamped.
+  void commandHorizontal(double extension_m);
+  void commandVertical(double depth_m);
+  /// Step counters as positions (open loop, like the steppers' controller reports them) [m].
+  double horizontalPosition() const { return horizontal_now_; }
+  double verticalPosition() const { return vertical_now_; }
+  bool armMoving() const { return horizontal_now_ != horizontal_target_ || vertical_now_ != vertical_target_; }
+  void setVacuum(bool on) { vacuum_ = on; }
+  bool vacuum() const { return vacuum_; }
+
+  /// Advances the physics by `seconds` (whole time steps).
+  void advance(double seconds);
+  double time() const;
+
+  /// Renders the camera: bgr CV_8UC3 and an organised CV_32FC3 cloud in the optical frame (NaN: no depth).
+  void renderCamera(cv::Mat* bgr, cv::Mat* cloud);
+
+  // ---- Truth (scoring and tests only) ----
+  const std::vector<BollTruth>& bolls() const { return bolls_; }
+  int bollsCaptured() const;
+  /// World position of the articulation joint and the nozzle [m].
+  Eigen::Vector3d roverPosition() const;
+  Eigen::Vector3d nozzlePosition() const;
+  /// Camera-frame position of a world point [m] (optical frame: x right, y down, z forward).
+  Eigen::Vector3d toCamera(const Eigen::Vector3d& world) const;
+  const thorvald_sim::CottonRowTruth& row() const { return row_truth_; }
+  const RoverSimParams& params() const { return params_; }
+  /// Physics divergences (NaN) seen; the run is then not trusted.
+  int divergences() const { return divergences_; }
+  /// The compiled scene as MJCF (for viewing it in MuJoCo's simulate).
+  const std::string& sceneXml() const { return xml_; }
+
+ private:
+  std::string buildXml();
+  void stepOnce();
+  void cameraPose(Eigen::Vector3d* origin, Eigen::Matrix3d* rotation) const;
+
+  RoverSimParams params_;
+  thorvald_sim::CottonRowTruth row_truth_;
+  std::string xml_;
+  thorvald_sim::ModelPtr model_;
+  thorvald_sim::DataPtr data_;
+  std::unique_ptr<thorvald_sim::CameraRenderer> renderer_;
+  control::HydrostaticDriveModel drive_;
+  std::mt19937 rng_;
+  double pwm_command_ = 90.0;
+  double articulation_target_deg_ = 0.0;
+  double horizontal_target_ = 0.0, horizontal_now_ = 0.0;
+  double vertical_target_ = 0.0, vertical_now_ = 0.0;
+  bool vacuum_ = false;
+  int divergences_ = 0;
+  std::vector<BollTruth> bolls_;
+  // MuJoCo ids
+  int front_body_ = -1, effector_body_ = -1, rear_body_ = -1;
+  int wheel_joint_[4] = {-1, -1, -1, -1};
+  int wheel_act_[4] = {-1, -1, -1, -1};
+  int articulation_joint_ = -1, articulation_act_ = -1, horizontal_act_ = -1, vertical_act_ = -1;
+  double wheel_start_angle_[4] = {0, 0, 0, 0};
+};
+
+}  // namespace sim
+}  // namespace cotton_harvester

@@ -1,0 +1,165 @@
+#include "cotton_harvester/sim/harvest_run.h"
+
+#include <chrono>
+#include <cstdio>
+#include <cmath>
+#include <exception>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "cotton_harvester/perception/colour_boll_detector.h"
+#include "cotton_harvester/perception/debug_overlay.h"
+
+namespace cotton_harvester {
+namespace sim {
+
+namespace {
+
+/// Bolls the arm can reach from the row's line as the rover drives it: the boll's centre across the row within the
+/// end-effector's travel, its top no deeper than the vertical axis goes, and passed by the camera's optical axis
+/// during the drive. Computed from the truth at the start, for scoring only.
+int reachableBolls(const RoverSim& sim, double row_length_m) {
+  const RoverGeometry& g = sim.params().geometry;
+  const Eigen::Vector3d start_cam_world = sim.roverPosition();
+  int n = 0;
+  for (const BollTruth& b : sim.bolls()) {
+    const Eigen::Vector3d c = sim.toCamera(b.centre);
+    const double x_min = -g.arm_base_offset_m, x_max = -g.arm_base_offset_m + g.horizontal_travel_m;
+    const double top_depth = c.z() - sim.params().row.boll_radius_m;
+    const double along = b.centre.x() - start_cam_world.x() - g.camera_ahead_m;
+    if (c.x() >= x_min && c.x() <= x_max && top_depth >= g.min_depth_m && top_depth <= g.max_depth_m &&
+        along <= row_length_m)
+      ++n;
+  }
+  return n;
+}
+
+}  // namespace
+
+HarvestRunConfig pottedConfig(unsigned seed) {
+  HarvestRunConfig c;
+  c.sim.row.plants = 6;  // Table 2: six potted plants 30 cm apart, three bolls each, slope 0.2513 deg
+  c.sim.row.plant_spacing_m = 0.30;
+  c.sim.row.bolls_per_plant = 3;
+  c.sim.row.slope_deg = 0.2513;
+  c.sim.row.first_plant_x_m = 1.5;
+  c.sim.row.seed = seed;
+  c.sim.seed = seed;
+  c.sim.start_x_m = -0.3;
+  c.machine.row_length_m = 2.9;
+  c.machine.bolls_present = 18;
+  c.time_limit_s = 900.0;
+  return c;
+}
+
+HarvestRunConfig fieldConfig(unsigned seed) {
+  HarvestRunConfig c = pottedConfig(seed);
+  c.sim.row.plants = 17;  // Table 3: 5.3 m of undefoliated row on a 2.7668 deg slope
+  c.sim.row.slope_deg = 2.7668;
+  c.machine.row_length_m = 6.4;
+  c.machine.bolls_present = 17 * 3;
+  c.time_limit_s = 2400.0;
+  return c;
+}
+
+HarvestRunReport runHarvest(const HarvestRunConfig& config) {
+  HarvestRunReport report;
+  const auto wall_start = std::chrono::steady_clock::now();
+  try {
+    RoverSim sim(config.sim);
+    perception::PerceptionParams pp = simPerceptionParams(config.sim);
+    auto pipeline = std::make_unique<perception::PerceptionPipeline>(
+        pp, std::make_unique<perception::ColourBollDetector>(perception::ColourBollParams()));
+    SimHarvestPlant plant(sim, simStackParams(config.sim), std::move(pipeline));
+    control::HarvestParams mp = config.machine;
+    mp.bolls_present = static_cast<int>(sim.bolls().size());
+    control::HarvestMachine machine(plant, mp);
+    const bool verbose = config.verbose;
+    std::uint32_t printed = 0;
+    machine.machine().setObserver([&](const thorvald_state_machine::StatusSnapshot& s) {
+      if (!s.active_state.empty()) report.states_visited.insert(s.active_state);
+      if (verbose && s.transitions != printed && !s.history.empty()) {
+        printed = s.transitions;
+        const auto& h = s.history.back();
+        const auto points = machine.lastDecisionPoints();
+        std::fprintf(stderr, "[%7.2f s] %s -> %s (%s) rover %.3f m", h.stamp_s, h.state.c_str(), h.next.c_str(),
+                     h.outcome.c_str(), plant.roverPositionM());
+        if (points)
+          std::fprintf(stderr, "  boll (%.3f %.3f %.3f) effector (%.3f %.3f %.3f)", points->first.x, points->first.y,
+                       points->first.z, points->second.x, points->second.y, points->second.z);
+        std::fprintf(stderr, "  captured %d\n", sim.bollsCaptured());
+      }
+    });
+    machine.machine().setClock([&sim] { return sim.time(); });
+    bool debug_written = config.debug_image_path.empty();
+    const double t0 = sim.time();
+    plant.setFrameHook([&](const cv::Mat& bgr, const perception::FrameResult& result) {
+      if (sim.time() - t0 > config.time_limit_s) machine.machine().requestPreempt();
+      if (!config.frames_dir.empty()) {
+        char name[32];
+        std::snprintf(name, sizeof(name), "/frame_%04d.png", plant.frames());
+        cv::imwrite(config.frames_dir + name, perception::drawDebugOverlay(bgr, result));
+      }
+      if (!debug_written && result.end_effector && !result.bolls.empty()) {
+        debug_written = cv::imwrite(config.debug_image_path, perception::drawDebugOverlay(bgr, result));
+      }
+    });
+    report.rover_start = sim.roverPosition();
+    report.bolls_reachable = reachableBolls(sim, mp.row_length_m);
+    report.outcome = machine.run();
+    report.counts = machine.counts();
+    report.machine_picked = report.counts.picked;
+    report.counts.picked = sim.bollsCaptured();
+    report.bolls_present = static_cast<int>(sim.bolls().size());
+    report.counts.bolls_present = report.bolls_present;
+    report.metrics = control::computeMetrics(report.counts);
+    report.frames = plant.frames();
+    report.frames_with_effector = plant.framesWithEffector();
+    report.effector_rejected = plant.effectorRejected();
+    report.effector_from_calibration = plant.effectorFromCalibration();
+    report.sim_time_s = sim.time() - t0;
+    report.rover_track = plant.track();
+    report.bolls = sim.bolls();
+    report.rover_end = sim.roverPosition();
+    report.divergences = sim.divergences();
+  } catch (const std::exception& e) {
+    report.error = e.what();
+  }
+  report.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  return report;
+}
+
+bool writePathPng(const HarvestRunReport& report, const std::string& path) {
+  if (report.bolls.empty()) return false;
+  // Top view: x along the row (right), y across (up); 200 px per metre.
+  double x_min = report.rover_start.x(), x_max = report.rover_end.x();
+  for (const auto& b : report.bolls) {
+    x_min = std::min(x_min, b.centre.x());
+    x_max = std::max(x_max, b.centre.x());
+  }
+  x_min -= 0.5;
+  x_max += 0.5;
+  const double scale = 200.0, y_half = 0.8;
+  const int w = static_cast<int>((x_max - x_min) * scale), h = static_cast<int>(2 * y_half * scale) + 40;
+  cv::Mat img(h, w, CV_8UC3, cv::Scalar(60, 80, 110));
+  auto px = [&](double x, double y) {
+    return cv::Point(static_cast<int>((x - x_min) * scale), static_cast<int>((y_half - y) * scale) + 40);
+  };
+  // The camera's path along the row (the encoder's positions from the start).
+  const double cam_x0 = report.rover_start.x() + RoverGeometry().camera_ahead_m;
+  for (size_t i = 1; i < report.rover_track.size(); ++i) {
+    cv::line(img, px(cam_x0 + report.rover_track[i - 1].second, 0.0), px(cam_x0 + report.rover_track[i].second, 0.0),
+             cv::Scalar(255, 200, 0), 2);
+  }
+  for (const auto& b : report.bolls) {
+    cv::circle(img, px(b.centre.x(), b.centre.y()), 7, b.captured ? cv::Scalar(0, 200, 0) : cv::Scalar(0, 0, 230),
+               b.captured ? -1 : 2);
+  }
+  cv::putText(img, "camera path (blue), picked (filled green), missed (red)", cv::Point(5, 20),
+              cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(255, 255, 255), 1);
+  return cv::imwrite(path, img);
+}
+
+}  // namespace sim
+}  // namespace cotton_harvester

@@ -1,0 +1,181 @@
+#include "cotton_harvester/sim/sim_harvest_plant.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "cotton_harvester/perception/colour_boll_detector.h"
+
+namespace cotton_harvester {
+namespace sim {
+
+namespace {
+bool positive(double v) { return v > 0.0 && std::isfinite(v); }
+}  // namespace
+
+std::string StackParams::check() const {
+  if (auto bad = rover.check(); !bad.empty()) return "rover/" + bad;
+  const std::pair<const char*, double> values[] = {
+      {"control_period_s", control_period_s},   {"metres_per_pulse", metres_per_pulse},
+      {"rover_tolerance_m", rover_tolerance_m}, {"rover_timeout_s", rover_timeout_s},
+      {"arm_timeout_s", arm_timeout_s},         {"pick_dwell_s", pick_dwell_s},
+      {"arm_max_depth_m", arm_max_depth_m},     {"horizontal_travel_m", horizontal_travel_m}};
+  for (const auto& [key, v] : values)
+    if (!positive(v)) return std::string(key) + ": expected > 0";
+  if (!(effector_prior_m > 0.0)) return "effector_prior_m: expected > 0";
+  if (!(settle_s >= 0.0) || !(rover_timeout_per_m_s >= 0.0)) return "settle_s: expected >= 0";
+  if (!(arm_min_depth_m >= 0.0 && arm_min_depth_m < arm_max_depth_m))
+    return "arm_min_depth_m: expected 0 <= min < arm_max_depth_m";
+  if (!(rest_extension_m >= 0.0 && rest_extension_m <= horizontal_travel_m))
+    return "rest_extension_m: expected within [0, horizontal_travel_m]";
+  if (!(rest_depth_m >= arm_min_depth_m && rest_depth_m <= arm_max_depth_m))
+    return "rest_depth_m: expected within the vertical axis' depths";
+  return "";
+}
+
+perception::PerceptionParams simPerceptionParams(const RoverSimParams& sim) {
+  perception::PerceptionParams p;
+  p.intrinsics.fx = p.intrinsics.fy = sim.fx;
+  p.intrinsics.cx = sim.cx;
+  p.intrinsics.cy = sim.cy;
+  p.intrinsics.width = sim.camera_width;
+  p.intrinsics.height = sim.camera_height;
+  p.geometry.camera_height_m = sim.geometry.camera_height_m;
+  p.end_effector.arm_direction = cv::Point2d(-1.0, 0.0);
+  p.end_effector.arm_base_offset_m = sim.geometry.arm_base_offset_m;
+  p.reach.max_depth_m = sim.geometry.max_depth_m;
+  p.reach.arm_origin_x_m = -sim.geometry.arm_base_offset_m + 0.5 * sim.geometry.horizontal_travel_m;
+  p.reach.horizontal_arm_length_m = 0.5 * sim.geometry.horizontal_travel_m + sim.geometry.effector_half_m;
+  return p;
+}
+
+StackParams simStackParams(const RoverSimParams& sim) {
+  StackParams s;
+  s.metres_per_pulse = sim.drive.metres_per_pulse;
+  s.arm_base_offset_m = sim.geometry.arm_base_offset_m;
+  s.arm_min_depth_m = sim.geometry.min_depth_m;
+  s.arm_max_depth_m = sim.geometry.max_depth_m;
+  s.horizontal_travel_m = sim.geometry.horizontal_travel_m;
+  s.effector_half_m = sim.geometry.effector_half_m;
+  return s;
+}
+
+SimHarvestPlant::SimHarvestPlant(RoverSim& sim, const StackParams& params,
+                                 std::unique_ptr<perception::PerceptionPipeline> pipeline)
+    : sim_(sim), params_(params), pipeline_(std::move(pipeline)), rover_(params.rover) {
+  if (auto bad = params_.check(); !bad.empty()) throw std::invalid_argument("harvest stack: " + bad);
+  if (!pipeline_) throw std::invalid_argument("harvest stack: no perception pipeline");
+  target_m_ = roverPositionM();
+  rover_.setTarget(target_m_);
+}
+
+double SimHarvestPlant::roverPositionM() const { return sim_.encoderCount() * params_.metres_per_pulse; }
+
+void SimHarvestPlant::run(double seconds) {
+  const int periods = std::max(1, static_cast<int>(std::lround(seconds / params_.control_period_s)));
+  for (int i = 0; i < periods; ++i) {
+    const double position = roverPositionM();
+    sim_.setSwashplatePwm(rover_.update(position, params_.control_period_s));
+    sim_.advance(params_.control_period_s);
+    track_.emplace_back(sim_.time(), position);
+  }
+}
+
+std::optional<control::HarvestObservation> SimHarvestPlant::observe(const Preempted& preempted) {
+  if (preempted()) return std::nullopt;
+  run(params_.settle_s);
+  control::HarvestObservation obs;
+  obs.stamp_s = sim_.time();
+  obs.rover_position_m = roverPositionM();
+  sim_.renderCamera(&bgr_, &cloud_);
+  const perception::FrameResult result = pipeline_->process(bgr_, cloud_);
+  ++frames_;
+  if (hook_) hook_(bgr_, result);
+  if (result.status != perception::FrameStatus::kOk) return std::nullopt;
+  for (const auto& b : result.bolls) {
+    control::BollSighting s;
+    s.position = {b.position.x, b.position.y, b.position.z};
+    s.confidence = b.detection.confidence;
+    s.reachable = b.reachable;
+    obs.bolls.push_back(s);
+  }
+  // Where the arm's calibration puts the housing's top face, from the stepper counters.
+  const control::Point3 expected{sim_.horizontalPosition() - params_.arm_base_offset_m, 0.0, sim_.verticalPosition()};
+  if (result.end_effector) {
+    const cv::Point3d& p = result.end_effector->position;
+    const double off = std::hypot(p.x - expected.x, p.y - expected.y, p.z - expected.z);
+    if (off <= params_.effector_prior_m) {
+      ++frames_with_effector_;
+      obs.end_effector = control::Point3{p.x, p.y, p.z};
+      return obs;
+    }
+    ++effector_rejected_;  // an orange-like region elsewhere (a terracotta pot) was taken for the housing
+  }
+  if (params_.effector_from_calibration) {
+    ++effector_from_calibration_;
+    obs.end_effector = expected;
+  }
+  return obs;
+}
+
+control::MoveResult SimHarvestPlant::moveRover(double distance_m, const Preempted& preempted) {
+  if (!std::isfinite(distance_m)) return control::MoveResult::kFailed;
+  // Drive with the arm up, clear of the plants.
+  sim_.commandHorizontal(params_.rest_extension_m);
+  target_m_ = roverPositionM() + distance_m;
+  rover_.setTarget(target_m_);
+  const double timeout = params_.rover_timeout_s + params_.rover_timeout_per_m_s * std::abs(distance_m);
+  const double start = sim_.time();
+  // Done when the controller holds neutral and the encoder has not moved for rover_settle_s (the controller goes
+  // to neutral early and lets the rover coast to the target; it restarts by itself if the rover stops short).
+  double still_s = 0.0;
+  std::int32_t last_count = sim_.encoderCount();
+  while (still_s < params_.rover_settle_s) {
+    if (preempted()) return control::MoveResult::kPreempted;
+    if (sim_.time() - start > timeout) return control::MoveResult::kFailed;
+    run(params_.control_period_s);
+    const std::int32_t count = sim_.encoderCount();
+    still_s = rover_.atRest() && count == last_count ? still_s + params_.control_period_s : 0.0;
+    last_count = count;
+  }
+  return std::abs(roverPositionM() - target_m_) <=
+                 std::max(params_.rover_tolerance_m, params_.rover.restart_tolerance_m)
+             ? control::MoveResult::kDone
+             : control::MoveResult::kFailed;
+}
+
+bool SimHarvestPlant::waitArm(const Preempted& preempted) {
+  const double start = sim_.time();
+  while (sim_.armMoving()) {
+    if (preempted() || sim_.time() - start > params_.arm_timeout_s) return false;
+    run(params_.control_period_s);
+  }
+  return true;
+}
+
+control::MoveResult SimHarvestPlant::moveArmToDepth(double depth_m, const Preempted& preempted) {
+  if (!std::isfinite(depth_m)) return control::MoveResult::kFailed;
+  sim_.commandVertical(std::clamp(depth_m, params_.arm_min_depth_m, params_.arm_max_depth_m));
+  if (!waitArm(preempted)) return preempted() ? control::MoveResult::kPreempted : control::MoveResult::kFailed;
+  return control::MoveResult::kDone;
+}
+
+control::MoveResult SimHarvestPlant::pick(double offset_m, const Preempted& preempted) {
+  if (!std::isfinite(offset_m)) return control::MoveResult::kFailed;
+  const double target = std::clamp(sim_.horizontalPosition() + offset_m, 0.0, params_.horizontal_travel_m);
+  sim_.commandHorizontal(target);
+  if (!waitArm(preempted)) return preempted() ? control::MoveResult::kPreempted : control::MoveResult::kFailed;
+  sim_.setVacuum(true);
+  run(params_.pick_dwell_s);
+  sim_.commandHorizontal(params_.rest_extension_m);
+  const bool back = waitArm(preempted);
+  sim_.setVacuum(false);
+  // Up above the plants again, so the next frame sees the row and not the housing over it.
+  sim_.commandVertical(params_.rest_depth_m);
+  const bool up = waitArm(preempted);
+  if (preempted()) return control::MoveResult::kPreempted;
+  return back && up ? control::MoveResult::kDone : control::MoveResult::kFailed;
+}
+
+}  // namespace sim
+}  // namespace cotton_harvester
