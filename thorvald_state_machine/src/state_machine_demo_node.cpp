@@ -1,10 +1,11 @@
 // A small machine that shows the status topic: COUNT runs `cycles` times (each waits `step_s` of ROS
-// time), then REPORT finishes the machine. cycles < 0 counts forever until preempted through
+// time), then REPORT finishes the machine. cycles = -1 counts forever until preempted through
 // ~preempt (std_msgs/Empty). The node exits when the machine finishes.
 #include <thread>
 
 #include <ros/ros.h>
 #include <std_msgs/Empty.h>
+#include <thorvald_base/ros/param_reader.h>
 
 #include "thorvald_state_machine/ros/status_publisher.h"
 #include "thorvald_state_machine/state_machine.h"
@@ -14,10 +15,15 @@ namespace tsm = thorvald_state_machine;
 int main(int argc, char** argv) {
   ros::init(argc, argv, "state_machine_demo");
   ros::NodeHandle pnh("~");
-  const int cycles = pnh.param("cycles", 3);
-  const double step_s = pnh.param("step_s", 0.1);
-  if (!(step_s > 0.0)) {
-    ROS_FATAL("~step_s must be > 0 s, got %f", step_s);
+  int cycles = 3;
+  double step_s = 0.1;
+  try {
+    thorvald_base::ParamReader params(pnh);
+    cycles = params.integer("cycles", cycles, -1);
+    step_s = params.number("step_s", step_s, thorvald_base::ParamRange::aboveUpTo(0.0, 3600.0), "s");
+    params.finish();
+  } catch (const thorvald_base::ParamError& e) {
+    ROS_FATAL_STREAM(e.what());
     return 1;
   }
 
