@@ -31,14 +31,13 @@ MuxOptions readOptions(thorvald_base::ParamReader& params) {
 MuxConfig readConfig(thorvald_base::ParamReader& params, ros::NodeHandle& pnh, bool use_stamped) {
   MuxConfig config;
   XmlRpc::XmlRpcValue topics;
-  params.has("topics");
-  if (!pnh.getParam("topics", topics)) {
+  if (!params.raw("topics", &topics)) {
     throw std::runtime_error("parameter " + pnh.resolveName("topics") +
                              " is missing, expected a list of {name, topic, timeout, priority}");
   }
   config.inputs = parseMuxEntries(topics, "topics", use_stamped);
   XmlRpc::XmlRpcValue locks;
-  if (params.has("locks") && pnh.getParam("locks", locks)) config.locks = parseMuxEntries(locks, "locks", false);
+  if (params.raw("locks", &locks)) config.locks = parseMuxEntries(locks, "locks", false);
   const std::string error = validateMuxConfig(config);
   if (!error.empty()) throw std::runtime_error(error);
   return config;
