@@ -19,6 +19,7 @@ std::string HarvestParams::check() const {
   if (!(max_missed_observations >= 1)) return "max_missed_observations: expected >= 1";
   if (!(max_failed_actions >= 1)) return "max_failed_actions: expected >= 1";
   if (!(bolls_present >= 0)) return "bolls_present: expected >= 0";
+  if (!(remember_target_frames >= 0)) return "remember_target_frames: expected >= 0";
   return "";
 }
 
@@ -69,6 +70,7 @@ std::string HarvestMachine::run() {
     start_time_s_ = last_time_s_ = plant_.now();
     start_position_m_ = last_position_m_ = plant_.roverPositionM();
     missed_ = failed_actions_ = rejected_frames_ = 0;
+    target_id_ = 0;
     decision_points_.reset();
   }
   tsm::UserData userdata;
@@ -116,7 +118,15 @@ std::string HarvestMachine::observe(tsm::UserData& ud, tsm::ExecutionContext& ct
   const std::vector<int> ids = tracker_.update(*observation);
   while (true) {
     const auto index = tracker_.nearestPending(*observation, ids);
-    if (!index) {
+    std::optional<Point3> boll;
+    int id = 0;
+    if (index) {
+      boll = observation->bolls[*index].position;
+      id = ids[*index];
+    } else if ((boll = rememberedTarget(*observation))) {
+      id = target_id_;
+    }
+    if (!boll) {
       missed_ = 0;
       return "pass_on";
     }
@@ -126,8 +136,7 @@ std::string HarvestMachine::observe(tsm::UserData& ud, tsm::ExecutionContext& ct
       return ++missed_ >= params_.max_missed_observations ? "lost" : "retry";
     }
     missed_ = 0;
-    const int id = ids[*index];
-    HarvestDecision decision = decide(observation->bolls[*index].position, *ee, params_.decision);
+    HarvestDecision decision = decide(*boll, *ee, params_.decision);
     if (decision.action == HarvestAction::kOutOfReach) {
       tracker_.skip(id);
       continue;
@@ -139,11 +148,21 @@ std::string HarvestMachine::observe(tsm::UserData& ud, tsm::ExecutionContext& ct
     decision.rover_move_m = std::clamp(decision.rover_move_m, -params_.max_rover_step_m, params_.max_rover_step_m);
     decision_ = decision;
     target_id_ = id;
-    decision_points_ = std::make_pair(observation->bolls[*index].position, *ee);
+    decision_points_ = std::make_pair(*boll, *ee);
     ud.set<int>("target_boll", id);
     ud.set<std::string>("action", toString(decision.action));
     return toString(decision.action);
   }
+}
+
+std::optional<Point3> HarvestMachine::rememberedTarget(const HarvestObservation& observation) const {
+  if (params_.remember_target_frames <= 0 || target_id_ == 0) return std::nullopt;
+  const TrackedBoll* track = tracker_.find(target_id_);
+  if (!track || track->fate != BollFate::kPending) return std::nullopt;
+  if (tracker_.frame() - track->last_seen_frame > params_.remember_target_frames) return std::nullopt;
+  // along_row = rover position + y_forward_sign * camera y (BollTracker).
+  const double y = (track->along_row_m - observation.rover_position_m) * params_.decision.y_forward_sign;
+  return Point3{track->across_m, y, track->depth_m};
 }
 
 std::string HarvestMachine::resultOutcome(MoveResult result) {

@@ -14,6 +14,7 @@
 #include <ros/ros.h>
 #include <std_msgs/Bool.h>
 #include <std_msgs/Float64.h>
+#include <tf2/LinearMath/Quaternion.h>
 
 #include "calibration_params.h"
 #include "cotton_harvester/control/navigation_protocol.h"
@@ -152,8 +153,12 @@ class RoverNode {
     odom.child_frame_id = child_frame_id_;
     odom.pose.pose.position.x = odometry_.x();
     odom.pose.pose.position.y = odometry_.y();
-    odom.pose.pose.orientation.z = std::sin(0.5 * odometry_.yaw());
-    odom.pose.pose.orientation.w = std::cos(0.5 * odometry_.yaw());
+    tf2::Quaternion q;
+    q.setRPY(0.0, 0.0, odometry_.yaw());
+    odom.pose.pose.orientation.x = q.x();
+    odom.pose.pose.orientation.y = q.y();
+    odom.pose.pose.orientation.z = q.z();
+    odom.pose.pose.orientation.w = q.w();
     odom.twist.twist.linear.x = odometry_.speed();
     odom.twist.twist.angular.z = odometry_.yawRate();
     const double pulse = controller_.params().metres_per_pulse;

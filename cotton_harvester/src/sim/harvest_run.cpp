@@ -49,6 +49,7 @@ HarvestRunConfig pottedConfig(unsigned seed) {
   c.sim.start_x_m = -0.3;
   c.machine.row_length_m = 2.9;
   c.machine.bolls_present = 18;
+  c.machine.remember_target_frames = 2;
   c.time_limit_s = 900.0;
   return c;
 }

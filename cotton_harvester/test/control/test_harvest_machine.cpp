@@ -323,3 +323,28 @@ TEST(HarvestMachine, HarvestsASimulatedRowOfSixPlants) {
   EXPECT_LE(counts.picked + counts.skipped, counts.detected);
   EXPECT_GE(counts.reached, counts.picked);
 }
+
+// A boll hidden once the rover stands over it: with the tracker's memory the machine still aims at it from where it
+// was last seen (the arm goes down to it); without, it passes on as Algorithm 1 does.
+TEST(HarvestMachine, HiddenTargetIsAimedAtFromMemory) {
+  for (int remember : {0, 2}) {
+    ScriptedPlant plant;
+    plant.frames.push_back(frame({{0.1, 0.2, 1.0}}));  // ahead: move forward 0.2 m; the next frames show no boll
+    plant.frames.push_back(frame({}));
+    plant.frames.push_back(frame({}));
+    HarvestParams params = shortRow();
+    params.remember_target_frames = remember;
+    HarvestMachine machine(plant, params);
+    machine.run();
+    ASSERT_GE(plant.actions.size(), 2u) << remember;
+    EXPECT_EQ(plant.actions[0], "rover");
+    EXPECT_NEAR(plant.values[0], 0.2, 1e-9);
+    if (remember == 0) {
+      EXPECT_EQ(plant.actions[1], "rover");  // pass on
+      EXPECT_NEAR(plant.values[1], params.pass_step_m, 1e-9);
+    } else {
+      EXPECT_EQ(plant.actions[1], "arm");  // aligned along the row: down to the remembered depth
+      EXPECT_NEAR(plant.values[1], 1.0, 1e-9);
+    }
+  }
+}

@@ -103,15 +103,15 @@ TEST(MujocoHarvest, ShortRowEveryReachableBollPicked) {
   EXPECT_EQ(r.outcome, "finished");
   EXPECT_EQ(r.bolls_present, 6);
   EXPECT_GE(r.bolls_reachable, 5);
-  // A boll that a leaf hides from straight above is seen from behind but lost once the rover stands over it (on
-  // this row one of the six); every other reachable boll must be taken by the vacuum.
-  EXPECT_GE(r.counts.picked, r.bolls_reachable - 1);
+  // Every boll inside the arm's workspace is taken by the vacuum, including one that a leaf hides from straight
+  // above once the rover stands over it (aimed at from the tracker's memory, remember_target_frames).
+  EXPECT_EQ(r.counts.picked, r.bolls_reachable);
   EXPECT_LE(r.counts.picked, r.machine_picked) << "the vacuum took a boll the machine did not pick";
   for (const char* state : {"OBSERVE", "MOVE_FORWARD", "ARM_DOWN", "PICK", "PASS_ON"})
     EXPECT_EQ(r.states_visited.count(state), 1u) << state;
   EXPECT_EQ(r.divergences, 0);
   ASSERT_TRUE(r.metrics.cycle_time_s.has_value());
-  EXPECT_LT(*r.metrics.cycle_time_s, 60.0);
+  EXPECT_LT(*r.metrics.cycle_time_s, 30.0);
 }
 
 int main(int argc, char** argv) {

@@ -53,6 +53,8 @@ class BollTracker {
 
   const std::vector<TrackedBoll>& tracks() const { return tracks_; }
   const TrackedBoll* find(int id) const;
+  /// Frames seen so far (TrackedBoll::last_seen_frame counts the same way).
+  int frame() const { return frame_; }
   int detected() const { return static_cast<int>(tracks_.size()); }
   int reached() const;
   int picked() const;

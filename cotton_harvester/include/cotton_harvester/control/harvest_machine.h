@@ -47,7 +47,11 @@ struct HarvestParams {
   int max_missed_observations = 10;  ///< frames in a row without an end effector or at all: abort
   int max_failed_actions = 3;        ///< rover/arm failures in a row: abort
   int bolls_present = 0;             ///< ground truth for the metrics, 0 when unknown
-  std::string check() const;         ///< empty when sound, otherwise "key: expected ..."
+  /// A boll being worked on that a frame does not show (a leaf hides it from straight above once the rover stands
+  /// over it) is still aimed at from where the tracker last saw it, for this many frames after its last
+  /// sighting; 0: only what the frame shows (the paper's Algorithm 1).
+  int remember_target_frames = 0;
+  std::string check() const;  ///< empty when sound, otherwise "key: expected ..."
 };
 
 /// The harvest state machine (paper §2.9, Algorithm 1, Figures 13–14) on thorvald_state_machine:
@@ -77,6 +81,8 @@ class HarvestMachine {
                   thorvald_state_machine::ExecutionContext& ctx);
   std::string passOn(thorvald_state_machine::ExecutionContext& ctx);
   std::string resultOutcome(MoveResult result);
+  /// The target boll from the tracker's memory (camera frame at the frame's rover position), when it may be used.
+  std::optional<Point3> rememberedTarget(const HarvestObservation& observation) const;
 
   HarvestPlant& plant_;
   HarvestParams params_;
