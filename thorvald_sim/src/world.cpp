@@ -140,6 +140,10 @@ WorldDescription makeCottonRowWorld(const CottonRowParams& p, CottonRowTruth* tr
   requirePositive(p.boll_radius_m, "boll_radius");
   if (p.bolls_per_plant < 0) throw std::invalid_argument("bolls_per_plant must not be negative");
   if (!(std::fabs(p.slope_deg) < 30.0)) throw std::invalid_argument("slope_deg must be within +-30 degrees");
+  if (p.leaves_per_plant < 0 || p.leaves_per_plant > 200)
+    throw std::invalid_argument("leaves_per_plant must be within 0..200");
+  if (!(p.leaf_over_boll_fraction >= 0.0 && p.leaf_over_boll_fraction <= 1.0))
+    throw std::invalid_argument("leaf_over_boll_fraction must be within 0..1");
   CottonRowTruth t;
   t.params = p;
   const double th = p.slope_deg * M_PI / 180.0;
@@ -156,7 +160,7 @@ WorldDescription makeCottonRowWorld(const CottonRowParams& p, CottonRowTruth* tr
     w.cylinder(n + "_pot", base + Eigen::Vector3d(0, 0, 0.1), 0.1, 0.11, colours::kPot);
     const Eigen::Vector3d top = base + Eigen::Vector3d(0, 0, p.plant_height_m);
     w.capsule(n + "_stem", base + Eigen::Vector3d(0, 0, 0.2), top, 0.008, colours::kStem);
-    for (int l = 0; l < 4; ++l) {
+    for (int l = 0; l < p.leaves_per_plant; ++l) {
       const double a = 2 * M_PI * u(rng), h = 0.35 + 0.4 * u(rng) * p.plant_height_m;
       w.ellipsoid(n + "_leaf" + std::to_string(l),
                   base + Eigen::Vector3d(0.07 * std::cos(a), 0.07 * std::sin(a), std::min(h, p.plant_height_m)),
@@ -167,6 +171,13 @@ WorldDescription makeCottonRowWorld(const CottonRowParams& p, CottonRowTruth* tr
       const double rad = 0.06 + 0.08 * u(rng), h = (0.45 + 0.5 * u(rng)) * p.plant_height_m;
       const Eigen::Vector3d c = base + Eigen::Vector3d(rad * std::cos(a), rad * std::sin(a), h);
       w.sphere(n + "_boll" + std::to_string(b), c, p.boll_radius_m, colours::kBoll);
+      // Undefoliated plants: a leaf just above the boll, shifted by up to its radius, hides part of it from above.
+      if (p.leaf_over_boll_fraction > 0.0 && u(rng) < p.leaf_over_boll_fraction) {
+        const double la = 2 * M_PI * u(rng), shift = p.boll_radius_m * u(rng);
+        w.ellipsoid(n + "_boll" + std::to_string(b) + "_leaf",
+                    c + Eigen::Vector3d(shift * std::cos(la), shift * std::sin(la), p.boll_radius_m + 0.02),
+                    {0.06, 0.045, 0.008}, la, colours::kLeaf);
+      }
       t.bolls.push_back(c);
       t.boll_plant.push_back(i);
     }

@@ -58,6 +58,8 @@ HarvestRunConfig fieldConfig(unsigned seed) {
   HarvestRunConfig c = pottedConfig(seed);
   c.sim.row.plants = 17;  // Table 3: 5.3 m of undefoliated row on a 2.7668 deg slope
   c.sim.row.slope_deg = 2.7668;
+  c.sim.row.leaves_per_plant = 12;  // undefoliated: more leaves, and one above 40 % of the bolls
+  c.sim.row.leaf_over_boll_fraction = 0.4;
   c.machine.row_length_m = 6.4;
   c.machine.bolls_present = 17 * 3;
   c.time_limit_s = 2400.0;

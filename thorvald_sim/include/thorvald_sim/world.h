@@ -77,7 +77,9 @@ struct CottonRowParams {
   int bolls_per_plant = 3;
   double boll_radius_m = 0.035;
   double slope_deg = 0.0;
-  unsigned seed = 1;  ///< places the bolls and leaves
+  unsigned seed = 1;                   ///< places the bolls and leaves
+  int leaves_per_plant = 4;            ///< leaves spread over the stem (potted tests: defoliated, few)
+  double leaf_over_boll_fraction = 0;  ///< share of bolls with a leaf just above them, partly hiding them from above
 };
 
 struct CottonRowTruth {
