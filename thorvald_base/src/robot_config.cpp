@@ -348,7 +348,8 @@ bool setDriveKey(DriveConfig& drive, const std::string& key, double value) {
 
 std::string nearestRobotFileGroup(const std::string& key) {
   static const std::vector<std::string> groups = {
-      "base_calculator", "motor_drives", "batteries", "pipes", "corners", "beams", "casters", "passive_wheels", "io"};
+      "base_calculator", "motor_drives", "batteries",      "pipes", "corners",
+      "beams",           "casters",      "passive_wheels", "io",    "implement_can_ids"};
   std::string best;
   size_t best_distance = 3;  // at most two edits: a missing plural s, a swapped or missing letter
   for (const auto& g : groups) {
@@ -372,6 +373,47 @@ std::string nearestRobotFileGroup(const std::string& key) {
   }
   return best;
 }
+
+void validateImplementCanIds(const std::vector<int>& ids, const std::string& source, const std::string& where) {
+  if (ids.size() > kMaxModulesPerGroup) {
+    throw ConfigError(source, where,
+                      "lists " + std::to_string(ids.size()) + " ids, at most " + std::to_string(kMaxModulesPerGroup) +
+                          " are accepted");
+  }
+  std::set<int> seen;
+  for (size_t i = 0; i < ids.size(); ++i) {
+    const std::string entry = where + "[" + std::to_string(i) + "]";
+    if (ids[i] < 1 || ids[i] > kMaxCanStdId) {
+      throw ConfigError(source, entry,
+                        "CAN id " + std::to_string(ids[i]) + " outside 0x001..0x7FF (11-bit identifiers; 0 is NMT)");
+    }
+    if (!seen.insert(ids[i]).second) {
+      throw ConfigError(source, entry, "CAN id " + std::to_string(ids[i]) + " is listed twice");
+    }
+  }
+}
+
+namespace {
+
+std::vector<int> readImplementCanIds(const YAML::Node& root, const std::string& source) {
+  std::vector<int> ids;
+  const YAML::Node list = root["implement_can_ids"];
+  if (!list.IsDefined() || list.IsNull()) return ids;
+  if (!list.IsSequence()) {
+    throw ConfigError(source, "implement_can_ids", "expected a list of 11-bit CAN ids, e.g. [0x181, 0x201]");
+  }
+  if (list.size() > kMaxModulesPerGroup) {
+    throw ConfigError(source, "implement_can_ids",
+                      "lists " + std::to_string(list.size()) + " ids, at most " + std::to_string(kMaxModulesPerGroup) +
+                          " are accepted");
+  }
+  const ScalarReader reader(source, "implement_can_ids");
+  for (size_t i = 0; i < list.size(); ++i) ids.push_back(reader.integer(list[i], std::to_string(i)));
+  validateImplementCanIds(ids, source, "implement_can_ids");
+  return ids;
+}
+
+}  // namespace
 
 RobotConfig parseRobotConfig(const YAML::Node& root, const std::string& source) {
   RobotConfig config;
@@ -411,6 +453,7 @@ RobotConfig parseRobotConfig(const YAML::Node& root, const std::string& source) 
   config.casters = readGroup(root, "casters", passiveWheelFields(), source, config.warnings);
   config.passive_wheels = readGroup(root, "passive_wheels", passiveWheelFields(), source, config.warnings);
   config.io = readGroup(root, "io", ioFields(), source, config.warnings);
+  config.implement_can_ids = readImplementCanIds(root, source);
   validateCanNodeIds(config.drives, source);
   validateDriveSpacing(config.drives, source);
   for (const auto& beam : config.beams) {

@@ -83,11 +83,26 @@ class BadConfig(unittest.TestCase):
         for ns, arg, name, found in (("/par1", "_simple_sim:=maybe", "~simple_sim", "the string 'maybe'"),
                                      ("/par2", "_rate:=fast", "~rate", "the string 'fast'"),
                                      ("/par3", "_rate:=0", "~rate", "the integer 0"),
-                                     ("/par4", "_odometry_estimator:=magic", "~odometry_estimator", "the string 'magic'")):
+                                     ("/par4", "_odometry_estimator:=magic", "~odometry_estimator", "the string 'magic'"),
+                                     ("/par5", "_max_linear_speed:=fast", "~max_linear_speed", "the string 'fast'"),
+                                     ("/par6", "_battery_lost_action:=explode", "~battery_lost_action",
+                                      "the string 'explode'")):
             code, out = self.run_driver(ns, self.good_robot(), [arg])
             self.assertEqual(code, 1, out)
             self.assertIn("parameter " + name + ": found " + found, out)
             self.assertIn("base_driver", out)
+
+    def test_relay_ids_outside_11_bits_are_refused(self):
+        robot = self.good_robot()
+        robot["base_driver"] = {"relay_allowed_ids": [0x123, 4096]}
+        code, out = self.run_driver("/par7", robot)
+        self.assertEqual(code, 1, out)
+        self.assertIn("parameter ~relay_allowed_ids[1]: found the integer 4096", out)
+        robot = self.good_robot()
+        robot["implement_can_ids"] = [0x123, 0x800]
+        code, out = self.run_driver("/par8", robot)
+        self.assertEqual(code, 1, out)
+        self.assertIn("implement_can_ids[1]", out)
 
     def test_misspelt_parameter_is_warned(self):
         out = self.output_of_running_driver("/par5", self.good_robot(), ["_cmd_vel_timout:=0.1"], "did you mean")

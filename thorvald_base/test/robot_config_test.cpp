@@ -37,8 +37,8 @@ std::string withDrive0(const std::string& replace_from, const std::string& repla
 }  // namespace
 
 TEST(RobotConfig, PaperFigure5Loads) {
-  // The one copy of the Figure 5 robot file is thorvald_bringup's (tests run in thorvald_base/test).
-  const RobotConfig c = loadRobotConfigFile("../../thorvald_bringup/config/figure5.yaml");
+  // The one copy of the Figure 5 robot file is thorvald_base/config/figure5.yaml (tests run in thorvald_base/test).
+  const RobotConfig c = loadRobotConfigFile("../config/figure5.yaml");
   ASSERT_EQ(c.drives.size(), 4u);
   EXPECT_EQ(c.base_calculator, "pltf_clc_std::PltfClcStd");
   EXPECT_DOUBLE_EQ(c.drives[2].x, 0.547);
@@ -233,4 +233,21 @@ TEST(RobotConfig, NearestGroupNames) {
   EXPECT_EQ(thorvald_base::nearestRobotFileGroup("tf_prefix"), "");
   EXPECT_EQ(thorvald_base::nearestRobotFileGroup("base_driver"), "");
   EXPECT_EQ(thorvald_base::nearestRobotFileGroup("id"), "");
+}
+
+TEST(RobotConfig, ImplementCanIds) {
+  const std::string drives = std::string("motor_drives: {drive0: ") + kDrive + "}\n";
+  EXPECT_TRUE(parse(drives).implement_can_ids.empty());
+  // Hexadecimal as users write CAN ids, decimal, and numbers written as strings.
+  const RobotConfig c = parse(drives + "implement_can_ids: [0x181, 1284, \"0x7FF\", 1]\n");
+  EXPECT_EQ(c.implement_can_ids, (std::vector<int>{0x181, 1284, 0x7FF, 1}));
+  EXPECT_TRUE(c.warnings.empty());
+  expectError(drives + "implement_can_ids: [0x123, 0x800]", "implement_can_ids[1]", "outside 0x001..0x7FF");
+  expectError(drives + "implement_can_ids: [0]", "implement_can_ids[0]", "outside 0x001..0x7FF");
+  expectError(drives + "implement_can_ids: [-5]", "implement_can_ids[0]", "outside 0x001..0x7FF");
+  expectError(drives + "implement_can_ids: [0x123, 291]", "implement_can_ids[1]", "listed twice");
+  expectError(drives + "implement_can_ids: [0x12.5]", "implement_can_ids.0", "expected");
+  expectError(drives + "implement_can_ids: 0x123", "implement_can_ids", "expected a list");
+  expectError(drives + "implement_can_ids: {a: 1}", "implement_can_ids", "expected a list");
+  EXPECT_EQ(thorvald_base::nearestRobotFileGroup("implement_can_id"), "implement_can_ids");
 }

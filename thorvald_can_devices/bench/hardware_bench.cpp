@@ -143,7 +143,12 @@ int main(int argc, char** argv) {
   std::printf("%-40s %12s\n", "figure", "value");
   std::printf("%-40s %12zu\n", "latency samples", latency_ms.size());
   std::printf("%-40s %12.2f\n", "cmd_vel -> last drive frame p50 [ms]", percentile(latency_ms, 0.5));
+  std::printf("%-40s %12.2f\n", "cmd_vel -> last drive frame p90 [ms]", percentile(latency_ms, 0.9));
   std::printf("%-40s %12.2f\n", "cmd_vel -> last drive frame p99 [ms]", percentile(latency_ms, 0.99));
+  std::printf("%-40s %12.2f\n", "cmd_vel -> last drive frame max [ms]", percentile(latency_ms, 1.0));
+  std::printf(
+      "%-40s %12zu\n", "samples above 2 ms",
+      static_cast<size_t>(std::count_if(latency_ms.begin(), latency_ms.end(), [](double v) { return v > 2.0; })));
   std::printf("%-40s %12.0f\n", "virtual bus frames/s (2 processes)", bus.fps);
   std::printf("%-40s %12.1f\n", "base_driver CPU at 50 Hz, 9 drives [%]", cpu_pct);
   std::printf(

@@ -43,16 +43,30 @@ void CanBaseHardware::addDevice(std::shared_ptr<CanDevice> device, const std::st
       throw thorvald_base::ConfigError(source, device->label(),
                                        "CAN id " + hexId(id) + " is already used by another device of the base");
     }
-    owned_ids_.insert(id);
+    own(id, device->label());
     routes_[id] = device.get();
   }
-  for (uint32_t id : device->transmitIds()) owned_ids_.insert(id);
+  for (uint32_t id : device->transmitIds()) own(id, device->label());
   devices_.push_back(std::move(device));
+}
+
+void CanBaseHardware::own(uint32_t id, const std::string& user) {
+  owned_ids_.insert(id);
+  id_users_.emplace(id, user);
+}
+
+std::string CanBaseHardware::canIdUser(uint32_t id) const {
+  const auto it = id_users_.find(id);
+  return it == id_users_.end() ? "" : it->second;
 }
 
 void CanBaseHardware::initializeOnBus(const thorvald_base::RobotConfig& config, std::unique_ptr<CanBus> bus) {
   bus_ = std::move(bus);
-  owned_ids_ = {canopen_ids::kNmt, canopen_ids::kSync, canopen_ids::kHeartbeat + kHostNode};
+  owned_ids_.clear();
+  id_users_.clear();
+  own(canopen_ids::kNmt, "NMT");
+  own(canopen_ids::kSync, "SYNC");
+  own(canopen_ids::kHeartbeat + kHostNode, "the base's own heartbeat");
   const auto& drives = config.drives;
   for (size_t i = 0; i < drives.size(); ++i) {
     const auto& d = drives[i];
@@ -131,7 +145,11 @@ void CanBaseHardware::readBus(double now_s) {
   CanFrame f;
   for (size_t n = 0;; ++n) {
     if (n >= options_.max_frames_per_poll) {
-      if (bus_->waitReadable(0.0)) ++read_bound_hits_;
+      if (bus_->waitReadable(0.0)) {
+        ++read_bound_hits_;
+        const long waiting = bus_->framesWaiting();
+        frames_past_bound_ += waiting > 0 ? static_cast<unsigned long>(waiting) : 1;
+      }
       break;
     }
     if (!bus_->receive(&f)) break;
@@ -223,6 +241,7 @@ std::vector<std::pair<std::string, std::string>> CanBaseHardware::diagnostics() 
   out.emplace_back("CAN malformed frames rejected", std::to_string(malformedFrames() + s.malformed));
   out.emplace_back("CAN relay queue overflow", std::to_string(relay_overflow_));
   out.emplace_back("CAN polls at the read bound", std::to_string(read_bound_hits_));
+  out.emplace_back("CAN frames past the read bound", std::to_string(frames_past_bound_));
   if (!s.last_error.empty()) out.emplace_back("CAN last error", s.last_error);
   std::string missing;
   for (const auto& m : not_answering_) missing += (missing.empty() ? "" : ", ") + m;

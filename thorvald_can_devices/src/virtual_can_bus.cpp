@@ -4,6 +4,8 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <poll.h>
+#include <linux/sockios.h>
+#include <sys/ioctl.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/un.h>
@@ -374,6 +376,15 @@ bool VirtualCanBus::receive(CanFrame* frame) {
     if (in_.size() > before) return receive(frame);  // a new sender: read it now
   }
   return false;
+}
+
+long VirtualCanBus::framesWaiting() const {
+  long records = 0;
+  for (int fd : in_) {
+    int bytes = 0;
+    if (::ioctl(fd, SIOCINQ, &bytes) == 0 && bytes > 0) records += bytes / 16;
+  }
+  return records;
 }
 
 bool VirtualCanBus::waitReadable(double timeout_s) {

@@ -1,10 +1,13 @@
 // Host devices against the device simulator on the virtual bus, stepped on a fake clock.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 
 #include "rig.h"
+#include "thorvald_base/relay_allow_list.h"
 #include "thorvald_can_devices/battery_protocol.h"
 #include "thorvald_can_devices/canopen_protocol.h"
 #include "thorvald_can_devices/drive_scaling.h"
@@ -282,9 +285,50 @@ TEST(CanBase, AFloodNeitherStallsThePollNorStarvesTheDrives) {
   EXPECT_LE(most_per_poll, bound);
   EXPECT_GT(rig.hw.readBoundHits(), 50u);
   EXPECT_GE(heartbeats, 19u);  // the host heartbeat (every 100 ms) went on through the flood
+  // Frames past the bound are counted: at least what the flood sent beyond the bound and the socket still held.
+  EXPECT_GT(rig.hw.framesPastReadBound(), 50u * bound);
   bool reported = false;
-  for (const auto& kv : rig.hw.diagnostics()) reported = reported || (kv.first == "CAN polls at the read bound");
+  for (const auto& kv : rig.hw.diagnostics()) {
+    if (kv.first == "CAN frames past the read bound")
+      reported = kv.second == std::to_string(rig.hw.framesPastReadBound());
+  }
   EXPECT_TRUE(reported);
+}
+
+TEST(CanBase, VirtualBusCountsTheFramesWaiting) {
+  const std::string bus = "waiting" + std::to_string(::getpid());
+  VirtualCanBus receiver(bus), sender(bus);
+  EXPECT_EQ(receiver.framesWaiting(), 0);
+  CanFrame f;
+  receiver.receive(&f);  // accepts the sender's connection
+  for (int k = 0; k < 37; ++k) sender.send(makeFrame(0x321, {static_cast<uint8_t>(k)}));
+  receiver.receive(&f);
+  EXPECT_EQ(receiver.framesWaiting(), 36);
+  while (receiver.receive(&f)) {
+  }
+  EXPECT_EQ(receiver.framesWaiting(), 0);
+}
+
+TEST(CanBase, NamesTheDeviceOfEveryBaseIdAndKeepsThemOffTheRelayAllowList) {
+  Rig rig("robots/4wd4ws.yaml");
+  EXPECT_EQ(rig.hw.canIdUser(0x000), "NMT");
+  EXPECT_EQ(rig.hw.canIdUser(0x080), "SYNC");
+  for (uint32_t id : {0x201u, 0x181u, 0x704u}) EXPECT_NE(rig.hw.canIdUser(id), "") << std::hex << id;
+  EXPECT_EQ(rig.hw.canIdUser(0x123), "");
+  const auto allowed = thorvald_base::relayAllowList({{0x123, 0x7E4}, "robot.yaml", "implement_can_ids"}, rig.hw);
+  EXPECT_EQ(allowed, (std::set<uint32_t>{0x123, 0x7E4}));
+  try {
+    thorvald_base::relayAllowList({{0x123, 0x201}, "robot.yaml", "implement_can_ids"}, rig.hw);
+    FAIL() << "a drive's id was allowed";
+  } catch (const thorvald_base::ConfigError& e) {
+    EXPECT_EQ(e.where(), "implement_can_ids[1]");
+    EXPECT_NE(e.problem().find("0x201 is used by the base (" + rig.hw.canIdUser(0x201) + ")"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(thorvald_base::relayAllowList({{0x080}, "base_driver", "~relay_allowed_ids"}, rig.hw),
+               thorvald_base::ConfigError);
+  EXPECT_THROW(thorvald_base::relayAllowList({{0x800}, "base_driver", "~relay_allowed_ids"}, rig.hw),
+               thorvald_base::ConfigError);
 }
 
 TEST(CanBase, RelayRefusesBaseIdsAndPassesOthers) {

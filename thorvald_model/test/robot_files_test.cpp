@@ -1,6 +1,6 @@
-// Every robot file shipped in thorvald_bringup/config, through the real urdf_generator program: the URDF passes
-// check_urdf, holds base_driver's joints, weighs what such a robot weighs, and MuJoCo compiles it with every
-// link's mass intact.
+// Every robot file shipped in thorvald_bringup/config (and thorvald_base/config/figure5.yaml), through the real
+// urdf_generator program: the URDF passes check_urdf, holds base_driver's joints, weighs what such a robot weighs, and
+// MuJoCo compiles it with every link's mass intact.
 #include <gtest/gtest.h>
 #include <mujoco/mujoco.h>
 #include <tinyxml2.h>
@@ -91,6 +91,7 @@ std::vector<fs::path> robotFiles() {
   std::vector<fs::path> files;
   for (const auto& e : fs::directory_iterator(ROBOT_FILES_DIR))
     if (e.path().extension() == ".yaml" && isRobotFile(e.path())) files.push_back(e.path());
+  files.emplace_back(FIGURE5_FILE);  // the default robot's file lives in thorvald_base
   std::sort(files.begin(), files.end());
   return files;
 }

@@ -13,6 +13,8 @@
 
 namespace thorvald_base {
 
+class ParamReader;
+
 /// One classic CAN frame, as relayed between the base's bus and users.
 struct CanFrameData {
   uint32_t id = 0;     ///< 11-bit identifier
@@ -26,6 +28,10 @@ struct CanFrameData {
 class BaseHardware {
  public:
   virtual ~BaseHardware() = default;
+
+  /// Reads the plugin's own private parameters of base_driver (e.g. `~can_log`) through the node's reader, before
+  /// initialize(); a bad value throws ParamError or ConfigError. Optional: the default reads none.
+  virtual void readParameters(ParamReader& params) { (void)params; }
 
   /// Opens the bus (`socketcan` or `virtual`, with its name) and creates one device per drive and battery.
   /// Throws std::runtime_error saying what could not be opened or created.
@@ -44,6 +50,12 @@ class BaseHardware {
   /// Bus state for diagnostics: key/value pairs, and whether the bus is usable.
   virtual std::vector<std::pair<std::string, std::string>> diagnostics() const = 0;
   virtual bool busOk() const = 0;
+  /// The base device or protocol that uses CAN id `id` ("drive1 (Thorvald controller, node 2)", "NMT", ...), ""
+  /// when none does. The relay never carries such ids. Optional: the default knows none.
+  virtual std::string canIdUser(uint32_t id) const {
+    (void)id;
+    return "";
+  }
 };
 
 }  // namespace thorvald_base

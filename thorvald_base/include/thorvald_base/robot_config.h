@@ -101,6 +101,9 @@ struct RobotConfig {
   std::vector<PassiveWheelConfig> casters;
   std::vector<PassiveWheelConfig> passive_wheels;
   std::vector<IoConfig> io;
+  /// `implement_can_ids`: 11-bit CAN ids of implements on the base's bus (not drives or batteries); base_driver's
+  /// relay lets users send these and no others.
+  std::vector<int> implement_can_ids;
   std::vector<std::string> warnings;  ///< unknown keys and other things worth one log line each
 };
 
@@ -110,6 +113,9 @@ constexpr double kMaxModuleOffset_m = 10.0;
 constexpr size_t kMaxDrives = 64;
 /// Most modules in any other group (batteries, pipes, ...).
 constexpr size_t kMaxModulesPerGroup = 256;
+
+/// Highest standard (11-bit) CAN identifier.
+constexpr int kMaxCanStdId = 0x7FF;
 
 /// Plugin name used when a robot file names none.
 constexpr const char* kDefaultBaseCalculator = "pltf_clc_std::PltfClcStd";
@@ -133,6 +139,9 @@ void validateDrive(const DriveConfig& drive, const std::string& source, const st
 /// channels of one controller. parseRobotConfig calls it. Throws ConfigError.
 void validateCanNodeIds(const std::vector<DriveConfig>& drives, const std::string& source);
 
+/// Refuses implement CAN ids outside 0x001..0x7FF or listed twice. `where` names the list in errors (e.g.
+/// "implement_can_ids"). Throws ConfigError.
+void validateImplementCanIds(const std::vector<int>& ids, const std::string& source, const std::string& where);
 /// Refuses drives closer to each other than their wheels allow (e.g. every drive at one point). Parsing and
 /// every kinematics plugin's configure call it. Throws ConfigError.
 void validateDriveSpacing(const std::vector<DriveConfig>& drives, const std::string& source);

@@ -1,6 +1,7 @@
 #include "base_driver_ros.h"
 
 #include <sensor_msgs/BatteryState.h>
+#include <tf2/LinearMath/Quaternion.h>
 
 #include <algorithm>
 #include <cmath>
@@ -13,13 +14,6 @@
 namespace thorvald_base {
 namespace {
 
-template <typename T>
-T param(const ros::NodeHandle& nh, const std::string& key, const T& fallback) {
-  T value;
-  nh.param<T>(key, value, fallback);
-  return value;
-}
-
 boost::array<double, 36> covariance6(const Eigen::Matrix3d& c) {
   // (x, y, yaw) of the planar estimate into (x, y, z, roll, pitch, yaw); unobserved axes get a large variance.
   boost::array<double, 36> out{};
@@ -30,6 +24,17 @@ boost::array<double, 36> covariance6(const Eigen::Matrix3d& c) {
   return out;
 }
 
+/// The `tf_prefix` of the robot's namespace (searched upwards, as tf's convention has it); "" when none is set.
+std::string searchedTfPrefix(const ros::NodeHandle& nh) {
+  std::string key;
+  XmlRpc::XmlRpcValue value;
+  if (!nh.searchParam("tf_prefix", key) || !nh.getParam(key, value)) return "";
+  if (value.getType() != XmlRpc::XmlRpcValue::TypeString) {
+    throw ConfigError("base_driver", key, "must be a string (a frame prefix), found " + describeParamValue(value));
+  }
+  return static_cast<std::string>(value);
+}
+
 }  // namespace
 
 BaseDriverRos::BaseDriverRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), pnh_(pnh), diagnostics_(nh, pnh) {
@@ -38,10 +43,7 @@ BaseDriverRos::BaseDriverRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh),
   for (const auto& w : config.warnings) ROS_WARN_STREAM(w);
 
   tf_prefix_ = params.text("tf_prefix", "");
-  if (tf_prefix_.empty()) {
-    std::string key;
-    if (nh_.searchParam("tf_prefix", key)) nh_.getParam(key, tf_prefix_);
-  }
+  if (tf_prefix_.empty()) tf_prefix_ = searchedTfPrefix(nh_);
   while (!tf_prefix_.empty() && tf_prefix_.front() == '/') tf_prefix_.erase(0, 1);
   simple_sim_ = params.flag("simple_sim", true);
   enable_odom_tf_ = params.flag("enable_odom_tf", true);
@@ -60,16 +62,23 @@ BaseDriverRos::BaseDriverRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh),
   const std::string hardware_plugin = params.text("hardware_plugin", "thorvald_can_devices/CanBaseHardware");
   const std::string can_type = params.text("can_interface_type", "socketcan");
   const std::string can_name = params.text("can_interface_name", "can0");
-  // Read below by readLimitsAndBatteryPolicy, readRelayAllowList and diagnostic_updater.
-  for (const char* name :
-       {"max_linear_speed", "max_angular_speed", "max_linear_acceleration", "max_angular_acceleration",
-        "battery_under_voltage", "battery_over_temperature", "battery_lost_timeout", "battery_slow_linear_speed",
-        "battery_slow_angular_speed", "battery_under_voltage_action", "battery_over_temperature_action",
-        "battery_lost_action", "relay_allowed_ids", "diagnostic_period"}) {
-    params.alsoRead(name);
+  readLimitsAndBatteryPolicy(params, options);
+  const RelayIdList relay_ids = readRelayIds(params, config);
+  params.alsoRead("diagnostic_period");  // read by diagnostic_updater
+  // Read by thorvald_sim's SimHardware plugin.
+  params.alsoRead("sim_joint_timeout");
+  params.alsoRead("sim_startup_timeout");
+  if (!simple_sim_) {
+    hardware_loader_ =
+        std::make_unique<pluginlib::ClassLoader<BaseHardware>>("thorvald_base", "thorvald_base::BaseHardware");
+    try {
+      hardware_ = hardware_loader_->createSharedInstance(hardware_plugin);
+    } catch (const pluginlib::PluginlibException& e) {
+      throw std::runtime_error("cannot load hardware plugin '" + hardware_plugin + "' (~hardware_plugin): " + e.what());
+    }
+    hardware_->readParameters(params);  // its own parameters, through the same reader
   }
   params.finish();
-  readLimitsAndBatteryPolicy(options);
 
   calculator_loader_ =
       std::make_unique<pluginlib::ClassLoader<BaseCalculator>>("thorvald_base", "thorvald_base::BaseCalculator");
@@ -89,15 +98,8 @@ BaseDriverRos::BaseDriverRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh),
       drives.push_back(std::make_unique<SimulatedDrive>(d, sim));
     }
   } else {
-    const std::string& plugin = hardware_plugin;
-    hardware_loader_ =
-        std::make_unique<pluginlib::ClassLoader<BaseHardware>>("thorvald_base", "thorvald_base::BaseHardware");
-    try {
-      hardware_ = hardware_loader_->createSharedInstance(plugin);
-    } catch (const pluginlib::PluginlibException& e) {
-      throw std::runtime_error("cannot load hardware plugin '" + plugin + "' (~hardware_plugin): " + e.what());
-    }
     hardware_->initialize(config, can_type, can_name);
+    relay_allowed_ = relayAllowList(relay_ids, *hardware_);
     drives = hardware_->takeDrives();
     batteries = hardware_->takeBatteries();
   }
@@ -114,9 +116,9 @@ BaseDriverRos::BaseDriverRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh),
   for (const auto& b : driver_->batteryDevices()) {
     battery_pubs_.push_back(nh_.advertise<sensor_msgs::BatteryState>("battery/" + b->name(), 1));
   }
-  cmd_sub_ = nh_.subscribe("twist_mux/cmd_vel", 1, &BaseDriverRos::onCommand, this);
+  // No Nagle on the command connection: a held-back segment would delay a write-through by up to a delayed ACK.
+  cmd_sub_ = nh_.subscribe("twist_mux/cmd_vel", 1, &BaseDriverRos::onCommand, this, ros::TransportHints().tcpNoDelay());
   if (hardware_) {
-    readRelayAllowList();
     relay_pub_ = nh_.advertise<CANFrame>("can_frames_device_r", 100);
     relay_sub_ = nh_.subscribe("can_frames_device_t", 100, &BaseDriverRos::onRelayFrame, this);
     services_.push_back(pnh_.advertiseService("mute_relay", &BaseDriverRos::onMuteRelay, this));
@@ -142,31 +144,54 @@ std::string BaseDriverRos::frame(const std::string& name) const {
   return tf_prefix_.empty() ? name : tf_prefix_ + "/" + name;
 }
 
-void BaseDriverRos::readLimitsAndBatteryPolicy(BaseDriverOptions& options) {
-  options.limits.max_linear_mps = param(pnh_, "max_linear_speed", 0.0);
-  options.limits.max_angular_radps = param(pnh_, "max_angular_speed", 0.0);
-  options.limits.max_linear_mps2 = param(pnh_, "max_linear_acceleration", 0.0);
-  options.limits.max_angular_radps2 = param(pnh_, "max_angular_acceleration", 0.0);
+void BaseDriverRos::readLimitsAndBatteryPolicy(ParamReader& params, BaseDriverOptions& options) {
+  // 0 switches a limit or a battery check off; the upper ends are far beyond any Thorvald and catch typing slips.
+  TwistLimits& l = options.limits;
+  l.max_linear_mps = params.number("max_linear_speed", 0.0, ParamRange::closed(0.0, 20.0), "m/s");
+  l.max_angular_radps = params.number("max_angular_speed", 0.0, ParamRange::closed(0.0, 20.0), "rad/s");
+  l.max_linear_mps2 = params.number("max_linear_acceleration", 0.0, ParamRange::closed(0.0, 50.0), "m/s^2");
+  l.max_angular_radps2 = params.number("max_angular_acceleration", 0.0, ParamRange::closed(0.0, 100.0), "rad/s^2");
   BatteryPolicy& b = options.battery;
-  b.under_voltage_v = param(pnh_, "battery_under_voltage", b.under_voltage_v);
-  b.over_temperature_c = param(pnh_, "battery_over_temperature", b.over_temperature_c);
-  b.lost_timeout_s = param(pnh_, "battery_lost_timeout", b.lost_timeout_s);
-  b.slow_linear_mps = param(pnh_, "battery_slow_linear_speed", b.slow_linear_mps);
-  b.slow_angular_radps = param(pnh_, "battery_slow_angular_speed", b.slow_angular_radps);
+  b.under_voltage_v = params.number("battery_under_voltage", b.under_voltage_v, ParamRange::closed(0.0, 100.0), "V");
+  b.over_temperature_c =
+      params.number("battery_over_temperature", b.over_temperature_c, ParamRange::closed(0.0, 150.0), "degC");
+  b.lost_timeout_s = params.number("battery_lost_timeout", b.lost_timeout_s, ParamRange::closed(0.0, 60.0), "s");
+  b.slow_linear_mps =
+      params.number("battery_slow_linear_speed", b.slow_linear_mps, ParamRange::aboveUpTo(0.0, 20.0), "m/s");
+  b.slow_angular_radps =
+      params.number("battery_slow_angular_speed", b.slow_angular_radps, ParamRange::aboveUpTo(0.0, 20.0), "rad/s");
   const std::pair<const char*, BatteryAction*> actions[] = {{"battery_under_voltage_action", &b.under_voltage},
                                                             {"battery_over_temperature_action", &b.over_temperature},
                                                             {"battery_lost_action", &b.lost}};
   for (const auto& a : actions) {
-    const std::string text = param<std::string>(pnh_, a.first, toString(*a.second));
-    if (!parseBatteryAction(text, a.second)) {
-      throw ConfigError("base_driver", std::string("~") + a.first, "must be warn, slow or stop, found '" + text + "'");
-    }
+    parseBatteryAction(params.choice(a.first, toString(*a.second), {"warn", "slow", "stop"}), a.second);
   }
 }
 
-void BaseDriverRos::onCommand(const geometry_msgs::Twist& msg) {
+RelayIdList BaseDriverRos::readRelayIds(ParamReader& params, const RobotConfig& config) {
+  RelayIdList list{config.implement_can_ids, config.source, "implement_can_ids"};
+  if (!params.has("relay_allowed_ids")) return list;
+  // The parameter overrides the robot file's list (e.g. on a test bench); the same ids are refused.
+  const std::vector<double> ids =
+      params.numbers("relay_allowed_ids", {}, ParamRange::closed(1, kMaxCanStdId), "", 0, kMaxModulesPerGroup);
+  list = {{}, "base_driver", "~relay_allowed_ids"};
+  for (size_t i = 0; i < ids.size(); ++i) {
+    if (ids[i] != std::floor(ids[i])) {
+      throw ConfigError("base_driver", "~relay_allowed_ids[" + std::to_string(i) + "]",
+                        "must be an integer CAN id, found " + std::to_string(ids[i]));
+    }
+    list.ids.push_back(static_cast<int>(ids[i]));
+  }
+  return list;
+}
+
+void BaseDriverRos::onCommand(const ros::MessageEvent<const geometry_msgs::Twist>& event) {
+  const geometry_msgs::Twist& msg = *event.getConstMessage();
   const Twist2D cmd{msg.linear.x, msg.linear.y, msg.angular.z};
-  const double now = ros::Time::now().toSec();
+  const ros::Time stamp = ros::Time::now();
+  const double now = stamp.toSec();
+  // Time the command waited in the callback queue (e.g. behind a control cycle) before it is written through.
+  cmd_wait_max_window_s_ = std::max(cmd_wait_max_window_s_, (stamp - event.getReceiptTime()).toSec());
   if (!driver_->setCommand(cmd, now)) {
     ROS_WARN_THROTTLE(1.0, "base_driver: rejected a non-finite command (%lu so far); the base keeps the last valid one",
                       driver_->rejectedCommands());
@@ -200,6 +225,8 @@ void BaseDriverRos::onTimer(const ros::TimerEvent&) {
   relay_sent_this_cycle_ = 0;
   publish(now);
   diagnostics_.update();
+  const double work = (ros::WallTime::now() - wall).toSec();
+  cycle_work_max_window_s_ = std::max(cycle_work_max_window_s_, work);
 }
 
 void BaseDriverRos::publish(const ros::Time& now) {
@@ -211,8 +238,12 @@ void BaseDriverRos::publish(const ros::Time& now) {
   o.child_frame_id = frame("base_link");
   o.pose.pose.position.x = odom.pose().x;
   o.pose.pose.position.y = odom.pose().y;
-  o.pose.pose.orientation.z = std::sin(0.5 * odom.pose().yaw);
-  o.pose.pose.orientation.w = std::cos(0.5 * odom.pose().yaw);
+  tf2::Quaternion q;
+  q.setRPY(0.0, 0.0, odom.pose().yaw);
+  o.pose.pose.orientation.x = q.x();
+  o.pose.pose.orientation.y = q.y();
+  o.pose.pose.orientation.z = q.z();
+  o.pose.pose.orientation.w = q.w();
   o.pose.covariance = covariance6(odom.covariance());
   o.twist.twist.linear.x = vel.twist.vx;
   o.twist.twist.linear.y = vel.twist.vy;
@@ -306,23 +337,6 @@ void BaseDriverRos::relayFromBus() {
   }
 }
 
-void BaseDriverRos::readRelayAllowList() {
-  if (!pnh_.hasParam("relay_allowed_ids")) return;
-  XmlRpc::XmlRpcValue ids;
-  pnh_.getParam("relay_allowed_ids", ids);
-  if (ids.getType() != XmlRpc::XmlRpcValue::TypeArray) {
-    throw ConfigError("base_driver", "~relay_allowed_ids", "must be a list of 11-bit CAN ids, e.g. [0x123, 0x124]");
-  }
-  for (int i = 0; i < ids.size(); ++i) {
-    if (ids[i].getType() != XmlRpc::XmlRpcValue::TypeInt || static_cast<int>(ids[i]) < 1 ||
-        static_cast<int>(ids[i]) > 0x7FF) {
-      throw ConfigError("base_driver", "~relay_allowed_ids[" + std::to_string(i) + "]",
-                        "must be an integer CAN id in 0x001..0x7FF");
-    }
-    relay_allowed_.insert(static_cast<uint32_t>(static_cast<int>(ids[i])));
-  }
-}
-
 void BaseDriverRos::refuseRelay(const std::string& sender, uint32_t id, const std::string& why) {
   ++relay_refused_;
   auto it = relay_refused_by_.find(sender);
@@ -349,7 +363,7 @@ void BaseDriverRos::onRelayFrame(const ros::MessageEvent<const CANFrame>& event)
     return;
   }
   if (!relay_allowed_.count(msg.id)) {
-    refuseRelay(sender, msg.id, "id not in ~relay_allowed_ids");
+    refuseRelay(sender, msg.id, "id not in the allow-list (implement_can_ids or ~relay_allowed_ids)");
     return;
   }
   CanFrameData f;
@@ -436,6 +450,9 @@ void BaseDriverRos::diagnoseBase(diagnostic_updater::DiagnosticStatusWrapper& st
   stat.add("longest cycle gap since last report [ms]", 1000.0 * gap_max_window_s_);
   stat.add("longest cycle gap [ms]", 1000.0 * gap_max_total_s_);
   stat.add("missed cycles", missed_cycles_);
+  stat.add("longest cycle since last report [ms]", 1000.0 * cycle_work_max_window_s_);
+  stat.add("longest command wait in the queue since last report [ms]", 1000.0 * cmd_wait_max_window_s_);
+  cycle_work_max_window_s_ = cmd_wait_max_window_s_ = 0.0;
   stat.add("commands written through", write_throughs_);
   stat.add("wheel limit factor", driver_->wheelFactor());
   if (!driver_->batteryText().empty()) stat.add("battery policy", driver_->batteryText());

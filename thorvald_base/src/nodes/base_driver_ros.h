@@ -20,6 +20,8 @@
 #include "thorvald_base/SetDriveParams.h"
 #include "thorvald_base/base_driver.h"
 #include "thorvald_base/base_hardware.h"
+#include "thorvald_base/relay_allow_list.h"
+#include "thorvald_base/ros/param_reader.h"
 
 namespace thorvald_base {
 
@@ -32,10 +34,11 @@ class BaseDriverRos {
   BaseDriverRos(ros::NodeHandle nh, ros::NodeHandle pnh);
 
  private:
-  void readLimitsAndBatteryPolicy(BaseDriverOptions& options);
-  void onCommand(const geometry_msgs::Twist& msg);
+  void readLimitsAndBatteryPolicy(ParamReader& params, BaseDriverOptions& options);
+  /// The relay's allow-list as configured: the robot file's implement_can_ids, or ~relay_allowed_ids when set.
+  RelayIdList readRelayIds(ParamReader& params, const RobotConfig& config);
+  void onCommand(const ros::MessageEvent<const geometry_msgs::Twist>& event);
   void onRelayFrame(const ros::MessageEvent<const thorvald_base::CANFrame>& event);
-  void readRelayAllowList();
   void refuseRelay(const std::string& sender, uint32_t id, const std::string& why);
   void onTimer(const ros::TimerEvent& event);
   bool onSetDriveParams(SetDriveParams::Request& req, SetDriveParams::Response& res);
@@ -81,6 +84,8 @@ class BaseDriverRos {
   double cycle_rate_hz_ = 0.0;
   double gap_max_window_s_ = 0.0, gap_max_total_s_ = 0.0;
   unsigned long missed_cycles_ = 0, write_throughs_ = 0;
+  double cycle_work_max_window_s_ = 0.0;  ///< longest time one control cycle took since the last report [s]
+  double cmd_wait_max_window_s_ = 0.0;    ///< longest wait of a command in the callback queue since then [s]
 };
 
 }  // namespace thorvald_base

@@ -11,7 +11,7 @@ namespace thorvald_base {
 namespace {
 
 const char* const kGroups[] = {"base_calculator", "motor_drives", "batteries",      "pipes", "corners",
-                               "beams",           "casters",      "passive_wheels", "io"};
+                               "beams",           "casters",      "passive_wheels", "io",    "implement_can_ids"};
 
 YAML::Node convert(XmlRpc::XmlRpcValue& value, const std::string& source, size_t max_values, size_t& count) {
   if (++count > max_values) {

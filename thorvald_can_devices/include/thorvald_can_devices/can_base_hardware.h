@@ -51,6 +51,7 @@ class CanBaseHardware : public thorvald_base::BaseHardware {
   bool sendRelayFrame(const thorvald_base::CanFrameData& frame, std::string* why) override;
   std::vector<std::pair<std::string, std::string>> diagnostics() const override;
   bool busOk() const override;
+  std::string canIdUser(uint32_t id) const override;
 
   /// Devices that did not reach operation during initialize(), with what they reported.
   const std::vector<std::string>& notAnswering() const { return not_answering_; }
@@ -60,11 +61,15 @@ class CanBaseHardware : public thorvald_base::BaseHardware {
   unsigned long malformedFrames() const;
   /// Polls that stopped reading at max_frames_per_poll with frames still waiting.
   unsigned long readBoundHits() const { return read_bound_hits_; }
+  /// Frames left waiting by those polls, summed over them (read by a later poll or lost to the receive queue's
+  /// overflow). Exact on the virtual bus; SocketCAN does not tell how many wait, so each such poll counts one.
+  unsigned long framesPastReadBound() const { return frames_past_bound_; }
 
   CanBaseOptions& options() { return options_; }
 
  private:
   void addDevice(std::shared_ptr<CanDevice> device, const std::string& source);
+  void own(uint32_t id, const std::string& user);
   void readBus(double now_s);
   double now() const { return clock_(); }
 
@@ -74,6 +79,7 @@ class CanBaseHardware : public thorvald_base::BaseHardware {
   std::vector<std::shared_ptr<CanDevice>> devices_;
   std::map<uint32_t, CanDevice*> routes_;
   std::set<uint32_t> owned_ids_;
+  std::map<uint32_t, std::string> id_users_;  ///< who uses each owned id, for messages
   std::vector<std::unique_ptr<thorvald_base::MotorDrive>> drives_;
   std::vector<std::unique_ptr<thorvald_base::Battery>> batteries_;
   std::deque<thorvald_base::CanFrameData> relay_;
@@ -84,6 +90,7 @@ class CanBaseHardware : public thorvald_base::BaseHardware {
   bool was_bus_ok_ = true;
   unsigned long bus_off_events_ = 0;
   unsigned long read_bound_hits_ = 0;
+  unsigned long frames_past_bound_ = 0;
   std::vector<Cia402Axis*> cia402_axes_;
 };
 

@@ -53,6 +53,8 @@ class CanBus {
   virtual BusStatus status() const = 0;
   /// "virtual:<name>" or "socketcan:<name>".
   virtual std::string description() const = 0;
+  /// Frames received and waiting to be read; -1 when the bus cannot tell.
+  virtual long framesWaiting() const { return -1; }
 };
 
 /// Opens a bus by type (`socketcan` or `virtual`) and name. Throws CanBusError saying what failed.

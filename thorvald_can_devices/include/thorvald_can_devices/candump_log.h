@@ -40,6 +40,7 @@ class LoggingCanBus : public CanBus {
   bool waitReadable(double timeout_s) override { return inner_->waitReadable(timeout_s); }
   BusStatus status() const override { return inner_->status(); }
   std::string description() const override { return inner_->description(); }
+  long framesWaiting() const override { return inner_->framesWaiting(); }
 
  private:
   std::unique_ptr<CanBus> inner_;

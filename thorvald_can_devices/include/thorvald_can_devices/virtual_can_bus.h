@@ -45,6 +45,8 @@ class VirtualCanBus : public CanBus {
   bool waitReadable(double timeout_s) override;
   BusStatus status() const override { return status_; }
   std::string description() const override { return "virtual:" + name_; }
+  /// Records queued on the accepted connections (SIOCINQ counts a SEQPACKET socket's queued bytes).
+  long framesWaiting() const override;
 
   /// Folder that holds every bus of this user (see the class comment).
   static std::string rootFolder();
