@@ -2,6 +2,7 @@
 # the harvest stack's plant on it, the headless harvest run, harvest_bench and its test. Included by the
 # package's CMakeLists.txt after the perception and control libraries.
 find_package(thorvald_sim REQUIRED)
+find_package(thorvald_base REQUIRED)
 find_package(mujoco REQUIRED)
 find_path(CLI11_INCLUDE_DIR CLI/CLI.hpp)
 if(NOT CLI11_INCLUDE_DIR)
@@ -21,7 +22,13 @@ add_executable(harvest_bench bench/harvest_bench.cpp)
 target_include_directories(harvest_bench PRIVATE ${CLI11_INCLUDE_DIR})
 target_link_libraries(harvest_bench cotton_harvester_sim)
 
-install(TARGETS cotton_harvester_sim harvest_bench
+# The headless harvest as a ROS node (launch/harvest_mujoco.launch): status and metrics topics, ends by itself.
+add_executable(mujoco_harvest src/sim/mujoco_harvest_node.cpp)
+target_include_directories(mujoco_harvest PRIVATE ${thorvald_base_INCLUDE_DIRS})
+target_link_libraries(mujoco_harvest cotton_harvester_sim ${thorvald_base_LIBRARIES} ${catkin_LIBRARIES})
+add_dependencies(mujoco_harvest ${catkin_EXPORTED_TARGETS})
+
+install(TARGETS cotton_harvester_sim harvest_bench mujoco_harvest
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
@@ -29,4 +36,5 @@ install(TARGETS cotton_harvester_sim harvest_bench
 if(CATKIN_ENABLE_TESTING)
   catkin_add_gtest(test_mujoco_harvest test/sim/test_mujoco_harvest.cpp)
   target_link_libraries(test_mujoco_harvest cotton_harvester_sim)
+  add_rostest(test/sim/harvest_mujoco.test DEPENDENCIES mujoco_harvest)
 endif()

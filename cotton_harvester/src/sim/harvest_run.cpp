@@ -82,6 +82,7 @@ HarvestRunReport runHarvest(const HarvestRunConfig& config) {
     std::uint32_t printed = 0;
     machine.machine().setObserver([&](const thorvald_state_machine::StatusSnapshot& s) {
       if (!s.active_state.empty()) report.states_visited.insert(s.active_state);
+      if (config.status_observer) config.status_observer(s);
       if (verbose && s.transitions != printed && !s.history.empty()) {
         printed = s.transitions;
         const auto& h = s.history.back();

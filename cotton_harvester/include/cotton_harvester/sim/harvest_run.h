@@ -19,7 +19,9 @@ struct HarvestRunConfig {
   double time_limit_s = 900.0;     ///< simulated time after which the run is stopped (preempted)
   std::string debug_image_path;    ///< when set: a PNG of the first frame with a boll and the end-effector found
   std::string frames_dir;          ///< when set: every camera frame with its detections as PNG (frame_NNNN.png)
-  bool verbose = false;            ///< print every transition of the machine (simulated time, state, outcome)
+  /// Called with the machine's status on every change (e.g. to publish it).
+  std::function<void(const thorvald_state_machine::StatusSnapshot&)> status_observer;
+  bool verbose = false;  ///< print every transition of the machine (simulated time, state, outcome)
 };
 
 /// What came out of a run. `counts.picked` and the metrics are the simulation's (bolls the vacuum really took);
