@@ -5,6 +5,9 @@
 #include <cstdint>
 #include <sstream>
 
+#include <Eigen/Dense>
+
+#include "greenhouse_rail_nav/cloud_projection.h"
 #include "greenhouse_rail_nav/pcl_backend.h"
 
 namespace greenhouse_rail_nav {
@@ -109,13 +112,15 @@ std::string RailDetectorParams::validate() const {
   if (!positive(unobserved_sigma_x_m)) return "unobserved_sigma_x_m must be > 0 [m]";
   if (!(std::isfinite(pipe_radius_m) && pipe_radius_m >= 0.0 && pipe_radius_m < 0.2))
     return "pipe_radius_m must be in [0, 0.2) [m]";
+  if (!(std::isfinite(image_margin_px) && image_margin_px >= 0.0 && image_margin_px < 100.0))
+    return "image_margin_px must be in [0, 100) [px]";
   return "";
 }
 
 std::vector<Eigen::Vector3f> RailDetector::cropToRailBand(const OrganisedCloud& cloud,
                                                           const Eigen::Isometry3d& camera_in_base,
-                                                          std::size_t* finite_points,
-                                                          std::vector<float>* floor_cells) const {
+                                                          std::size_t* finite_points, std::vector<float>* floor_cells,
+                                                          std::vector<Eigen::Vector3f>* raw_band) const {
   const Eigen::Matrix3f rot = camera_in_base.linear().cast<float>();
   const Eigen::Vector3f trans = camera_in_base.translation().cast<float>();
   const auto& p = params_;
@@ -140,6 +145,7 @@ std::vector<Eigen::Vector3f> RailDetector::cropToRailBand(const OrganisedCloud& 
     }
   }
   if (finite_points) *finite_points = finite;
+  if (raw_band) *raw_band = band;
   return thinToVoxels(band, p.voxel_size_m);
 }
 
@@ -158,7 +164,8 @@ RailDetection RailDetector::detect(const OrganisedCloud& cloud, const Eigen::Iso
     return out;
   }
   std::vector<float> floor_cells;
-  const auto band = cropToRailBand(cloud, camera_in_base, &out.finite_points, &floor_cells);
+  std::vector<Eigen::Vector3f> raw_band;
+  const auto band = cropToRailBand(cloud, camera_in_base, &out.finite_points, &floor_cells, &raw_band);
   out.points_in_band = band.size();
   if (out.finite_points == 0) {
     out.status = RailDetection::Status::kBadInput;
@@ -221,13 +228,18 @@ RailDetection RailDetector::detect(const OrganisedCloud& cloud, const Eigen::Iso
                  std::to_string(band.size()) + " points in the rails' band";
     return out;
   }
-  if (!pairFromLines(lines, band, band_xy, method == RailFitMethod::kClusterLines, camera_in_base.translation(), &out))
+  if (!pairFromLines(lines, band, band_xy, method == RailFitMethod::kClusterLines, camera_in_base.translation(),
+                     raw_band, &out))
     return out;
 
-  // Is the rails' start in view? Only if the floor just in front of each rail's start was seen; otherwise
-  // the first visible point of the rails is where they enter the image, not where they start.
-  // The floor grid (5 cm cells) must show floor just before each rail's start, on the rail's line.
+  // Is the rails' start in view? For each rail:
+  // 1. the point start_view_margin_m before its start must lie inside the image: where the rails are cut by
+  //    the image border, the floor beside the cut may still be seen, but the start is not;
+  // 2. where the floor just before the start (two 5 cm cells on the rail's line) lies inside the image, floor
+  //    must have been seen there: else something (a leaf, a dropout) hides the start, which may be nearer.
+  // Without a projection (a cloud that is no pinhole image) the floor alone decides.
   bool start_seen = true;
+  std::string why_unseen;
   const int cols = static_cast<int>(std::ceil(2.0 * p.crop_y_max_m / kFloorBinM));
   const int rows = static_cast<int>(std::ceil((p.crop_x_max_m - p.crop_x_min_m) / kFloorBinM));
   auto floor_seen = [&](const Eigen::Vector2d& q) {
@@ -236,11 +248,29 @@ RailDetection RailDetector::detect(const OrganisedCloud& cloud, const Eigen::Iso
     return col >= 0 && col < cols && row >= 0 && row < rows &&
            floor_cells[static_cast<std::size_t>(row * cols + col)] > 0.0f;
   };
+  const auto projection = CloudProjection::fromCloud(cloud);
+  const Eigen::Isometry3d base_to_camera = camera_in_base.inverse();
+  auto in_image = [&](const Eigen::Vector2d& q, double z) {
+    return !projection || projection->inImage(base_to_camera * Eigen::Vector3d(q.x(), q.y(), z), p.image_margin_px);
+  };
   for (const RailLine& rail : out.rails) {
     const Eigen::Vector2d start = rail.fit.centroid + rail.near_end * rail.fit.direction;
-    const Eigen::Vector2d before = start - (p.start_view_margin_m + 0.5 * kFloorBinM) * rail.fit.direction;
-    const Eigen::Vector2d further = before - kFloorBinM * rail.fit.direction;
-    start_seen = start_seen && (floor_seen(before) || floor_seen(further));
+    if (!in_image(start - p.start_view_margin_m * rail.fit.direction, rail.height_m)) {
+      start_seen = false;
+      why_unseen = "the rails are cut by the image border";
+      continue;
+    }
+    bool floor_in_image = false, floor_before = false;
+    for (const double back : {p.start_view_margin_m + 0.5 * kFloorBinM, p.start_view_margin_m + 1.5 * kFloorBinM}) {
+      const Eigen::Vector2d cell = start - back * rail.fit.direction;
+      if (!in_image(cell, 0.0)) continue;
+      floor_in_image = true;
+      floor_before = floor_before || floor_seen(cell);
+    }
+    if (floor_in_image && !floor_before) {
+      start_seen = false;
+      why_unseen = "no floor seen just before it";
+    }
   }
 
   // Mount correction, then the paper's output: base_link in the rail frame.
@@ -252,30 +282,72 @@ RailDetection RailDetector::detect(const OrganisedCloud& cloud, const Eigen::Iso
   if (!start_seen) {
     out.status = RailDetection::Status::kFoundXUnobserved;
     out.variance[0] = std::max(out.variance[0], p.unobserved_sigma_x_m * p.unobserved_sigma_x_m);
-    out.reason += "; rails' start out of view: x " + fmt(out.base_in_rail.x) + " m is where they enter the image, " +
-                  "the start is nearer";
+    out.reason += "; rails' start out of view (" + why_unseen + "): x " + fmt(out.base_in_rail.x) +
+                  " m is where they enter the image, the start is nearer";
   }
   return out;
 }
 
-RailLine RailDetector::axisLine(const RailLine& rail, const Eigen::Vector3d& camera_xyz) const {
-  if (params_.pipe_radius_m <= 0.0) return rail;
-  // In the plane across the pipe the camera sits at lateral distance h and height v above the pipe's
-  // centre; the visible half of the surface, weighted by its projected area, has its mean pi/4 * r * cos
-  // (elevation) nearer the camera than the axis, across the rail.
-  const double h = rail.fit.signedDistance(camera_xyz.head<2>());
-  const double v = camera_xyz.z() - (rail.height_m - 0.5 * params_.pipe_radius_m);
-  const double cos_elevation = std::abs(h) / std::max(1e-6, std::hypot(h, v));
-  const double offset = M_PI / 4.0 * params_.pipe_radius_m * cos_elevation;
+RailLine RailDetector::axisLine(const RailLine& rail, const Eigen::Vector3d& camera_xyz,
+                                const std::vector<Eigen::Vector3f>& raw_band) const {
+  const double r = params_.pipe_radius_m;
+  if (r <= 0.0) return rail;
   const Eigen::Vector2d left(-rail.fit.direction.y(), rail.fit.direction.x());
+  // Start: the mean offset of the visible half of a cylinder sampled by projected area. In the plane across
+  // the pipe the camera sits at lateral distance h and height v above the pipe's centre; that mean lies
+  // pi/4 * r * cos(elevation) nearer the camera than the axis.
+  const double h = rail.fit.signedDistance(camera_xyz.head<2>());
+  const double v = camera_xyz.z() - (rail.height_m - 0.5 * r);
+  const double cos_elevation = std::abs(h) / std::max(1e-6, std::hypot(h, v));
+  const double model_offset = -(h >= 0.0 ? 1.0 : -1.0) * M_PI / 4.0 * r * cos_elevation;
   RailLine out = rail;
-  out.fit.centroid -= (h >= 0.0 ? 1.0 : -1.0) * offset * left;
+  out.fit.centroid += model_offset * left;
+
+  // Circle of radius r across the rail, fitted to the raw points near the line (lateral offset d, height z):
+  // Gauss-Newton on (|q - c| - r), points weighted by 1 / range^4 (active-stereo depth noise grows with
+  // range^2), points more than 8 mm off the circle dropped after the first steps (leaves, flying pixels).
+  std::vector<Eigen::Vector2d> q;
+  std::vector<double> w;
+  const Eigen::Vector3d cam = camera_xyz;
+  for (const auto& b : raw_band) {
+    const Eigen::Vector2d xy(b.x(), b.y());
+    const double d = rail.fit.signedDistance(xy), s = rail.fit.along(xy);
+    if (std::abs(d) > r + 0.015 || s < rail.fit.s_min - 0.02 || s > rail.fit.s_max + 0.02) continue;
+    const double range = std::max(0.3, (b.cast<double>() - cam).norm());
+    q.emplace_back(d, b.z());
+    w.push_back(1.0 / (range * range * range * range));
+  }
+  if (q.size() < 20) return out;
+  Eigen::Vector2d c(model_offset, rail.height_m - 0.5 * r);
+  for (int iteration = 0; iteration < 12; ++iteration) {
+    const double cutoff = iteration < 3 ? 0.03 : 0.008;
+    Eigen::Matrix2d jtj = Eigen::Matrix2d::Zero();
+    Eigen::Vector2d jte = Eigen::Vector2d::Zero();
+    std::size_t used = 0;
+    for (std::size_t i = 0; i < q.size(); ++i) {
+      const Eigen::Vector2d diff = q[i] - c;
+      const double dist = diff.norm();
+      const double e = dist - r;
+      if (dist < 1e-6 || std::abs(e) > cutoff) continue;
+      const Eigen::Vector2d j = -diff / dist;
+      jtj += w[i] * j * j.transpose();
+      jte += w[i] * j * e;
+      ++used;
+    }
+    if (used < 20 || jtj.determinant() <= 1e-12 * jtj.trace() * jtj.trace()) return out;
+    const Eigen::Vector2d step = -jtj.ldlt().solve(jte);
+    c += step;
+    if (!c.allFinite() || std::abs(c.x()) > 2.0 * r) return out;  // diverged: keep the model's offset
+    if (step.norm() < 1e-5 && iteration >= 4) break;
+  }
+  out.fit.centroid = rail.fit.centroid + c.x() * left;
   return out;
 }
 
 bool RailDetector::pairFromLines(const std::vector<RailLine>& lines, const std::vector<Eigen::Vector3f>& band,
                                  const std::vector<Eigen::Vector2d>& band_xy, bool search_points_for_partner,
-                                 const Eigen::Vector3d& camera_xyz, RailDetection* out) const {
+                                 const Eigen::Vector3d& camera_xyz, const std::vector<Eigen::Vector3f>& raw_band,
+                                 RailDetection* out) const {
   const auto& p = params_;
   std::string why = "no rail at " + fmt(p.rail_gauge_m) + " +- " + fmt(p.gauge_tolerance_m) + " m beside any of " +
                     std::to_string(lines.size()) + " straight lines";
@@ -329,7 +401,7 @@ bool RailDetector::pairFromLines(const std::vector<RailLine>& lines, const std::
       }
     }
     if (!partner) continue;
-    const RailPair pair = makeRailPair(axisLine(best, camera_xyz), axisLine(*partner, camera_xyz));
+    const RailPair pair = makeRailPair(axisLine(best, camera_xyz, raw_band), axisLine(*partner, camera_xyz, raw_band));
     const Pose2D base_in_rail = pair.rail_in_base.inverse();
     if (std::abs(base_in_rail.y) > p.max_lateral_offset_m) {
       why = "rail pair found " + fmt(base_in_rail.y) + " m to the side (limit " + fmt(p.max_lateral_offset_m) +

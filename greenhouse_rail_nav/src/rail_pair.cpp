@@ -6,7 +6,7 @@
 
 namespace greenhouse_rail_nav {
 
-RailLine makeRailLine(const std::vector<Eigen::Vector2d>& points, double near_end_percentile) {
+RailLine makeRailLine(const std::vector<Eigen::Vector2d>& points, double max_gap_m, std::size_t min_run) {
   RailLine rail;
   rail.fit = fitLine(points);
   rail.points = points.size();
@@ -15,9 +15,19 @@ RailLine makeRailLine(const std::vector<Eigen::Vector2d>& points, double near_en
   std::vector<double> along;
   along.reserve(points.size());
   for (const auto& p : points) along.push_back(rail.fit.along(p));
-  const std::size_t k = std::min(points.size() - 1, static_cast<std::size_t>(near_end_percentile * points.size()));
-  std::nth_element(along.begin(), along.begin() + static_cast<std::ptrdiff_t>(k), along.end());
-  rail.near_end = along[k];
+  std::sort(along.begin(), along.end());
+  // The first point from which min_run points follow with no gap above max_gap_m: a stray point or two in
+  // front of the rail is skipped, but the start is not moved into the rail by a share of its length.
+  rail.near_end = along.front();
+  const std::size_t run = std::max<std::size_t>(1, min_run);
+  for (std::size_t i = 0; i + run <= along.size(); ++i) {
+    bool continuous = true;
+    for (std::size_t j = i + 1; j < i + run && continuous; ++j) continuous = along[j] - along[j - 1] <= max_gap_m;
+    if (continuous) {
+      rail.near_end = along[i];
+      break;
+    }
+  }
   return rail;
 }
 

@@ -38,14 +38,20 @@ struct RailDetectorParams {
   int ransac_iterations = 500;           ///< baseline: RANSAC iterations per line
   /// Lower bounds of the reported standard deviations (the paper's RMS errors, Table I) [m, m, rad].
   double sigma_x_m = 0.11, sigma_y_m = 0.02, sigma_yaw_rad = 0.014;
-  /// The rails' start counts as seen only when the floor is seen at least this far in front of it [m].
-  double start_view_margin_m = 0.05;
+  /// The rails' start counts as seen only when the point this far in front of it lies inside the image and
+  /// the floor there is seen where it lies inside the image [m]. The start is found to within about one
+  /// voxel, so this is a voxel and a centimetre.
+  double start_view_margin_m = 0.03;
   /// Standard deviation of x reported when the rails' start is out of view [m].
   double unobserved_sigma_x_m = 0.5;
   /// Pipe radius [m]: the camera sees the side of a pipe that faces it, whose points lie nearer the camera
-  /// than the pipe's axis; each rail line is moved back by the mean offset of the visible half of a
-  /// cylinder (pi/4 * radius * cos of the viewing elevation). 0: no correction.
+  /// than the pipe's axis. Each rail's axis is found by fitting a circle of this radius to the rail's
+  /// points across the rail (lateral offset, height), before thinning and trimming, so neither changes
+  /// which part of the surface counts. 0: no correction (the line through the visible points).
   double pipe_radius_m = 0.0255;
+  /// The rails' start counts as in view only when the point start_view_margin_m before it projects at
+  /// least this far inside the image border (projection recovered from the organised cloud) [px].
+  double image_margin_px = 2.0;
 
   /// Empty if valid, else which key is wrong and what it must be.
   std::string validate() const;
@@ -91,19 +97,24 @@ class RailDetector {
   /// Step 1 alone: finite points moved to base_link and cropped to the rails' band, thinned to voxels.
   /// floor_cells, if given, receives a grid of 5 cm cells over the crop region (rows along x from
   /// crop_x_min_m, columns along y from -crop_y_max_m): 1 where a floor point was seen, 0 elsewhere.
+  /// raw_band, if given, receives the cropped points before thinning.
   std::vector<Eigen::Vector3f> cropToRailBand(const OrganisedCloud& cloud, const Eigen::Isometry3d& camera_in_base,
-                                              std::size_t* finite_points,
-                                              std::vector<float>* floor_cells = nullptr) const;
+                                              std::size_t* finite_points, std::vector<float>* floor_cells = nullptr,
+                                              std::vector<Eigen::Vector3f>* raw_band = nullptr) const;
 
   const RailDetectorParams& params() const { return params_; }
 
  private:
   bool pairFromLines(const std::vector<RailLine>& lines, const std::vector<Eigen::Vector3f>& band,
                      const std::vector<Eigen::Vector2d>& band_xy, bool search_points_for_partner,
-                     const Eigen::Vector3d& camera_xyz, RailDetection* out) const;
+                     const Eigen::Vector3d& camera_xyz, const std::vector<Eigen::Vector3f>& raw_band,
+                     RailDetection* out) const;
 
-  /// The rail's axis from the line through its visible points (see pipe_radius_m).
-  RailLine axisLine(const RailLine& rail, const Eigen::Vector3d& camera_xyz) const;
+  /// The rail's axis from the line through its visible points (see pipe_radius_m): a circle of the pipe's
+  /// radius fitted to the raw band points near the line; the mean offset of a visible half-cylinder when
+  /// too few points are there.
+  RailLine axisLine(const RailLine& rail, const Eigen::Vector3d& camera_xyz,
+                    const std::vector<Eigen::Vector3f>& raw_band) const;
 
   RailDetectorParams params_;
 };

@@ -24,9 +24,10 @@ struct RailPair {
   double gauge_m = 0.0;  ///< measured distance between the two rail lines [m]
 };
 
-/// Builds a RailLine from points (x, y in base_link): least-squares line, oriented forward, its near end
-/// taken as a low percentile of the along-line positions so one stray point cannot move it.
-RailLine makeRailLine(const std::vector<Eigen::Vector2d>& points, double near_end_percentile = 0.02);
+/// Builds a RailLine from points (x, y in base_link): least-squares line, oriented forward, its near end the
+/// first along-line position from which min_run points follow without a gap above max_gap_m [m], so a stray
+/// point in front of the rail cannot move it (nor does the rail's length).
+RailLine makeRailLine(const std::vector<Eigen::Vector2d>& points, double max_gap_m = 0.05, std::size_t min_run = 4);
 
 /// Refits a rail on the points within trim_m of its line, then within trim_m / 2 of the new line, so
 /// a leaf touching the rail's cluster does not pull the line sideways. Keeps rail's linearity (the

@@ -9,6 +9,7 @@
 #include <geometry_msgs/PolygonStamped.h>
 #include <ros/ros.h>
 #include <std_msgs/String.h>
+#include <thorvald_base/ros/param_reader.h>
 
 #include "greenhouse_rail_nav/keep_out_grid.h"
 #include "greenhouse_rail_nav/map_analyzer.h"
@@ -16,7 +17,6 @@
 #include "greenhouse_rail_nav/map_overlay.h"
 #include "greenhouse_rail_nav/rail_set_file.h"
 #include "map_messages.h"
-#include "param_reader.h"
 
 namespace greenhouse_rail_nav {
 namespace {
@@ -30,43 +30,51 @@ struct NodeSettings {
   MapAnalyzerParams analysis;
 };
 
-bool loadSettings(const ros::NodeHandle& pnh, NodeSettings* s, std::string* error) {
-  ParamReader r(pnh);
-  r.read("map_file", &s->map_file);
-  r.read("output_file", &s->output_file);
-  r.read("frame_id", &s->frame_id);
-  r.read("overlay_png", &s->overlay_png);
-  r.read("max_map_cells", &s->max_map_cells);
-  auto& a = s->analysis;
-  r.read("rail_set_spacing_m", &a.rail_set_spacing_m);
-  r.read("rail_gauge_m", &a.rail_gauge_m);
-  r.read("target_x_m", &a.target_in_rail.x);
-  r.read("target_y_m", &a.target_in_rail.y);
-  r.read("target_yaw_rad", &a.target_in_rail.yaw);
-  r.read("cluster_link_radius_m", &a.cluster_link_radius_m);
-  r.read("min_cluster_cells", &a.min_cluster_cells);
-  r.read("min_linearity", &a.lines.min_linearity);
-  r.read("min_line_length_m", &a.lines.min_length_m);
-  r.read("split_inlier_m", &a.lines.split_inlier_m);
-  r.read("max_gap_m", &a.lines.max_gap_m);
-  r.read("merge_angle_rad", &a.lines.merge_angle_rad);
-  r.read("merge_offset_m", &a.lines.merge_offset_m);
-  r.read("perpendicular_tolerance_rad", &a.perpendicular_tolerance_rad);
-  r.read("min_headland_depth_m", &a.min_headland_depth_m);
-  r.read("edge_tolerance_m", &a.edge_tolerance_m);
-  r.read("spacing_tolerance", &a.spacing_tolerance);
-  r.read("keep_out_margin_m", &a.keep_out_margin_m);
-  r.read("speckle_max_area_m2", &a.speckle_max_area_m2);
-  r.read("spacing_search_ratio", &a.spacing_search_ratio);
-  r.read("spacing_fit_tolerance_m", &a.spacing_fit_tolerance_m);
-  r.read("row_heading_tolerance_rad", &a.row_heading_tolerance_rad);
-  r.read("edge_straightness_m", &a.edge_straightness_m);
-  r.read("side_wall_min_support", &a.side_wall_min_support);
-  r.fail(a.validate());
-  if (s->frame_id.empty()) r.fail("frame_id must not be empty");
-  if (s->max_map_cells < 1) r.fail("max_map_cells must be >= 1");
-  *error = r.error();
-  return error->empty();
+/// Reads and checks every private parameter; throws thorvald_base::ParamError naming the bad one.
+NodeSettings loadSettings(const ros::NodeHandle& pnh) {
+  using thorvald_base::ParamRange;
+  thorvald_base::ParamReader r(pnh);
+  NodeSettings s;
+  const ParamRange positive = ParamRange::above(0.0);
+  const ParamRange any = ParamRange::any();
+  s.map_file = r.text("map_file", s.map_file);
+  s.output_file = r.text("output_file", s.output_file);
+  s.frame_id = r.text("frame_id", s.frame_id);
+  s.overlay_png = r.text("overlay_png", s.overlay_png);
+  s.max_map_cells = r.integer("max_map_cells", s.max_map_cells, 1);
+  auto& a = s.analysis;
+  a.rail_set_spacing_m = r.number("rail_set_spacing_m", a.rail_set_spacing_m, ParamRange::aboveUpTo(0.0, 20.0), "m");
+  a.rail_gauge_m = r.number("rail_gauge_m", a.rail_gauge_m, ParamRange::aboveUpTo(0.0, 3.0), "m");
+  a.target_in_rail.x = r.number("target_x_m", a.target_in_rail.x, ParamRange::closed(-20.0, 20.0), "m");
+  a.target_in_rail.y = r.number("target_y_m", a.target_in_rail.y, ParamRange::closed(-20.0, 20.0), "m");
+  a.target_in_rail.yaw = r.number("target_yaw_rad", a.target_in_rail.yaw, ParamRange::closed(-M_PI, M_PI), "rad");
+  a.cluster_link_radius_m = r.number("cluster_link_radius_m", a.cluster_link_radius_m, positive, "m");
+  a.min_cluster_cells = r.integer("min_cluster_cells", a.min_cluster_cells, 2);
+  a.lines.min_linearity = r.number("min_linearity", a.lines.min_linearity, ParamRange{0.0, 1.0, true, true});
+  a.lines.min_length_m = r.number("min_line_length_m", a.lines.min_length_m, positive, "m");
+  a.lines.split_inlier_m = r.number("split_inlier_m", a.lines.split_inlier_m, positive, "m");
+  a.lines.max_gap_m = r.number("max_gap_m", a.lines.max_gap_m, positive, "m");
+  a.lines.merge_angle_rad = r.number("merge_angle_rad", a.lines.merge_angle_rad, positive, "rad");
+  a.lines.merge_offset_m = r.number("merge_offset_m", a.lines.merge_offset_m, positive, "m");
+  a.perpendicular_tolerance_rad = r.number("perpendicular_tolerance_rad", a.perpendicular_tolerance_rad,
+                                           ParamRange{0.0, M_PI / 4, true, true}, "rad");
+  a.min_headland_depth_m = r.number("min_headland_depth_m", a.min_headland_depth_m, ParamRange::atLeast(0.0), "m");
+  a.edge_tolerance_m = r.number("edge_tolerance_m", a.edge_tolerance_m, positive, "m");
+  a.spacing_tolerance = r.number("spacing_tolerance", a.spacing_tolerance, ParamRange{0.0, 0.5, true, true});
+  a.keep_out_margin_m = r.number("keep_out_margin_m", a.keep_out_margin_m, any, "m");
+  a.speckle_max_area_m2 = r.number("speckle_max_area_m2", a.speckle_max_area_m2, ParamRange::closed(0.0, 0.1), "m^2");
+  a.spacing_search_ratio = r.number("spacing_search_ratio", a.spacing_search_ratio, ParamRange::closed(1.0, 2.0));
+  a.spacing_fit_tolerance_m = r.number("spacing_fit_tolerance_m", a.spacing_fit_tolerance_m, positive, "m");
+  a.row_heading_tolerance_rad =
+      r.number("row_heading_tolerance_rad", a.row_heading_tolerance_rad, ParamRange{0.0, 0.2, true, true}, "rad");
+  a.edge_straightness_m = r.number("edge_straightness_m", a.edge_straightness_m, positive, "m");
+  a.side_wall_min_support = r.number("side_wall_min_support", a.side_wall_min_support, ParamRange::aboveUpTo(0.0, 1.0));
+  r.alsoRead("diagnostic_period");
+  // Checks across parameters (e.g. the gauge below the spacing): the library's own validation.
+  if (const std::string error = a.validate(); !error.empty()) throw thorvald_base::ParamError(r.node() + ": " + error);
+  if (s.frame_id.empty()) throw thorvald_base::ParamError(r.node() + ": frame_id must not be empty");
+  r.finish();
+  return s;
 }
 
 class MapAnalyzerNode {
@@ -245,13 +253,15 @@ int main(int argc, char** argv) {
   ros::init(argc, argv, "map_analyzer");
   ros::NodeHandle nh, pnh("~");
   NodeSettings settings;
-  std::string error;
-  if (!loadSettings(pnh, &settings, &error)) {
-    ROS_FATAL_STREAM("map_analyzer: cannot start: " << error);
+  try {
+    settings = loadSettings(pnh);
+  } catch (const thorvald_base::ParamError& e) {
+    ROS_FATAL_STREAM("map_analyzer: cannot start: " << e.what());
     return 1;
   }
   MapAnalyzerNode node(nh, pnh, settings);
   if (!settings.map_file.empty()) {
+    std::string error;
     OccupancyMap map;
     if (!loadMapYaml(settings.map_file, &map, &error, static_cast<std::uint64_t>(settings.max_map_cells))) {
       ROS_FATAL_STREAM("map_analyzer: cannot start: " << error);

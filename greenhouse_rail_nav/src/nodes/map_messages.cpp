@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include <tf2/LinearMath/Quaternion.h>
+#include <tf2/utils.h>
+#include <tf2_geometry_msgs/tf2_geometry_msgs.h>
+
 namespace greenhouse_rail_nav {
 namespace {
 
@@ -37,15 +41,18 @@ visualization_msgs::Marker marker(const std::string& ns, int id, int type, const
 }  // namespace
 
 double yawOf(const geometry_msgs::Quaternion& q) {
-  return std::atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
+  tf2::Quaternion t;
+  tf2::fromMsg(q, t);
+  return tf2::getYaw(t);
 }
 
 geometry_msgs::Pose toPoseMessage(const Pose2D& pose) {
   geometry_msgs::Pose out;
   out.position.x = pose.x;
   out.position.y = pose.y;
-  out.orientation.z = std::sin(0.5 * pose.yaw);
-  out.orientation.w = std::cos(0.5 * pose.yaw);
+  tf2::Quaternion q;
+  q.setRPY(0.0, 0.0, pose.yaw);
+  out.orientation = tf2::toMsg(q);
   return out;
 }
 

@@ -7,7 +7,10 @@
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <ros/ros.h>
+#include <thorvald_base/ros/param_reader.h>
 #include <std_srvs/Trigger.h>
+#include <tf2/LinearMath/Quaternion.h>
+#include <tf2_geometry_msgs/tf2_geometry_msgs.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 #include <visualization_msgs/MarkerArray.h>
@@ -17,7 +20,6 @@
 #include "greenhouse_rail_nav/mount_calibration.h"
 #include "greenhouse_rail_nav/rail_detector.h"
 #include "greenhouse_rail_nav/rail_pose_gate.h"
-#include "param_reader.h"
 
 namespace greenhouse_rail_nav {
 namespace {
@@ -33,58 +35,70 @@ struct NodeSettings {
   RailPoseGateParams gate;
 };
 
-bool loadSettings(const ros::NodeHandle& pnh, NodeSettings* s, std::string* error) {
-  ParamReader r(pnh);
-  r.read("base_frame", &s->base_frame);
-  r.read("rail_frame", &s->rail_frame);
-  r.read("fit_method", &s->fit_method);
-  r.read("tf_timeout_s", &s->tf_timeout_s);
-  r.read("calibration_file", &s->calibration_file);
-  r.read("calibration_max_y_m", &s->calibration_max_y_m);
-  r.read("calibration_max_yaw_rad", &s->calibration_max_yaw_rad);
-  r.read("calibration_max_age_s", &s->calibration_max_age_s);
-  auto& d = s->detector;
-  r.read("rail_gauge_m", &d.rail_gauge_m);
-  r.read("gauge_tolerance_m", &d.gauge_tolerance_m);
-  r.read("crop_z_min_m", &d.crop_z_min_m);
-  r.read("crop_z_max_m", &d.crop_z_max_m);
-  r.read("crop_x_min_m", &d.crop_x_min_m);
-  r.read("crop_x_max_m", &d.crop_x_max_m);
-  r.read("crop_y_max_m", &d.crop_y_max_m);
-  r.read("voxel_size_m", &d.voxel_size_m);
-  r.read("cluster_tolerance_m", &d.cluster_tolerance_m);
-  r.read("min_cluster_points", &d.min_cluster_points);
-  r.read("max_cluster_points", &d.max_cluster_points);
-  r.read("min_line_length_m", &d.min_line_length_m);
-  r.read("min_linearity", &d.min_linearity);
-  r.read("rail_trim_m", &d.rail_trim_m);
-  r.read("height_tolerance_m", &d.height_tolerance_m);
-  r.read("min_partner_coverage", &d.min_partner_coverage);
-  r.read("parallel_tolerance_rad", &d.parallel_tolerance_rad);
-  r.read("max_abs_yaw_rad", &d.max_abs_yaw_rad);
-  r.read("max_lateral_offset_m", &d.max_lateral_offset_m);
-  r.read("ransac_distance_m", &d.ransac_distance_m);
-  r.read("ransac_max_lines", &d.ransac_max_lines);
-  r.read("ransac_iterations", &d.ransac_iterations);
-  r.read("sigma_x_m", &d.sigma_x_m);
-  r.read("sigma_y_m", &d.sigma_y_m);
-  r.read("sigma_yaw_rad", &d.sigma_yaw_rad);
-  r.read("start_view_margin_m", &d.start_view_margin_m);
-  r.read("unobserved_sigma_x_m", &d.unobserved_sigma_x_m);
-  r.read("pipe_radius_m", &d.pipe_radius_m);
-  r.read("gate_max_step_xy_m", &s->gate.max_step_xy_m);
-  r.read("gate_max_step_yaw_rad", &s->gate.max_step_yaw_rad);
-  r.read("gate_frames_to_accept_jump", &s->gate.frames_to_accept_jump);
-  r.read("gate_reset_after_s", &s->gate.reset_after_s);
-  r.fail(d.validate());
-  r.fail(s->gate.validate());
-  if (s->fit_method != "clusters" && s->fit_method != "ransac") r.fail("fit_method must be 'clusters' or 'ransac'");
-  if (!(s->tf_timeout_s >= 0.0)) r.fail("tf_timeout_s must be >= 0 [s]");
-  if (!(s->calibration_max_y_m > 0.0) || !(s->calibration_max_yaw_rad > 0.0) || !(s->calibration_max_age_s > 0.0))
-    r.fail("calibration_max_y_m, calibration_max_yaw_rad and calibration_max_age_s must be > 0");
-  if (s->base_frame.empty() || s->rail_frame.empty()) r.fail("base_frame and rail_frame must not be empty");
-  *error = r.error();
-  return error->empty();
+/// Reads and checks every private parameter; throws thorvald_base::ParamError naming the bad one.
+NodeSettings loadSettings(const ros::NodeHandle& pnh) {
+  using thorvald_base::ParamRange;
+  thorvald_base::ParamReader r(pnh);
+  NodeSettings s;
+  const ParamRange positive = ParamRange::above(0.0);
+  s.base_frame = r.text("base_frame", s.base_frame);
+  s.rail_frame = r.text("rail_frame", s.rail_frame);
+  s.fit_method = r.choice("fit_method", s.fit_method, {"clusters", "ransac"});
+  s.tf_timeout_s = r.number("tf_timeout_s", s.tf_timeout_s, ParamRange::closed(0.0, 10.0), "s");
+  s.calibration_file = r.text("calibration_file", s.calibration_file);
+  s.calibration_max_y_m = r.number("calibration_max_y_m", s.calibration_max_y_m, positive, "m");
+  s.calibration_max_yaw_rad = r.number("calibration_max_yaw_rad", s.calibration_max_yaw_rad, positive, "rad");
+  s.calibration_max_age_s = r.number("calibration_max_age_s", s.calibration_max_age_s, positive, "s");
+  auto& d = s.detector;
+  d.rail_gauge_m = r.number("rail_gauge_m", d.rail_gauge_m, ParamRange::aboveUpTo(0.0, 3.0), "m");
+  d.gauge_tolerance_m = r.number("gauge_tolerance_m", d.gauge_tolerance_m, positive, "m");
+  d.crop_z_min_m = r.number("crop_z_min_m", d.crop_z_min_m, ParamRange::closed(-1.0, 1.0), "m");
+  d.crop_z_max_m = r.number("crop_z_max_m", d.crop_z_max_m, ParamRange::closed(-1.0, 1.0), "m");
+  d.crop_x_min_m = r.number("crop_x_min_m", d.crop_x_min_m, ParamRange::closed(-10.0, 20.0), "m");
+  d.crop_x_max_m = r.number("crop_x_max_m", d.crop_x_max_m, ParamRange::closed(-10.0, 20.0), "m");
+  d.crop_y_max_m = r.number("crop_y_max_m", d.crop_y_max_m, ParamRange::aboveUpTo(0.0, 10.0), "m");
+  d.voxel_size_m = r.number("voxel_size_m", d.voxel_size_m, ParamRange::closed(0.0, 1.0), "m");
+  d.cluster_tolerance_m = r.number("cluster_tolerance_m", d.cluster_tolerance_m, ParamRange::aboveUpTo(0.0, 1.0), "m");
+  d.min_cluster_points = r.integer("min_cluster_points", d.min_cluster_points, 3, 10000000);
+  d.max_cluster_points = r.integer("max_cluster_points", d.max_cluster_points, 3, 100000000);
+  d.min_line_length_m = r.number("min_line_length_m", d.min_line_length_m, positive, "m");
+  d.min_linearity = r.number("min_linearity", d.min_linearity, ParamRange{0.0, 1.0, true, true});
+  d.rail_trim_m = r.number("rail_trim_m", d.rail_trim_m, positive, "m");
+  d.height_tolerance_m = r.number("height_tolerance_m", d.height_tolerance_m, positive, "m");
+  d.min_partner_coverage = r.number("min_partner_coverage", d.min_partner_coverage, ParamRange::closed(0.0, 1.0));
+  d.parallel_tolerance_rad = r.number("parallel_tolerance_rad", d.parallel_tolerance_rad, positive, "rad");
+  d.max_abs_yaw_rad = r.number("max_abs_yaw_rad", d.max_abs_yaw_rad, ParamRange{0.0, M_PI / 2, true, true}, "rad");
+  d.max_lateral_offset_m = r.number("max_lateral_offset_m", d.max_lateral_offset_m, positive, "m");
+  d.ransac_distance_m = r.number("ransac_distance_m", d.ransac_distance_m, positive, "m");
+  d.ransac_max_lines = r.integer("ransac_max_lines", d.ransac_max_lines, 2, 100);
+  d.ransac_iterations = r.integer("ransac_iterations", d.ransac_iterations, 1, 1000000);
+  d.sigma_x_m = r.number("sigma_x_m", d.sigma_x_m, positive, "m");
+  d.sigma_y_m = r.number("sigma_y_m", d.sigma_y_m, positive, "m");
+  d.sigma_yaw_rad = r.number("sigma_yaw_rad", d.sigma_yaw_rad, positive, "rad");
+  d.start_view_margin_m =
+      r.number("start_view_margin_m", d.start_view_margin_m, ParamRange{0.0, 1.0, false, true}, "m");
+  d.image_margin_px = r.number("image_margin_px", d.image_margin_px, ParamRange{0.0, 100.0, false, true}, "px");
+  d.unobserved_sigma_x_m = r.number("unobserved_sigma_x_m", d.unobserved_sigma_x_m, positive, "m");
+  d.pipe_radius_m = r.number("pipe_radius_m", d.pipe_radius_m, ParamRange{0.0, 0.2, false, true}, "m");
+  s.gate.max_step_xy_m = r.number("gate_max_step_xy_m", s.gate.max_step_xy_m, positive, "m");
+  s.gate.max_step_yaw_rad = r.number("gate_max_step_yaw_rad", s.gate.max_step_yaw_rad, positive, "rad");
+  s.gate.frames_to_accept_jump = r.integer("gate_frames_to_accept_jump", s.gate.frames_to_accept_jump, 1, 1000);
+  s.gate.reset_after_s = r.number("gate_reset_after_s", s.gate.reset_after_s, positive, "s");
+  r.alsoRead("diagnostic_period");
+  // Checks across parameters (e.g. crop_z_min_m < crop_z_max_m): the library's own validation.
+  for (const std::string& error : {d.validate(), s.gate.validate()})
+    if (!error.empty()) throw thorvald_base::ParamError(r.node() + ": " + error);
+  if (s.base_frame.empty() || s.rail_frame.empty())
+    throw thorvald_base::ParamError(r.node() + ": base_frame and rail_frame must not be empty");
+  r.finish();
+  return s;
+}
+
+/// Orientation of a planar heading [rad].
+geometry_msgs::Quaternion yawQuaternion(double yaw_rad) {
+  tf2::Quaternion q;
+  q.setRPY(0.0, 0.0, yaw_rad);
+  return tf2::toMsg(q);
 }
 
 Eigen::Isometry3d toEigen(const geometry_msgs::Transform& t) {
@@ -182,8 +196,7 @@ class RailDetectorNode {
     pose.header.frame_id = settings_.rail_frame;
     pose.pose.pose.position.x = d.base_in_rail.x;
     pose.pose.pose.position.y = d.base_in_rail.y;
-    pose.pose.pose.orientation.z = std::sin(0.5 * d.base_in_rail.yaw);
-    pose.pose.pose.orientation.w = std::cos(0.5 * d.base_in_rail.yaw);
+    pose.pose.pose.orientation = yawQuaternion(d.base_in_rail.yaw);
     pose.pose.covariance.fill(0.0);
     pose.pose.covariance[0] = d.variance[0];
     pose.pose.covariance[7] = d.variance[1];
@@ -237,8 +250,7 @@ class RailDetectorNode {
     frame.color.g = 0.0f;
     frame.pose.position.x = d.rail_in_base.x;
     frame.pose.position.y = d.rail_in_base.y;
-    frame.pose.orientation.z = std::sin(0.5 * d.rail_in_base.yaw);
-    frame.pose.orientation.w = std::cos(0.5 * d.rail_in_base.yaw);
+    frame.pose.orientation = yawQuaternion(d.rail_in_base.yaw);
     array.markers = {rails, frame};
     markers_pub_.publish(array);
   }
@@ -323,9 +335,10 @@ int main(int argc, char** argv) {
   ros::init(argc, argv, "rail_detector");
   ros::NodeHandle nh, pnh("~");
   greenhouse_rail_nav::NodeSettings settings;
-  std::string error;
-  if (!greenhouse_rail_nav::loadSettings(pnh, &settings, &error)) {
-    ROS_FATAL_STREAM("rail_detector: cannot start: " << error);
+  try {
+    settings = greenhouse_rail_nav::loadSettings(pnh);
+  } catch (const thorvald_base::ParamError& e) {
+    ROS_FATAL_STREAM("rail_detector: cannot start: " << e.what());
     return 1;
   }
   greenhouse_rail_nav::RailDetectorNode node(nh, pnh, settings);
