@@ -15,8 +15,8 @@
 #include <std_srvs/Trigger.h>
 #include <tf2_ros/transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
+#include <thorvald_base/ros/param_reader.h>
 
-#include "param_reader.h"
 #include "ros_conversions.h"
 #include "scan_frames.h"
 #include "thorvald_navigation/map_file.h"
@@ -35,63 +35,67 @@ struct Settings {
   MapperParams mapper;
 };
 
+/// Reads and checks the node's parameters; false with the reason in `error` when one is wrong.
 bool loadSettings(const ros::NodeHandle& pnh, Settings* s, std::string* error) {
-  ParamReader r(pnh);
-  r.read("base_frame", &s->base_frame);
-  r.read("odom_frame", &s->odom_frame);
-  r.read("map_frame", &s->map_frame);
-  r.read("map_file", &s->map_file);
-  r.read("map_update_interval", &s->map_update_interval);
-  r.read("transform_publish_period", &s->transform_publish_period);
-  r.read("progress_period", &s->progress_period);
-  r.read("tf_timeout", &s->tf_timeout);
-  auto& m = s->mapper;
-  r.read("delta", &m.resolution_m);
-  r.read("maxUrange", &m.max_range_m);
-  r.read("linearUpdate", &m.linear_update_m);
-  r.read("angularUpdate", &m.angular_update_rad);
-  r.read("initial_size", &m.initial_size_m);
-  r.read("max_size", &m.max_size_m);
-  r.read("sigma", &m.matcher.sigma_hit_m);
-  r.read("min_inlier_fraction", &m.min_inlier_fraction);
-  for (const char* key : {"particles",
-                          "minimumScore",
-                          "lskip",
-                          "srr",
-                          "srt",
-                          "str",
-                          "stt",
-                          "ogain",
-                          "kernelSize",
-                          "lstep",
-                          "astep",
-                          "iterations",
-                          "lsigma",
-                          "resampleThreshold",
-                          "temporalUpdate",
-                          "llsamplerange",
-                          "llsamplestep",
-                          "lasamplerange",
-                          "lasamplestep",
-                          "xmin",
-                          "xmax",
-                          "ymin",
-                          "ymax",
-                          "maxRange",
-                          "throttle_scans",
-                          "occ_thresh"})
-    r.ignore(key);  // gmapping's particle-filter tuning: no meaning for a single scan-matched trajectory
-  if (!r.error().empty()) {
-    *error = r.error();
+  using R = thorvald_base::ParamRange;
+  try {
+    thorvald_base::ParamReader r(pnh, "headland_mapper");
+    s->base_frame = r.text("base_frame", s->base_frame);
+    s->odom_frame = r.text("odom_frame", s->odom_frame);
+    s->map_frame = r.text("map_frame", s->map_frame);
+    s->map_file = r.text("map_file", s->map_file);
+    s->map_update_interval = r.number("map_update_interval", s->map_update_interval, R::above(0.0), "s");
+    s->transform_publish_period =
+        r.number("transform_publish_period", s->transform_publish_period, R::aboveUpTo(0.0, 1.0), "s");
+    s->progress_period = r.number("progress_period", s->progress_period, R::above(0.0), "s");
+    s->tf_timeout = r.number("tf_timeout", s->tf_timeout, R::closed(0.0, 5.0), "s");
+    auto& m = s->mapper;
+    m.resolution_m = r.number("delta", m.resolution_m, R::closed(0.005, 1.0), "m");
+    m.max_range_m = r.number("maxUrange", m.max_range_m, R::above(0.0), "m");
+    m.linear_update_m = r.number("linearUpdate", m.linear_update_m, R::atLeast(0.0), "m");
+    m.angular_update_rad = r.number("angularUpdate", m.angular_update_rad, R::atLeast(0.0), "rad");
+    m.initial_size_m = r.number("initial_size", m.initial_size_m, R::above(0.0), "m");
+    m.max_size_m = r.number("max_size", m.max_size_m, R::above(0.0), "m");
+    m.matcher.sigma_hit_m = r.number("sigma", m.matcher.sigma_hit_m, R::above(0.0), "m");
+    m.min_inlier_fraction = r.number("min_inlier_fraction", m.min_inlier_fraction, R::closed(0.0, 1.0));
+    // gmapping's particle-filter tuning: accepted, no meaning for a single scan-matched trajectory.
+    for (const char* key : {"particles",
+                            "minimumScore",
+                            "lskip",
+                            "srr",
+                            "srt",
+                            "str",
+                            "stt",
+                            "ogain",
+                            "kernelSize",
+                            "lstep",
+                            "astep",
+                            "iterations",
+                            "lsigma",
+                            "resampleThreshold",
+                            "temporalUpdate",
+                            "llsamplerange",
+                            "llsamplestep",
+                            "lasamplerange",
+                            "lasamplestep",
+                            "xmin",
+                            "xmax",
+                            "ymin",
+                            "ymax",
+                            "maxRange",
+                            "throttle_scans",
+                            "occ_thresh"})
+      r.alsoRead(key);
+    r.finish();
+    const std::string problem = m.validate();
+    if (!problem.empty()) throw thorvald_base::ParamError("headland_mapper: " + problem);
+    if (s->base_frame.empty() || s->odom_frame.empty() || s->map_frame.empty())
+      throw thorvald_base::ParamError("headland_mapper: ~base_frame, ~odom_frame and ~map_frame must not be empty");
+  } catch (const thorvald_base::ParamError& e) {
+    *error = e.what();
     return false;
   }
-  r.fail(m.validate());
-  if (!(s->map_update_interval > 0.0) || !(s->transform_publish_period > 0.0) || !(s->progress_period > 0.0))
-    r.fail("map_update_interval, transform_publish_period and progress_period must be > 0");
-  if (s->base_frame.empty() || s->odom_frame.empty() || s->map_frame.empty()) r.fail("frames must not be empty");
-  r.warnUnread("headland_mapper");
-  *error = r.error();
-  return error->empty();
+  return true;
 }
 
 class HeadlandMapperNode {
@@ -267,7 +271,7 @@ int main(int argc, char** argv) {
   thorvald_navigation::Settings settings;
   std::string error;
   if (!thorvald_navigation::loadSettings(pnh, &settings, &error)) {
-    ROS_FATAL_STREAM("headland_mapper: " << error);
+    ROS_FATAL_STREAM(error);
     return 1;
   }
   thorvald_navigation::HeadlandMapperNode node(nh, pnh, settings);

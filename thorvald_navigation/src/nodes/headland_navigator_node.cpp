@@ -18,8 +18,8 @@
 #include <ros/ros.h>
 #include <sensor_msgs/LaserScan.h>
 #include <tf2_ros/transform_listener.h>
+#include <thorvald_base/ros/param_reader.h>
 
-#include "param_reader.h"
 #include "ros_conversions.h"
 #include "scan_frames.h"
 #include "thorvald_base/ros/robot_config_params.h"
@@ -41,6 +41,9 @@ struct Settings {
   double obstacle_check_ahead = 1.5;  // path length checked for obstacles [m]
   double obstacle_wait = 10.0;        // give up when blocked for this long [s]
   double planner_patience = 5.0;      // give up when no pose/plan for this long [s]
+  double settle_time = 0.5;           // after arriving, stand still this long before checking the pose [s]
+  int goal_corrections = 3;           // re-approaches when the settled pose is outside the tolerances
+  double final_approach = 0.3;        // differential: the last metres driven straight along the goal heading [m]
   double scan_max_age = 0.5;          // obstacles older than this are forgotten [s]
   CostmapParams costmap;
   PlannerParams planner;
@@ -58,45 +61,56 @@ Footprint makeFootprint(const std::vector<double>& flat, double padding) {
   return fp;
 }
 
+/// Reads and checks the node's parameters; false with the reason in `error` when one is wrong.
 bool loadSettings(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, Settings* s, std::string* error) {
-  ParamReader r(pnh);
-  r.read("global_frame", &s->global_frame);
-  r.read("robot_base_frame", &s->base_frame);
-  r.read("keep_out_topic", &s->keep_out_topic);
-  r.read("controller_frequency", &s->controller_frequency);
-  r.read("footprint_padding", &s->footprint_padding);
-  r.read("footprint", &s->footprint);
-  r.read("drive_mode", &s->drive_mode);
-  r.read("obstacle_range", &s->obstacle_range);
-  r.read("obstacle_check_ahead", &s->obstacle_check_ahead);
-  r.read("obstacle_wait", &s->obstacle_wait);
-  r.read("planner_patience", &s->planner_patience);
-  r.read("scan_max_age", &s->scan_max_age);
-  r.read("inflation_radius", &s->costmap.inflation_radius_m);
-  s->costmap.planning_radius_m = 0.0;  // 0: half the footprint's width (+ padding), set below
-  r.read("planning_radius", &s->costmap.planning_radius_m);
-  r.read("cost_scaling_factor", &s->costmap.cost_scaling);
-  bool track_unknown = !s->costmap.unknown_is_blocked;
-  r.read("allow_unknown", &track_unknown);
-  s->costmap.unknown_is_blocked = !track_unknown;
-  r.read("cost_weight", &s->planner.cost_weight);
-  auto& f = s->follower;
-  r.read("max_vel_x", &f.max_speed_mps);
-  r.read("max_vel_theta", &f.max_yaw_rate_radps);
-  r.read("acc_lim_x", &f.max_accel_mps2);
-  r.read("acc_lim_theta", &f.max_yaw_accel_radps2);
-  r.read("xy_goal_tolerance", &f.xy_tolerance_m);
-  r.read("yaw_goal_tolerance", &f.yaw_tolerance_rad);
-  r.read("lookahead", &f.lookahead_m);
-  r.read("rotate_in_place_angle", &f.rotate_in_place_rad);
-  if (!r.error().empty()) {
-    *error = r.error();
-    return false;
-  }
-  if (s->footprint.empty()) {
-    // The robot file in the robot's namespace: the box around wheels, casters and corners.
-    try {
-      const thorvald_base::RobotConfig cfg = thorvald_base::robotConfigFromParams(nh);
+  using R = thorvald_base::ParamRange;
+  auto check = [](const std::string& problem) {
+    if (!problem.empty()) throw thorvald_base::ParamError("headland_navigator: " + problem);
+  };
+  try {
+    thorvald_base::ParamReader r(pnh, "headland_navigator");
+    s->global_frame = r.text("global_frame", s->global_frame);
+    s->base_frame = r.text("robot_base_frame", s->base_frame);
+    s->keep_out_topic = r.text("keep_out_topic", s->keep_out_topic);
+    s->controller_frequency = r.number("controller_frequency", s->controller_frequency, R::aboveUpTo(0.0, 200.0), "Hz");
+    s->footprint_padding = r.number("footprint_padding", s->footprint_padding, R::closed(0.0, 1.0), "m");
+    s->footprint = r.numbers("footprint", s->footprint, R::closed(-20.0, 20.0), "m", 0, 200);
+    s->drive_mode = r.choice("drive_mode", s->drive_mode, {"auto", "omnidirectional", "differential"});
+    s->obstacle_range = r.number("obstacle_range", s->obstacle_range, R::above(0.0), "m");
+    s->obstacle_check_ahead = r.number("obstacle_check_ahead", s->obstacle_check_ahead, R::above(0.0), "m");
+    s->obstacle_wait = r.number("obstacle_wait", s->obstacle_wait, R::above(0.0), "s");
+    s->planner_patience = r.number("planner_patience", s->planner_patience, R::above(0.0), "s");
+    s->settle_time = r.number("settle_time", s->settle_time, R::closed(0.0, 5.0), "s");
+    s->goal_corrections = r.integer("goal_corrections", s->goal_corrections, 0, 20);
+    s->final_approach = r.number("final_approach", s->final_approach, R::closed(0.0, 2.0), "m");
+    s->scan_max_age = r.number("scan_max_age", s->scan_max_age, R::above(0.0), "s");
+    s->costmap.inflation_radius_m = r.number("inflation_radius", s->costmap.inflation_radius_m, R::atLeast(0.0), "m");
+    // 0: half the footprint's width (+ padding), set below.
+    s->costmap.planning_radius_m = r.number("planning_radius", 0.0, R::atLeast(0.0), "m");
+    s->costmap.cost_scaling = r.number("cost_scaling_factor", s->costmap.cost_scaling, R::above(0.0), "1/m");
+    s->costmap.unknown_is_blocked = !r.flag("allow_unknown", !s->costmap.unknown_is_blocked);
+    s->planner.cost_weight = r.number("cost_weight", s->planner.cost_weight, R::atLeast(0.0));
+    auto& f = s->follower;
+    f.max_speed_mps = r.number("max_vel_x", f.max_speed_mps, R::above(0.0), "m/s");
+    f.max_yaw_rate_radps = r.number("max_vel_theta", f.max_yaw_rate_radps, R::above(0.0), "rad/s");
+    f.max_accel_mps2 = r.number("acc_lim_x", f.max_accel_mps2, R::above(0.0), "m/s^2");
+    f.max_yaw_accel_radps2 = r.number("acc_lim_theta", f.max_yaw_accel_radps2, R::above(0.0), "rad/s^2");
+    f.xy_tolerance_m = r.number("xy_goal_tolerance", f.xy_tolerance_m, R::above(0.0), "m");
+    f.yaw_tolerance_rad = r.number("yaw_goal_tolerance", f.yaw_tolerance_rad, R::above(0.0), "rad");
+    f.lookahead_m = r.number("lookahead", f.lookahead_m, R::above(0.0), "m");
+    f.rotate_in_place_rad = r.number("rotate_in_place_angle", f.rotate_in_place_rad, R::closed(0.0, 3.1416), "rad");
+    r.finish();
+    if (!s->footprint.empty() && (s->footprint.size() < 6 || s->footprint.size() % 2 != 0))
+      check("~footprint must be a flat list x0 y0 x1 y1 ... of at least 3 points, got " +
+            std::to_string(s->footprint.size()) + " numbers");
+    if (s->footprint.empty()) {
+      // The robot file in the robot's namespace: the box around wheels, casters and corners.
+      thorvald_base::RobotConfig cfg;
+      try {
+        cfg = thorvald_base::robotConfigFromParams(nh);
+      } catch (const std::exception& e) {
+        check("no ~footprint and no usable robot file in " + nh.getNamespace() + ": " + e.what());
+      }
       double x0 = 1e9, x1 = -1e9, y0 = 1e9, y1 = -1e9;
       auto grow = [&](double x, double y, double rx, double ry) {
         x0 = std::min(x0, x - rx);
@@ -115,33 +129,20 @@ bool loadSettings(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, Setting
       s->footprint = {x0, y0, x1, y0, x1, y1, x0, y1};
       if (s->drive_mode == "auto")
         s->drive_mode = all_steered && cfg.passive_wheels.empty() ? "omnidirectional" : "differential";
-    } catch (const std::exception& e) {
-      *error = std::string("no ~footprint and no usable robot file in ") + nh.getNamespace() + ": " + e.what();
-      return false;
     }
+    if (s->drive_mode == "auto") s->drive_mode = "differential";
+    f.omnidirectional = s->drive_mode == "omnidirectional";
+    if (s->costmap.planning_radius_m <= 0.0)
+      s->costmap.planning_radius_m = makeFootprint(s->footprint, s->footprint_padding).halfWidth();
+    s->costmap.inflation_radius_m = std::max(s->costmap.inflation_radius_m, s->costmap.planning_radius_m);
+    check(s->costmap.validate());
+    check(s->planner.validate());
+    check(f.validate());
+  } catch (const thorvald_base::ParamError& e) {
+    *error = e.what();
+    return false;
   }
-  if (s->drive_mode == "auto") s->drive_mode = "differential";
-  if (s->drive_mode != "omnidirectional" && s->drive_mode != "differential")
-    r.fail("drive_mode must be auto, omnidirectional or differential, got '" + s->drive_mode + "'");
-  f.omnidirectional = s->drive_mode == "omnidirectional";
-  if (s->footprint.size() < 6 || s->footprint.size() % 2 != 0)
-    r.fail("footprint must be a flat list x0 y0 x1 y1 ... of at least 3 points");
-  if (!(s->controller_frequency > 0.0 && s->controller_frequency <= 200.0))
-    r.fail("controller_frequency must be in (0, 200]");
-  if (!(s->footprint_padding >= 0.0) || !(s->obstacle_range > 0.0) || !(s->obstacle_check_ahead > 0.0) ||
-      !(s->obstacle_wait > 0.0) || !(s->planner_patience > 0.0) || !(s->scan_max_age > 0.0))
-    r.fail(
-        "footprint_padding >= 0; obstacle_range, obstacle_check_ahead, obstacle_wait, planner_patience, "
-        "scan_max_age > 0");
-  if (s->costmap.planning_radius_m <= 0.0 && s->footprint.size() >= 6)
-    s->costmap.planning_radius_m = makeFootprint(s->footprint, s->footprint_padding).halfWidth();
-  s->costmap.inflation_radius_m = std::max(s->costmap.inflation_radius_m, s->costmap.planning_radius_m);
-  r.fail(s->costmap.validate());
-  r.fail(s->planner.validate());
-  r.fail(f.validate());
-  r.warnUnread("headland_navigator");
-  *error = r.error();
-  return error->empty();
+  return true;
 }
 
 using ActionServer = actionlib::SimpleActionServer<move_base_msgs::MoveBaseAction>;
@@ -261,6 +262,9 @@ class HeadlandNavigatorNode {
     active_ = true;
     need_plan_ = true;
     blocked_since_ = ros::Time();
+    arrived_at_ = ros::Time();
+    corrections_ = 0;
+    to_pre_goal_ = false;
     started_ = ros::Time::now();
     ROS_INFO("headland_navigator: new goal (%.2f, %.2f, %.2f)", g.x, g.y, g.yaw);
   }
@@ -296,7 +300,7 @@ class HeadlandNavigatorNode {
       *error = "goal refused: " + r.error;
       return false;
     }
-    path_ = r.path;
+    path_ = withFinalApproach(r.path);
     follower_.setPath(path_, goal_);
     nav_msgs::Path msg;
     msg.header.stamp = ros::Time::now();
@@ -311,6 +315,25 @@ class HeadlandNavigatorNode {
     plan_pub_.publish(msg);
     ++plans_;
     return true;
+  }
+
+  // A differential robot turning on the spot at the goal moves base_link by a few centimetres (its turning centre is
+  // not exactly base_link's on a real floor): it ends its path with `final_approach` metres straight along the goal
+  // heading, so that the final turn is small. Kept out when that stretch would touch a wall, keep-out or obstacle.
+  std::vector<Eigen::Vector2d> withFinalApproach(std::vector<Eigen::Vector2d> path) const {
+    if (s_.follower.omnidirectional || s_.final_approach <= 0.0 || path.empty()) return path;
+    const Eigen::Vector2d goal(goal_.x, goal_.y), heading(std::cos(goal_.yaw), std::sin(goal_.yaw));
+    const Eigen::Vector2d pre = goal - s_.final_approach * heading;
+    for (double d = 0.0; d <= s_.final_approach + 1e-9; d += 0.1) {
+      const Eigen::Vector2d p = pre + d * heading;
+      if (costmap_->footprintBlocker({p.x(), p.y(), goal_.yaw}, footprint_) != Blocker::kNone) return path;
+    }
+    // Drop the plan's points that lie within the approach stretch, then go through its start.
+    while (path.size() > 1 && (path.back() - goal).norm() < s_.final_approach + 0.05) path.pop_back();
+    if ((path.back() - goal).norm() < s_.final_approach + 0.05) path.clear();
+    path.push_back(pre);
+    path.push_back(goal);
+    return path;
   }
 
   // Is a lidar obstacle under the footprint along the next obstacle_check_ahead metres of the path?
@@ -384,10 +407,46 @@ class HeadlandNavigatorNode {
         ev.last_real.isZero() ? 1.0 / s_.controller_frequency : std::min(0.5, (ev.current_real - ev.last_real).toSec());
     const Twist2D t = follower_.step(pose, dt);
     if (follower_.state() == FollowState::kArrived) {
+      // The robot still moves a little after the last command (drive response, wheel slip while turning): judge
+      // the pose once it stands, and approach again while it is outside the tolerances.
+      if (to_pre_goal_) {  // at the start of the final approach: now straight to the goal
+        to_pre_goal_ = false;
+        path_ = {pre_goal_, Eigen::Vector2d(goal_.x, goal_.y)};
+        follower_.setPath(path_, goal_);
+        return;
+      }
       stopRobot();
-      active_ = false;
+      if (arrived_at_.isZero()) arrived_at_ = now;
+      if ((now - arrived_at_).toSec() < s_.settle_time) return;
+      arrived_at_ = ros::Time();
       const double err = std::hypot(pose.x - goal_.x, pose.y - goal_.y);
-      ROS_INFO("headland_navigator: goal reached (%.3f m, %.3f rad off)", err, normalizeAngle(pose.yaw - goal_.yaw));
+      const double err_yaw = normalizeAngle(pose.yaw - goal_.yaw);
+      const bool within = err <= s_.follower.xy_tolerance_m && std::abs(err_yaw) <= s_.follower.yaw_tolerance_rad;
+      if (!within && corrections_ < s_.goal_corrections) {
+        ++corrections_;
+        ROS_INFO("headland_navigator: settled %.3f m, %.3f rad off the goal: approaching again (%d of %d)", err,
+                 err_yaw, corrections_, s_.goal_corrections);
+        // Back off to the start of the final approach (differential) and drive it again; else straight there.
+        const std::vector<Eigen::Vector2d> approach =
+            withFinalApproach({Eigen::Vector2d(pose.x, pose.y), Eigen::Vector2d(goal_.x, goal_.y)});
+        if (approach.size() >= 2 && (approach.end()[-2] - Eigen::Vector2d(goal_.x, goal_.y)).norm() > 1e-3) {
+          pre_goal_ = approach.end()[-2];
+          path_ = {Eigen::Vector2d(pose.x, pose.y), pre_goal_};
+          follower_.setPath(path_, {pre_goal_.x(), pre_goal_.y(), goal_.yaw});
+          to_pre_goal_ = true;
+        } else {
+          path_ = approach;
+          follower_.setPath(path_, goal_);
+        }
+        return;
+      }
+      active_ = false;
+      if (!within) {
+        abort("settled " + std::to_string(err) + " m, " + std::to_string(err_yaw) + " rad off the goal after " +
+              std::to_string(corrections_) + " corrections");
+        return;
+      }
+      ROS_INFO("headland_navigator: goal reached (%.3f m, %.3f rad off, %d corrections)", err, err_yaw, corrections_);
       server_.setSucceeded(move_base_msgs::MoveBaseResult(), "goal reached");
       ++reached_;
       return;
@@ -437,7 +496,10 @@ class HeadlandNavigatorNode {
   std::vector<Eigen::Vector2d> obstacles_, path_;
   Pose2D goal_;
   bool active_ = false, need_plan_ = false;
-  ros::Time blocked_since_, started_, last_scan_;
+  ros::Time blocked_since_, started_, last_scan_, arrived_at_;
+  int corrections_ = 0;
+  bool to_pre_goal_ = false;  // a correction is on its way to the start of the final approach
+  Eigen::Vector2d pre_goal_{0.0, 0.0};
   long plans_ = 0, reached_ = 0, obstacle_stops_ = 0;
   std::string last_failure_;
 };
@@ -451,7 +513,7 @@ int main(int argc, char** argv) {
   thorvald_navigation::Settings settings;
   std::string error;
   if (!thorvald_navigation::loadSettings(nh, pnh, &settings, &error)) {
-    ROS_FATAL_STREAM("headland_navigator: " << error);
+    ROS_FATAL_STREAM(error);
     return 1;
   }
   thorvald_navigation::HeadlandNavigatorNode node(nh, pnh, settings);

@@ -16,8 +16,8 @@
 #include <std_srvs/Empty.h>
 #include <tf2_ros/transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
+#include <thorvald_base/ros/param_reader.h>
 
-#include "param_reader.h"
 #include "ros_conversions.h"
 #include "scan_frames.h"
 #include "thorvald_navigation/map_file.h"
@@ -39,58 +39,58 @@ struct Settings {
   LocalizerParams loc;
 };
 
+/// Reads and checks the node's parameters; false with the reason in `error` when one is wrong.
 bool loadSettings(const ros::NodeHandle& pnh, Settings* s, std::string* error) {
-  ParamReader r(pnh);
-  r.read("base_frame_id", &s->base_frame_id);
-  r.read("odom_frame_id", &s->odom_frame_id);
-  r.read("global_frame_id", &s->global_frame_id);
-  r.read("map_file", &s->map_file);
-  r.read("tf_broadcast", &s->tf_broadcast);
-  r.read("transform_tolerance", &s->transform_tolerance);
-  r.read("laser_max_range", &s->laser_max_range);
-  r.read("tf_timeout", &s->tf_timeout);
-  s->have_initial_pose = pnh.hasParam("initial_pose_x") || pnh.hasParam("initial_pose_y");
-  r.read("initial_pose_x", &s->initial_pose.x);
-  r.read("initial_pose_y", &s->initial_pose.y);
-  r.read("initial_pose_a", &s->initial_pose.yaw);
-  r.read("initial_search_xy", &s->initial_search_xy);
-  r.read("initial_search_yaw", &s->initial_search_yaw);
-  auto& l = s->loc;
-  r.read("laser_max_beams", &l.max_beams);
-  r.read("laser_likelihood_max_dist", &l.field_max_distance_m);
-  r.read("laser_sigma_hit", &l.matcher.sigma_hit_m);
-  r.read("odom_sigma_xy", &l.odom_sigma_xy_m);
-  r.read("odom_sigma_per_m", &l.odom_sigma_per_m);
-  r.read("odom_sigma_yaw", &l.odom_sigma_yaw_rad);
-  r.read("odom_sigma_yaw_per_rad", &l.odom_sigma_yaw_per_rad);
-  r.read("uncertain_inlier_fraction", &l.uncertain_inlier_fraction);
-  r.read("lost_inlier_fraction", &l.lost_inlier_fraction);
-  r.read("lost_after_scans", &l.lost_after_scans);
-  r.read("max_jump", &l.max_jump_m);
-  r.read("global_step_xy", &l.global.step_xy_m);
-  r.read("global_step_yaw", &l.global.step_yaw_rad);
-  for (const char* key : {"min_particles",       "max_particles",       "kld_err",           "kld_z",
-                          "update_min_d",        "update_min_a",        "resample_interval", "recovery_alpha_slow",
-                          "recovery_alpha_fast", "gui_publish_rate",    "save_pose_rate",    "use_map_topic",
-                          "first_map_only",      "laser_z_hit",         "laser_z_short",     "laser_z_max",
-                          "laser_z_rand",        "laser_lambda_short",  "laser_model_type",  "odom_model_type",
-                          "odom_alpha1",         "odom_alpha2",         "odom_alpha3",       "odom_alpha4",
-                          "odom_alpha5",         "initial_cov_xx",      "initial_cov_yy",    "initial_cov_aa",
-                          "laser_min_range",     "selective_resampling"})
-    r.ignore(key);  // AMCL's particle-filter tuning: no meaning for scan matching with an odometry prior
-  if (!r.error().empty()) {
-    *error = r.error();
+  using R = thorvald_base::ParamRange;
+  try {
+    thorvald_base::ParamReader r(pnh, "map_localizer");
+    s->base_frame_id = r.text("base_frame_id", s->base_frame_id);
+    s->odom_frame_id = r.text("odom_frame_id", s->odom_frame_id);
+    s->global_frame_id = r.text("global_frame_id", s->global_frame_id);
+    s->map_file = r.text("map_file", s->map_file);
+    s->tf_broadcast = r.flag("tf_broadcast", s->tf_broadcast);
+    s->transform_tolerance = r.number("transform_tolerance", s->transform_tolerance, R::closed(0.0, 10.0), "s");
+    s->laser_max_range = r.number("laser_max_range", s->laser_max_range, R::above(0.0), "m");
+    s->tf_timeout = r.number("tf_timeout", s->tf_timeout, R::closed(0.0, 5.0), "s");
+    s->have_initial_pose = r.has("initial_pose_x") || r.has("initial_pose_y");
+    s->initial_pose.x = r.number("initial_pose_x", s->initial_pose.x, R::closed(-1e4, 1e4), "m");
+    s->initial_pose.y = r.number("initial_pose_y", s->initial_pose.y, R::closed(-1e4, 1e4), "m");
+    s->initial_pose.yaw = r.number("initial_pose_a", s->initial_pose.yaw, R::closed(-10.0, 10.0), "rad");
+    s->initial_search_xy = r.number("initial_search_xy", s->initial_search_xy, R::atLeast(0.0), "m");
+    s->initial_search_yaw = r.number("initial_search_yaw", s->initial_search_yaw, R::aboveUpTo(0.0, 3.1416), "rad");
+    auto& l = s->loc;
+    l.max_beams = r.integer("laser_max_beams", l.max_beams, 2, 100000);
+    l.field_max_distance_m = r.number("laser_likelihood_max_dist", l.field_max_distance_m, R::above(0.0), "m");
+    l.matcher.sigma_hit_m = r.number("laser_sigma_hit", l.matcher.sigma_hit_m, R::above(0.0), "m");
+    l.odom_sigma_xy_m = r.number("odom_sigma_xy", l.odom_sigma_xy_m, R::above(0.0), "m");
+    l.odom_sigma_per_m = r.number("odom_sigma_per_m", l.odom_sigma_per_m, R::atLeast(0.0));
+    l.odom_sigma_yaw_rad = r.number("odom_sigma_yaw", l.odom_sigma_yaw_rad, R::above(0.0), "rad");
+    l.odom_sigma_yaw_per_rad = r.number("odom_sigma_yaw_per_rad", l.odom_sigma_yaw_per_rad, R::atLeast(0.0));
+    l.uncertain_inlier_fraction =
+        r.number("uncertain_inlier_fraction", l.uncertain_inlier_fraction, R::closed(0.0, 1.0));
+    l.lost_inlier_fraction = r.number("lost_inlier_fraction", l.lost_inlier_fraction, R::closed(0.0, 1.0));
+    l.lost_after_scans = r.integer("lost_after_scans", l.lost_after_scans, 1, 100000);
+    l.max_jump_m = r.number("max_jump", l.max_jump_m, R::above(0.0), "m");
+    l.global.step_xy_m = r.number("global_step_xy", l.global.step_xy_m, R::above(0.0), "m");
+    l.global.step_yaw_rad = r.number("global_step_yaw", l.global.step_yaw_rad, R::aboveUpTo(0.0, 1.0), "rad");
+    // AMCL's particle-filter tuning: accepted, no meaning for scan matching with an odometry prior.
+    for (const char* key : {"min_particles",       "max_particles",       "kld_err",           "kld_z",
+                            "update_min_d",        "update_min_a",        "resample_interval", "recovery_alpha_slow",
+                            "recovery_alpha_fast", "gui_publish_rate",    "save_pose_rate",    "use_map_topic",
+                            "first_map_only",      "laser_z_hit",         "laser_z_short",     "laser_z_max",
+                            "laser_z_rand",        "laser_lambda_short",  "laser_model_type",  "odom_model_type",
+                            "odom_alpha1",         "odom_alpha2",         "odom_alpha3",       "odom_alpha4",
+                            "odom_alpha5",         "initial_cov_xx",      "initial_cov_yy",    "initial_cov_aa",
+                            "laser_min_range",     "selective_resampling"})
+      r.alsoRead(key);
+    r.finish();
+    const std::string problem = l.validate();
+    if (!problem.empty()) throw thorvald_base::ParamError("map_localizer: " + problem);
+  } catch (const thorvald_base::ParamError& e) {
+    *error = e.what();
     return false;
   }
-  r.fail(l.validate());
-  if (!(s->transform_tolerance >= 0.0) || !(s->laser_max_range > 0.0))
-    r.fail("transform_tolerance >= 0, laser_max_range > 0");
-  if (!s->initial_pose.finite()) r.fail("initial_pose_x/y/a must be finite");
-  if (!(s->initial_search_xy >= 0.0) || !(s->initial_search_yaw > 0.0))
-    r.fail("initial_search_xy >= 0, initial_search_yaw > 0");
-  r.warnUnread("map_localizer");
-  *error = r.error();
-  return error->empty();
+  return true;
 }
 
 class MapLocalizerNode {
@@ -291,7 +291,7 @@ int main(int argc, char** argv) {
   thorvald_navigation::Settings settings;
   std::string error;
   if (!thorvald_navigation::loadSettings(pnh, &settings, &error)) {
-    ROS_FATAL_STREAM("map_localizer: " << error);
+    ROS_FATAL_STREAM(error);
     return 1;
   }
   thorvald_navigation::MapLocalizerNode node(nh, pnh, settings);

@@ -6,24 +6,26 @@
 #include <nav_msgs/MapMetaData.h>
 #include <nav_msgs/OccupancyGrid.h>
 #include <ros/ros.h>
+#include <thorvald_base/ros/param_reader.h>
 
-#include "param_reader.h"
 #include "ros_conversions.h"
 #include "thorvald_navigation/map_file.h"
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "map_publisher");
   ros::NodeHandle nh, pnh("~");
-  thorvald_navigation::ParamReader r(pnh);
   std::string map_file, frame_id = "map";
-  r.read("map_file", &map_file);
-  r.read("frame_id", &frame_id);
-  if (map_file.empty()) r.fail("map_file (map_server YAML) must be set");
-  if (!r.error().empty()) {
-    ROS_FATAL_STREAM("map_publisher: " << r.error());
+  try {
+    thorvald_base::ParamReader r(pnh, "map_publisher");
+    map_file = r.text("map_file", map_file);
+    frame_id = r.text("frame_id", frame_id);
+    r.finish();
+    if (map_file.empty()) throw thorvald_base::ParamError("map_publisher: ~map_file (map_server YAML) must be set");
+    if (frame_id.empty()) throw thorvald_base::ParamError("map_publisher: ~frame_id must not be empty");
+  } catch (const thorvald_base::ParamError& e) {
+    ROS_FATAL_STREAM(e.what());
     return 1;
   }
-  r.warnUnread("map_publisher");
   thorvald_navigation::Grid2D grid;
   const std::string error = thorvald_navigation::loadMap(map_file, &grid);
   if (!error.empty()) {

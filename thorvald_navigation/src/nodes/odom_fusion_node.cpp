@@ -14,8 +14,8 @@
 #include <ros/ros.h>
 #include <sensor_msgs/Imu.h>
 #include <tf2_ros/transform_broadcaster.h>
+#include <thorvald_base/ros/param_reader.h>
 
-#include "param_reader.h"
 #include "ros_conversions.h"
 #include "thorvald_navigation/planar_ekf.h"
 
@@ -66,73 +66,74 @@ std::string parseConfig(const std::vector<bool>& cfg, const std::string& name, c
   return {};
 }
 
+/// Reads and checks the node's parameters; false with the reason in `error` when one is wrong.
 bool loadSettings(const ros::NodeHandle& pnh, Settings* s, std::string* error) {
-  ParamReader r(pnh);
-  r.read("frequency", &s->frequency);
-  r.read("two_d_mode", &s->two_d_mode);
-  r.read("publish_tf", &s->publish_tf);
-  r.read("odom_frame", &s->odom_frame);
-  r.read("base_link_frame", &s->base_link_frame);
-  r.read("world_frame", &s->world_frame);
-  r.read("map_frame", &s->map_frame);
-  r.read("sensor_timeout", &s->sensor_timeout);
-  r.read("odom0", &s->odom0.topic);
-  r.read("imu0", &s->imu0.topic);
-  r.read("imu0_relative", &s->imu0.relative);
-  std::vector<bool> odom_cfg(15, false), imu_cfg(15, false);
-  odom_cfg[6] = odom_cfg[7] = odom_cfg[11] = true;
-  imu_cfg[11] = true;
-  r.read("odom0_config", &odom_cfg);
-  r.read("imu0_config", &imu_cfg);
-  std::vector<double> q, p0;
-  r.read("process_noise_covariance", &q);
-  r.read("initial_estimate_covariance", &p0);
-  for (const char* key : {"odom1", "odom2", "imu1", "imu2", "pose0", "pose1", "twist0", "twist1"})
-    r.reject(key, "only one odometry (odom0) and one IMU (imu0) input are supported");
-  for (const char* key : {"odom0_differential", "imu0_differential", "odom0_relative", "use_control", "control_config",
-                          "smooth_lagged_data", "history_length", "dynamic_process_noise_covariance",
-                          "imu0_remove_gravitational_acceleration"})
-    r.reject(key, "this option of robot_localization is not implemented here");
-  for (const char* key :
-       {"odom0_queue_size", "imu0_queue_size", "print_diagnostics", "debug", "transform_time_offset",
-        "transform_timeout", "odom0_nodelay", "imu0_nodelay", "publish_acceleration", "odom0_pose_rejection_threshold",
-        "odom0_twist_rejection_threshold", "imu0_pose_rejection_threshold", "imu0_angular_velocity_rejection_threshold",
-        "imu0_linear_acceleration_rejection_threshold"})
-    r.ignore(key);  // tuning of robot_localization's own machinery: accepted, has no meaning here
-  if (!r.error().empty()) {
-    *error = r.error();
+  using R = thorvald_base::ParamRange;
+  auto check = [](const std::string& problem) {
+    if (!problem.empty()) throw thorvald_base::ParamError("odom_fusion: " + problem);
+  };
+  try {
+    thorvald_base::ParamReader r(pnh, "odom_fusion");
+    s->frequency = r.number("frequency", s->frequency, R::aboveUpTo(0.0, 1000.0), "Hz");
+    s->two_d_mode = r.flag("two_d_mode", s->two_d_mode);
+    s->publish_tf = r.flag("publish_tf", s->publish_tf);
+    s->odom_frame = r.text("odom_frame", s->odom_frame);
+    s->base_link_frame = r.text("base_link_frame", s->base_link_frame);
+    s->world_frame = r.text("world_frame", s->world_frame);
+    s->map_frame = r.text("map_frame", s->map_frame);
+    s->sensor_timeout = r.number("sensor_timeout", s->sensor_timeout, R::above(0.0), "s");
+    s->odom0.topic = r.text("odom0", s->odom0.topic);
+    s->imu0.topic = r.text("imu0", s->imu0.topic);
+    s->imu0.relative = r.flag("imu0_relative", s->imu0.relative);
+    std::vector<bool> odom_cfg(15, false), imu_cfg(15, false);
+    odom_cfg[6] = odom_cfg[7] = odom_cfg[11] = true;
+    imu_cfg[11] = true;
+    odom_cfg = r.flags("odom0_config", odom_cfg, 15, 15);
+    imu_cfg = r.flags("imu0_config", imu_cfg, 15, 15);
+    const std::vector<double> q = r.numbers("process_noise_covariance", {}, R::any(), "", 0, 225);
+    const std::vector<double> p0 = r.numbers("initial_estimate_covariance", {}, R::any(), "", 0, 225);
+    for (const char* key : {"odom1", "odom2", "imu1", "imu2", "pose0", "pose1", "twist0", "twist1"})
+      r.reject(key, "only one odometry (odom0) and one IMU (imu0) input are supported");
+    for (const char* key : {"odom0_differential", "imu0_differential", "odom0_relative", "use_control",
+                            "control_config", "smooth_lagged_data", "history_length",
+                            "dynamic_process_noise_covariance", "imu0_remove_gravitational_acceleration"})
+      r.reject(key, "this option of robot_localization is not implemented here");
+    // Tuning of robot_localization's own machinery: accepted, has no meaning here.
+    for (const char* key :
+         {"odom0_queue_size", "imu0_queue_size", "print_diagnostics", "debug", "transform_time_offset",
+          "transform_timeout", "odom0_nodelay", "imu0_nodelay", "publish_acceleration",
+          "odom0_pose_rejection_threshold", "odom0_twist_rejection_threshold", "imu0_pose_rejection_threshold",
+          "imu0_angular_velocity_rejection_threshold", "imu0_linear_acceleration_rejection_threshold"})
+      r.alsoRead(key);
+    r.finish();
+    if (!s->two_d_mode) check("~two_d_mode: false is not supported (this filter is planar)");
+    if (s->world_frame != s->odom_frame)
+      check("~world_frame must equal ~odom_frame: map-frame fusion belongs to map_localizer");
+    if (s->odom0.topic.empty()) check("~odom0 (wheel odometry topic) must be set");
+    check(parseConfig(odom_cfg, "odom0_config", {6, 7, 11}, s->two_d_mode, &s->odom0.mask));
+    check(parseConfig(imu_cfg, "imu0_config", {5, 11}, s->two_d_mode, &s->imu0.mask));
+    auto diagonal = [&](const std::vector<double>& m, const char* name, State6* out) {
+      if (m.empty()) return;
+      if (m.size() != 225 && m.size() != 15)
+        check(std::string("~") + name + " must be a 15x15 matrix (225 numbers) or its 15-entry diagonal, got " +
+              std::to_string(m.size()) + " numbers");
+      for (int i = 0; i < 15; ++i) {
+        if (kPlanarIndex[i] < 0) continue;
+        const double v = m.size() == 225 ? m[static_cast<std::size_t>(i) * 16] : m[static_cast<std::size_t>(i)];
+        if (!(v > 0.0) || !std::isfinite(v))
+          check(std::string("~") + name + ": diagonal entry for " + kConfigNames[i] + " must be > 0");
+        (*out)(kPlanarIndex[i]) = v;
+      }
+    };
+    s->process_noise << 0.05, 0.05, 0.06, 0.025, 0.025, 0.02;
+    s->initial_covariance = State6::Constant(1e-9);
+    diagonal(q, "process_noise_covariance", &s->process_noise);
+    diagonal(p0, "initial_estimate_covariance", &s->initial_covariance);
+  } catch (const thorvald_base::ParamError& e) {
+    *error = e.what();
     return false;
   }
-  if (!(s->frequency > 0.0 && s->frequency <= 1000.0)) r.fail("frequency must be in (0, 1000] Hz");
-  if (!s->two_d_mode) r.fail("two_d_mode: false is not supported (this filter is planar)");
-  if (s->world_frame != s->odom_frame)
-    r.fail("world_frame must equal odom_frame: map-frame fusion belongs to map_localizer");
-  if (s->odom0.topic.empty()) r.fail("odom0 (wheel odometry topic) must be set");
-  if (!(s->sensor_timeout > 0.0)) r.fail("sensor_timeout must be > 0");
-  std::string e = parseConfig(odom_cfg, "odom0_config", {6, 7, 11}, s->two_d_mode, &s->odom0.mask);
-  if (e.empty()) e = parseConfig(imu_cfg, "imu0_config", {5, 11}, s->two_d_mode, &s->imu0.mask);
-  r.fail(e);
-  auto diagonal = [&](const std::vector<double>& m, const char* name, State6* out) {
-    if (m.empty()) return;
-    if (m.size() != 225 && m.size() != 15) {
-      r.fail(std::string(name) + " must be a 15x15 matrix (225 numbers) or its 15-entry diagonal");
-      return;
-    }
-    for (int i = 0; i < 15; ++i) {
-      if (kPlanarIndex[i] < 0) continue;
-      const double v = m.size() == 225 ? m[static_cast<std::size_t>(i) * 16] : m[static_cast<std::size_t>(i)];
-      if (!(v > 0.0) || !std::isfinite(v))
-        r.fail(std::string(name) + ": diagonal entry for " + kConfigNames[i] + " must be > 0");
-      (*out)(kPlanarIndex[i]) = v;
-    }
-  };
-  s->process_noise << 0.05, 0.05, 0.06, 0.025, 0.025, 0.02;
-  s->initial_covariance = State6::Constant(1e-9);
-  diagonal(q, "process_noise_covariance", &s->process_noise);
-  diagonal(p0, "initial_estimate_covariance", &s->initial_covariance);
-  r.warnUnread("odom_fusion");
-  *error = r.error();
-  return error->empty();
+  return true;
 }
 
 class OdomFusionNode {
@@ -300,7 +301,7 @@ int main(int argc, char** argv) {
   thorvald_navigation::Settings settings;
   std::string error;
   if (!thorvald_navigation::loadSettings(pnh, &settings, &error)) {
-    ROS_FATAL_STREAM("odom_fusion: " << error);
+    ROS_FATAL_STREAM(error);
     return 1;
   }
   thorvald_navigation::OdomFusionNode node(nh, pnh, settings);
