@@ -11,7 +11,6 @@
 #include <std_msgs/Bool.h>
 #include <std_msgs/String.h>
 #include <std_srvs/Trigger.h>
-#include <tf2/LinearMath/Quaternion.h>
 #include <tf2/utils.h>
 #include <tf2_ros/transform_listener.h>
 #include <thorvald_base/ros/param_reader.h>
@@ -28,6 +27,7 @@
 #include "greenhouse_rail_nav/SurfaceState.h"
 #include "greenhouse_rail_nav/rail_set_file.h"
 #include "greenhouse_rail_nav/uv_mission.h"
+#include "map_messages.h"
 
 namespace greenhouse_rail_nav {
 namespace {
@@ -45,19 +45,6 @@ Surface fromMsg(uint8_t s) {
     default:
       return Surface::kUnknown;
   }
-}
-
-geometry_msgs::Pose toPose(const Pose2D& p) {
-  geometry_msgs::Pose out;
-  out.position.x = p.x;
-  out.position.y = p.y;
-  tf2::Quaternion q;
-  q.setRPY(0.0, 0.0, p.yaw);
-  out.orientation.x = q.x();
-  out.orientation.y = q.y();
-  out.orientation.z = q.z();
-  out.orientation.w = q.w();
-  return out;
 }
 
 /// MissionIO on ROS topics, the move_base action and tf. Callbacks run on the spinner's threads; the mission
@@ -96,7 +83,7 @@ class RosMissionIO : public MissionIO {
     move_base_msgs::MoveBaseGoal goal;
     goal.target_pose.header.frame_id = cfg_.map_frame;
     goal.target_pose.header.stamp = ros::Time::now();
-    goal.target_pose.pose = toPose(p);
+    goal.target_pose.pose = toPoseMessage(p);
     move_base_.sendGoal(goal);
   }
   NavState navState(std::string* reason) override {
@@ -164,7 +151,7 @@ class RosMissionIO : public MissionIO {
     geometry_msgs::PoseWithCovarianceStamped m;
     m.header.frame_id = cfg_.map_frame;
     m.header.stamp = ros::Time::now();
-    m.pose.pose = toPose(p);
+    m.pose.pose = toPoseMessage(p);
     m.pose.covariance[0] = m.pose.covariance[7] = 0.02 * 0.02;
     m.pose.covariance[35] = 0.02 * 0.02;
     initialpose_pub_.publish(m);
