@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "thorvald_base/ros/param_reader.h"
 #include "thorvald_sim/mjcf_compiler.h"
 #include "thorvald_sim/world.h"
 
@@ -12,17 +13,26 @@ namespace thorvald_sim {
 
 namespace {
 
-template <typename T>
-void param(const ros::NodeHandle& nh, const std::string& key, T& value) {
-  nh.param(key, value, value);
-}
-
 double xmlNumber(XmlRpc::XmlRpcValue& v, const std::string& key, double def) {
   if (!v.hasMember(key)) return def;
   XmlRpc::XmlRpcValue& x = v[key];
-  if (x.getType() == XmlRpc::XmlRpcValue::TypeDouble) return static_cast<double>(x);
-  if (x.getType() == XmlRpc::XmlRpcValue::TypeInt) return static_cast<int>(x);
-  throw std::invalid_argument(key + ": expected a number");
+  double out = 0.0;
+  if (x.getType() == XmlRpc::XmlRpcValue::TypeDouble)
+    out = static_cast<double>(x);
+  else if (x.getType() == XmlRpc::XmlRpcValue::TypeInt)
+    out = static_cast<int>(x);
+  else
+    throw std::invalid_argument(key + ": found " + thorvald_base::describeParamValue(x) + ", expected a number");
+  if (!std::isfinite(out)) throw std::invalid_argument(key + ": expected a finite number");
+  return out;
+}
+
+std::string xmlText(XmlRpc::XmlRpcValue& v, const std::string& key, const std::string& def) {
+  if (!v.hasMember(key)) return def;
+  XmlRpc::XmlRpcValue& x = v[key];
+  if (x.getType() != XmlRpc::XmlRpcValue::TypeString)
+    throw std::invalid_argument(key + ": found " + thorvald_base::describeParamValue(x) + ", expected a string");
+  return static_cast<std::string>(x);
 }
 
 }  // namespace
@@ -30,71 +40,91 @@ double xmlNumber(XmlRpc::XmlRpcValue& v, const std::string& key, double def) {
 SimRos::SimRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), pnh_(pnh) {}
 
 bool SimRos::loadParams() {
-  auto& p = params_;
-  param(pnh_, "world", p.world);
-  param(pnh_, "truth_file", p.truth_file);
-  param(pnh_, "world_frame", p.world_frame);
-  param(pnh_, "real_time_factor", p.real_time_factor);
-  param(pnh_, "control_period", p.control_period_s);
-  param(pnh_, "ground_truth_rate", p.ground_truth_rate_hz);
-  param(pnh_, "publish_map_tf", p.publish_map_tf);
-  param(pnh_, "start_paused", p.start_paused);
-  param(pnh_, "wait_for_description", p.wait_for_description_s);
-  auto bad = [](const std::string& key, const std::string& expected) {
-    ROS_FATAL("thorvald_sim: parameter ~%s: expected %s", key.c_str(), expected.c_str());
+  using thorvald_base::ParamRange;
+  try {
+    thorvald_base::ParamReader params(pnh_, "thorvald_sim");
+    auto& p = params_;
+    p.world = params.choice("world", p.world, {"flat", "greenhouse", "cotton_row"});
+    p.truth_file = params.text("truth_file", p.truth_file);
+    p.world_frame = params.text("world_frame", p.world_frame);
+    p.real_time_factor = params.number("real_time_factor", p.real_time_factor, ParamRange::closed(0.0, 1000.0));
+    p.control_period_s = params.number("control_period", p.control_period_s, ParamRange::closed(0.001, 0.1), "s");
+    p.ground_truth_rate_hz =
+        params.number("ground_truth_rate", p.ground_truth_rate_hz, ParamRange::aboveUpTo(0.0, 1000.0), "Hz");
+    p.publish_map_tf = params.flag("publish_map_tf", p.publish_map_tf);
+    p.start_paused = params.flag("start_paused", p.start_paused);
+    p.wait_for_description_s =
+        params.number("wait_for_description", p.wait_for_description_s, ParamRange::closed(0.0, 3600.0), "s");
+    p.encoders = params.choice("encoders", p.encoders, {"joint_simulator", "physics"});
+    if (params.raw("robots", &p.robots)) {
+      for (const char* single : {"x", "y", "yaw", "sensors"})
+        params.reject(single, "~robots is set: give the pose and sensors in its entries");
+    } else {
+      p.robots.setSize(1);
+      p.robots[0]["namespace"] = std::string("");
+      p.robots[0]["x"] = params.number("x", 0.0, ParamRange::any(), "m");
+      p.robots[0]["y"] = params.number("y", 0.0, ParamRange::any(), "m");
+      p.robots[0]["yaw"] = params.number("yaw", 0.0, ParamRange::any(), "rad");
+      p.robots[0]["sensors"] = params.text("sensors", "");
+    }
+    // The world's own sub-tree: only the selected world's keys are read, the others are reported unread.
+    if (p.world == "flat") {
+      p.flat_half_size_m =
+          params.number("flat/half_size", p.flat_half_size_m, ParamRange::aboveUpTo(0.5, 10000.0), "m");
+    } else if (p.world == "greenhouse") {
+      auto& g = p.greenhouse;
+      g.rail_sets = params.integer("greenhouse/rail_sets", g.rail_sets, 1, 200);
+      g.set_spacing_m = params.number("greenhouse/set_spacing", g.set_spacing_m, ParamRange::aboveUpTo(0.2, 10.0), "m");
+      g.rail_gauge_m = params.number("greenhouse/rail_gauge", g.rail_gauge_m, ParamRange::aboveUpTo(0.1, 2.0), "m");
+      g.pipe_diameter_m =
+          params.number("greenhouse/pipe_diameter", g.pipe_diameter_m, ParamRange::aboveUpTo(0.005, 0.3), "m");
+      g.rail_top_m = params.number("greenhouse/rail_top", g.rail_top_m, ParamRange::aboveUpTo(0.0, 1.0), "m");
+      g.rail_length_m =
+          params.number("greenhouse/rail_length", g.rail_length_m, ParamRange::aboveUpTo(0.5, 500.0), "m");
+      g.rail_start_gap_m =
+          params.number("greenhouse/rail_start_gap", g.rail_start_gap_m, ParamRange::closed(0.0, 2.0), "m");
+      g.headland_depth_m =
+          params.number("greenhouse/headland_depth", g.headland_depth_m, ParamRange::aboveUpTo(1.0, 100.0), "m");
+      g.row_ground_drop_m =
+          params.number("greenhouse/row_ground_drop", g.row_ground_drop_m, ParamRange::closed(0.0, 2.0), "m");
+      g.vent_every = params.integer("greenhouse/vent_every", g.vent_every, 0, 1000);
+      g.vent_height_m = params.number("greenhouse/vent_height", g.vent_height_m, ParamRange::aboveUpTo(0.0, 5.0), "m");
+    } else {
+      auto& c = p.cotton_row;
+      c.plants = params.integer("cotton_row/plants", c.plants, 0, 10000);
+      c.plant_spacing_m =
+          params.number("cotton_row/plant_spacing", c.plant_spacing_m, ParamRange::aboveUpTo(0.01, 10.0), "m");
+      c.first_plant_x_m = params.number("cotton_row/first_plant_x", c.first_plant_x_m, ParamRange::any(), "m");
+      c.row_y_m = params.number("cotton_row/row_y", c.row_y_m, ParamRange::any(), "m");
+      c.plant_height_m =
+          params.number("cotton_row/plant_height", c.plant_height_m, ParamRange::aboveUpTo(0.05, 5.0), "m");
+      c.bolls_per_plant = params.integer("cotton_row/bolls_per_plant", c.bolls_per_plant, 0, 1000);
+      c.slope_deg = params.number("cotton_row/slope_deg", c.slope_deg, ParamRange::closed(-45.0, 45.0), "deg");
+      c.seed = static_cast<unsigned>(params.integer("cotton_row/seed", static_cast<int>(c.seed), 0));
+    }
+    params.alsoRead("diagnostic_period");
+    params.finish();
+  } catch (const thorvald_base::ParamError& e) {
+    ROS_FATAL_STREAM(e.what());
     return false;
-  };
-  if (p.world != "flat" && p.world != "greenhouse" && p.world != "cotton_row")
-    return bad("world", "flat, greenhouse or cotton_row, got '" + p.world + "'");
-  if (!(p.real_time_factor >= 0.0) || !std::isfinite(p.real_time_factor))
-    return bad("real_time_factor", "0 (as fast as possible) or a positive number");
-  if (!(p.control_period_s >= 0.001 && p.control_period_s <= 0.1)) return bad("control_period", "0.001 to 0.1 s");
-  if (!(p.ground_truth_rate_hz > 0.0 && p.ground_truth_rate_hz <= 1000.0))
-    return bad("ground_truth_rate", "a rate in (0, 1000] Hz");
+  }
   return true;
 }
 
 bool SimRos::buildWorld(WorldDescription* world) {
   try {
     if (params_.world == "flat") {
-      double half = 100.0;
-      param(pnh_, "flat/half_size", half);
-      *world = makeFlatWorld(half);
+      *world = makeFlatWorld(params_.flat_half_size_m);
     } else if (params_.world == "greenhouse") {
-      GreenhouseParams g;
-      ros::NodeHandle n(pnh_, "greenhouse");
-      param(n, "rail_sets", g.rail_sets);
-      param(n, "set_spacing", g.set_spacing_m);
-      param(n, "rail_gauge", g.rail_gauge_m);
-      param(n, "pipe_diameter", g.pipe_diameter_m);
-      param(n, "rail_top", g.rail_top_m);
-      param(n, "rail_length", g.rail_length_m);
-      param(n, "rail_start_gap", g.rail_start_gap_m);
-      param(n, "headland_depth", g.headland_depth_m);
-      param(n, "row_ground_drop", g.row_ground_drop_m);
-      param(n, "vent_every", g.vent_every);
-      param(n, "vent_height", g.vent_height_m);
       GreenhouseTruth truth;
-      *world = makeGreenhouseWorld(g, &truth);
+      *world = makeGreenhouseWorld(params_.greenhouse, &truth);
       if (!params_.truth_file.empty() && !writeGreenhouseTruth(truth, params_.truth_file)) {
         ROS_FATAL("thorvald_sim: cannot write ~truth_file %s", params_.truth_file.c_str());
         return false;
       }
     } else {
-      CottonRowParams c;
-      ros::NodeHandle n(pnh_, "cotton_row");
-      param(n, "plants", c.plants);
-      param(n, "plant_spacing", c.plant_spacing_m);
-      param(n, "first_plant_x", c.first_plant_x_m);
-      param(n, "row_y", c.row_y_m);
-      param(n, "plant_height", c.plant_height_m);
-      param(n, "bolls_per_plant", c.bolls_per_plant);
-      param(n, "slope_deg", c.slope_deg);
-      int seed = 1;
-      param(n, "seed", seed);
-      c.seed = static_cast<unsigned>(seed);
       CottonRowTruth truth;
-      *world = makeCottonRowWorld(c, &truth);
+      *world = makeCottonRowWorld(params_.cotton_row, &truth);
       if (!params_.truth_file.empty() && !writeCottonRowTruth(truth, params_.truth_file)) {
         ROS_FATAL("thorvald_sim: cannot write ~truth_file %s", params_.truth_file.c_str());
         return false;
@@ -108,16 +138,8 @@ bool SimRos::buildWorld(WorldDescription* world) {
 }
 
 bool SimRos::loadRobots(const WorldDescription& world) {
-  // ~robots: list of {namespace, x, y, z, yaw, sensors}; default: one robot in the node's namespace.
-  XmlRpc::XmlRpcValue list;
-  if (!pnh_.getParam("robots", list)) {
-    list.setSize(1);
-    list[0]["namespace"] = std::string("");
-    double x = 0, y = 0, yaw = 0;
-    std::string sensors;
-    param(pnh_, "x", x), param(pnh_, "y", y), param(pnh_, "yaw", yaw), param(pnh_, "sensors", sensors);
-    list[0]["x"] = x, list[0]["y"] = y, list[0]["yaw"] = yaw, list[0]["sensors"] = sensors;
-  }
+  // ~robots: list of {namespace, x, y, z, yaw, sensors, encoders}; default: one robot in the node's namespace.
+  XmlRpc::XmlRpcValue& list = params_.robots;
   if (list.getType() != XmlRpc::XmlRpcValue::TypeArray) {
     ROS_FATAL("thorvald_sim: ~robots: expected a list of {namespace, x, y, yaw, sensors}");
     return false;
@@ -126,14 +148,21 @@ bool SimRos::loadRobots(const WorldDescription& world) {
   std::vector<std::string> prefixes;
   std::vector<std::vector<SensorConfig>> sensors;
   std::vector<bool> physics;
-  std::string default_encoders = "joint_simulator";
-  param(pnh_, "encoders", default_encoders);
   for (int i = 0; i < list.size(); ++i) {
     const std::string where = "~robots[" + std::to_string(i) + "]";
     try {
       XmlRpc::XmlRpcValue& r = list[i];
+      if (r.getType() != XmlRpc::XmlRpcValue::TypeStruct)
+        throw std::invalid_argument("expected a map {namespace, x, y, z, yaw, sensors, encoders}, found " +
+                                    thorvald_base::describeParamValue(r));
+      for (const auto& member : r) {
+        static const std::vector<std::string> known = {"namespace", "x", "y", "z", "yaw", "sensors", "encoders"};
+        if (std::find(known.begin(), known.end(), member.first) == known.end())
+          throw std::invalid_argument("unknown key '" + member.first + "' (known: namespace, x, y, z, yaw, sensors, " +
+                                      "encoders)");
+      }
       RobotSpawn s;
-      s.name = r.hasMember("namespace") ? static_cast<std::string>(r["namespace"]) : std::string();
+      s.name = xmlText(r, "namespace", "");
       s.x = xmlNumber(r, "x", 0), s.y = xmlNumber(r, "y", 0), s.z = xmlNumber(r, "z", 0.02);
       s.yaw = xmlNumber(r, "yaw", 0);
       ros::NodeHandle rn(nh_, s.name);
@@ -149,9 +178,9 @@ bool SimRos::loadRobots(const WorldDescription& world) {
       s.mjcf = urdfToMjcf(urdf, &s.root_link);
       const std::string prefix =
           s.root_link.size() > 10 ? s.root_link.substr(0, s.root_link.size() - 10) : std::string();
-      const std::string sensor_file = r.hasMember("sensors") ? static_cast<std::string>(r["sensors"]) : "";
+      const std::string sensor_file = xmlText(r, "sensors", "");
       sensors.push_back(sensor_file.empty() ? std::vector<SensorConfig>{} : loadSensorConfigFile(sensor_file));
-      const std::string encoders = r.hasMember("encoders") ? static_cast<std::string>(r["encoders"]) : default_encoders;
+      const std::string encoders = xmlText(r, "encoders", params_.encoders);
       if (encoders != "joint_simulator" && encoders != "physics")
         throw std::invalid_argument("encoders: expected joint_simulator or physics, got '" + encoders + "'");
       physics.push_back(encoders == "physics");

@@ -11,6 +11,7 @@
 #include "robot_io.h"
 #include "thorvald_sim/Step.h"
 #include "thorvald_sim/simulation.h"
+#include "thorvald_sim/world.h"
 
 namespace thorvald_sim {
 
@@ -25,6 +26,11 @@ struct SimNodeParams {
   bool publish_map_tf = false;
   bool start_paused = false;
   double wait_for_description_s = 30.0;
+  std::string encoders = "joint_simulator";  ///< default of the robots' `encoders`
+  XmlRpc::XmlRpcValue robots;                ///< ~robots, or one robot from ~x, ~y, ~yaw, ~sensors
+  double flat_half_size_m = 100.0;
+  GreenhouseParams greenhouse;
+  CottonRowParams cotton_row;
 };
 
 /// The simulator node: one MuJoCo world with every robot, stepped on one thread that also serves callbacks.

@@ -7,6 +7,7 @@
 #include <ros/ros.h>
 #include <sensor_msgs/JointState.h>
 #include <thorvald_base/base_hardware.h>
+#include <thorvald_base/ros/param_reader.h>
 
 #include <map>
 #include <memory>
@@ -53,19 +54,19 @@ class SimHardware : public thorvald_base::BaseHardware {
   void initialize(const thorvald_base::RobotConfig& config, const std::string&, const std::string&) override {
     ros::NodeHandle pnh("~");
     nh_.setCallbackQueue(&queue_);
-    std::string prefix;
-    if (!pnh.getParam("tf_prefix", prefix) || prefix.empty()) {
+    // base_driver's private parameters, read strictly (base_driver has already refused unknown ones).
+    thorvald_base::ParamReader params(pnh, "base_driver (thorvald_sim/SimHardware)");
+    std::string prefix = params.text("tf_prefix", "");
+    if (prefix.empty()) {
       std::string key;
       if (nh_.searchParam("tf_prefix", key)) nh_.getParam(key, prefix);
     }
     while (!prefix.empty() && prefix.front() == '/') prefix.erase(0, 1);
     const std::string p = prefix.empty() ? "" : prefix + "/";
-    const double timeout = pnh.param("sim_joint_timeout", 0.5);
-    const double startup = pnh.param("sim_startup_timeout", 60.0);
-    if (!(timeout > 0.0 && timeout <= 10.0))
-      throw thorvald_base::ConfigError("base_driver", "~sim_joint_timeout", "must be in (0, 10] s");
-    if (!(startup >= 0.0 && startup <= 600.0))
-      throw thorvald_base::ConfigError("base_driver", "~sim_startup_timeout", "must be in [0, 600] s");
+    const double timeout =
+        params.number("sim_joint_timeout", 0.5, thorvald_base::ParamRange::aboveUpTo(0.0, 10.0), "s");
+    const double startup =
+        params.number("sim_startup_timeout", 60.0, thorvald_base::ParamRange::closed(0.0, 600.0), "s");
     pub_ = nh_.advertise<sensor_msgs::JointState>("sim/joint_commands", 20);
     for (const auto& d : config.drives) {
       const std::string steering = p + "steering" + std::to_string(d.index),
