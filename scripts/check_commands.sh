@@ -7,7 +7,7 @@ src="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$src"
 list="$src/scripts/debian_packages.txt"
 commands=(rosrun rospack roslaunch rostest rosparam rostopic rosservice rosnode roscore rosmsg check_urdf
-  catkin_test_results rviz clang-format clang++ cmake make python3 git)
+  catkin_test_results rviz xterm clang-format clang++ cmake make python3 git)
 status=0
 for cmd in "${commands[@]}"; do
   git grep -qwF -e "$cmd" -- '*.sh' '*.py' '*.launch' '*.test' '*.md' '.ci/*' || continue
