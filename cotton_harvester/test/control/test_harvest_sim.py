@@ -71,9 +71,17 @@ class HarvestSimTest(unittest.TestCase):
         self.assertIsNotNone(remaining)
         self.assertLessEqual(picked, 2 - remaining)
         self.assertGreater(float(values["time_s"]), 0.0)
-        self.assertTrue(os.path.exists(csv), csv)
-        with open(csv) as f:
-            lines = [line.strip() for line in f if line.strip()]
+        # The CSV row is appended when the run ends, independently of the metrics topic: wait for it (deadline).
+        lines = []
+        deadline = time.monotonic() + 10.0
+        while time.monotonic() < deadline and not rospy.is_shutdown():
+            if os.path.exists(csv):
+                with open(csv) as f:
+                    lines = [line.strip() for line in f if line.strip()]
+                if len(lines) >= 2:
+                    break
+            time.sleep(0.05)
+        self.assertGreaterEqual(len(lines), 2, "no metrics row in %s" % csv)
         self.assertTrue(lines[0].startswith("run,bolls_present,detected,reached,picked"))
         row = lines[-1].split(",")
         self.assertEqual(int(row[4]), picked)
