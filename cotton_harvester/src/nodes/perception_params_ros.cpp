@@ -4,48 +4,67 @@
 #include <sstream>
 #include <vector>
 
+#include <thorvald_base/ros/param_reader.h>
+
 namespace cotton_harvester {
 namespace {
 
 using namespace perception;
 
-/// Reads one optional parameter; a present value of the wrong type is an error.
-class ParamReader {
+/// The node's reads through the workspace's ParamReader (typed, unread parameters warned about by finish()); the
+/// ranges and the relations between parameters are the libraries' validate() functions below.
+class Reader {
  public:
-  explicit ParamReader(const ros::NodeHandle& pnh) : pnh_(pnh) {}
+  explicit Reader(const ros::NodeHandle& pnh) : r_(pnh, "harvest_perception") {}
 
-  template <typename T>
-  void read(const std::string& key, T* value, const char* expected) {
-    if (!pnh_.hasParam(key)) return;
-    if (!pnh_.getParam(key, *value)) fail(key, expected);
+  void read(const std::string& key, double* value, const char*) {
+    *value = r_.number(key, *value, thorvald_base::ParamRange::any());
+  }
+  void read(const std::string& key, int* value, const char*) { *value = r_.integer(key, *value); }
+  void read(const std::string& key, bool* value, const char*) { *value = r_.flag(key, *value); }
+  void read(const std::string& key, std::string* value, const char*) { *value = r_.text(key, *value); }
+  /// An image direction [du, dv].
+  void read(const std::string& key, cv::Point2d* value, const char*) {
+    const std::vector<double> v = r_.numbers(key, {value->x, value->y}, thorvald_base::ParamRange::any(), "", 2, 2);
+    *value = {v[0], v[1]};
   }
 
   /// A string parameter that must be one of a parser's names.
   template <typename E, typename Parse>
   void readChoice(const std::string& key, E* value, Parse parse, const char* expected) {
-    if (!pnh_.hasParam(key)) return;
-    std::string name;
-    if (!pnh_.getParam(key, name)) return fail(key, expected);
+    if (!r_.has(key)) return;
+    const std::string name = r_.text(key, "");
     const auto parsed = parse(name);
-    if (!parsed) return fail(key, expected, name);
+    if (!parsed)
+      throw thorvald_base::ParamError("harvest_perception: ~" + key + ": expected " + expected + " (got '" + name +
+                                      "')");
     *value = *parsed;
   }
 
-  void fail(const std::string& key, const std::string& expected, const std::string& got = "") {
-    errors_ << "~" << key << ": expected " << expected << (got.empty() ? "" : " (got '" + got + "')") << "; ";
-  }
-
-  std::string errors() const { return errors_.str(); }
+  void finish() { r_.finish(); }
 
  private:
-  const ros::NodeHandle& pnh_;
-  std::ostringstream errors_;
+  thorvald_base::ParamReader r_;
 };
 
 }  // namespace
 
+/// Reads and validates; a parameter of the wrong type throws thorvald_base::ParamError.
+static bool loadPerceptionNodeConfigOrThrow(const ros::NodeHandle& pnh, PerceptionNodeConfig* config,
+                                            std::string* error);
+
 bool loadPerceptionNodeConfig(const ros::NodeHandle& pnh, PerceptionNodeConfig* config, std::string* error) {
-  ParamReader r(pnh);
+  try {
+    return loadPerceptionNodeConfigOrThrow(pnh, config, error);
+  } catch (const thorvald_base::ParamError& e) {
+    *error = e.what();
+    return false;
+  }
+}
+
+static bool loadPerceptionNodeConfigOrThrow(const ros::NodeHandle& pnh, PerceptionNodeConfig* config,
+                                            std::string* error) {
+  Reader r(pnh);
   PerceptionParams& p = config->pipeline;
 
   r.read("camera/fx", &p.intrinsics.fx, "a positive number [px]");
@@ -82,22 +101,8 @@ bool loadPerceptionNodeConfig(const ros::NodeHandle& pnh, PerceptionNodeConfig* 
         return std::nullopt;
       },
       "'centroid' or 'tip'");
-  std::vector<double> tip;
-  r.read("end_effector/tip_direction", &tip, "a list [du, dv]");
-  if (!tip.empty()) {
-    if (tip.size() == 2)
-      e.tip_direction = {tip[0], tip[1]};
-    else
-      r.fail("end_effector/tip_direction", "a list of two numbers [du, dv]");
-  }
-  std::vector<double> arm;
-  r.read("end_effector/arm_direction", &arm, "a list [du, dv]");
-  if (!arm.empty()) {
-    if (arm.size() == 2)
-      e.arm_direction = {arm[0], arm[1]};
-    else
-      r.fail("end_effector/arm_direction", "a list of two numbers [du, dv] ([0, 0]: no arm mask)");
-  }
+  r.read("end_effector/tip_direction", &e.tip_direction, "a list [du, dv]");
+  r.read("end_effector/arm_direction", &e.arm_direction, "a list [du, dv] ([0, 0]: no arm mask)");
 
   ColourBollParams& c = config->colour;
   r.read("colour/value_min", &c.value_min, "an integer in [0, 255]");
@@ -142,7 +147,8 @@ bool loadPerceptionNodeConfig(const ros::NodeHandle& pnh, PerceptionNodeConfig* 
   r.read("max_stamp_diff_s", &config->max_stamp_diff_s, "a number >= 0 [s]");
   r.read("publish_debug_image", &config->publish_debug_image, "true or false");
 
-  std::string errors = r.errors();
+  r.finish();
+  std::string errors;
   const std::string pipeline_errors = validate(p);
   if (!pipeline_errors.empty()) errors += pipeline_errors;
   const std::string colour_errors = validate(c);
