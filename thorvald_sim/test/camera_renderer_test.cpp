@@ -157,6 +157,34 @@ TEST(CameraRenderer, CottonRowImageAgreesWithTheRayCaster) {
   EXPECT_GT(bolls, 50);  // the bolls are in view and agree
 }
 
+TEST(CameraRenderer, LeavesOutOnlyGeomsOutOfView) {
+  // The greenhouse seen from the headland at an angle: most of its geoms lie outside the view and are not drawn,
+  // and the image still agrees with the ray caster pixel by pixel.
+  StaticWorld w(ts::makeGreenhouseWorld(ts::GreenhouseParams(), nullptr));
+  ts::CameraRenderer renderer(w.model.get());
+  ts::RayCaster caster(w.model.get(), w.data.get(), -1);
+  ts::DepthCameraSpec spec;
+  spec.width = 160, spec.height = 120;
+  const auto cam = optical({-1.2, 1.6, 0.8}, {1.0, 0.3, -0.6}, {0, 0, -1});
+  ts::RenderedView view;
+  renderer.render(w.data.get(), cam, viewOf(spec), -1, &view);
+  EXPECT_GT(renderer.culledGeoms(), w.model->ngeom / 5);  // about a quarter of the geoms lie behind or beside it
+  caster.prepare(cam.origin, 1e3, cam.rotation.col(2), M_PI);
+  const auto k = ts::intrinsics(spec);
+  int same = 0, total = 0, seen = 0;
+  for (int v = 0; v < spec.height; ++v)
+    for (int u = 0; u < spec.width; ++u) {
+      int g = -1;
+      const double z = castPixel(caster, cam, k, u, v, &g);
+      const size_t i = static_cast<size_t>(v) * spec.width + u;
+      ++total;
+      same += view.geom[i] == g;
+      seen += g >= 0;
+    }
+  EXPECT_GT(seen, total / 2);
+  EXPECT_GT(same, 0.995 * total);
+}
+
 // The existing ray-cast depth test, rendered: points on the pipes lie on their surfaces within 0.1 mm.
 TEST(CameraRenderer, PipePointsLieOnThePipes) {
   ts::GreenhouseTruth t;
@@ -214,6 +242,39 @@ TEST(CameraRenderer, NoiseGrowsWithDepthAndDropoutsHappen) {
   EXPECT_NEAR(mean, 0.0, 0.003);
   EXPECT_NEAR(sd, 0.02, 0.003);
   EXPECT_NEAR(1.0 - n / (64.0 * 48.0), 0.1, 0.03);
+}
+
+TEST(CameraRenderer, DepthNoiseIsNormal) {
+  // Many pixels on a plane 2 m away: the noise has the configured spread and a normal distribution's tails.
+  StaticWorld w(ts::makeFlatWorld());
+  ts::CameraRenderer renderer(w.model.get());
+  ts::RayCaster caster(w.model.get(), w.data.get(), -1);
+  ts::DepthCameraSpec spec;
+  spec.width = 320;
+  spec.height = 240;
+  spec.noise_coeff = 0.005;  // sigma = 0.005 * 2^2 = 0.02 m
+  spec.dropout = 0.0;
+  std::mt19937 rng(11);
+  const auto cam = optical({0, 0, 2.0}, {0, 0, -1}, {1, 0, 0});
+  ts::RenderedView view;
+  renderer.render(w.data.get(), cam, viewOf(spec), -1, &view);
+  const auto img = ts::depthFromView(view, caster, cam, spec, rng);
+  std::vector<double> e;
+  for (const auto& p : img.points)
+    if (std::isfinite(p.z())) e.push_back((p.z() - 2.0) / 0.02);
+  ASSERT_GT(e.size(), 70000u);
+  double sum = 0, sq = 0;
+  int beyond2 = 0, beyond3 = 0;
+  for (double x : e) {
+    sum += x, sq += x * x;
+    beyond2 += std::fabs(x) > 2.0;
+    beyond3 += std::fabs(x) > 3.0;
+  }
+  const double n = static_cast<double>(e.size()), mean = sum / n, sd = std::sqrt(sq / n - mean * mean);
+  EXPECT_NEAR(mean, 0.0, 0.02);
+  EXPECT_NEAR(sd, 1.0, 0.015);
+  EXPECT_NEAR(beyond2 / n, 0.0455, 0.004);   // P(|x| > 2) of a normal
+  EXPECT_NEAR(beyond3 / n, 0.0027, 0.0012);  // P(|x| > 3)
 }
 
 TEST(CameraRenderer, DepthImageDoesNotDependOnTheThreads) {

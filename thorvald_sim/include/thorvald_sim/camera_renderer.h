@@ -64,6 +64,8 @@ class CameraRenderer {
   int maxHeight() const;
   /// Frames rendered so far.
   unsigned long frames() const { return frames_; }
+  /// Geoms of the last frame left out because their bounding spheres lie outside the view frustum.
+  int culledGeoms() const { return culled_; }
 
  private:
   struct Context;
@@ -74,6 +76,7 @@ class CameraRenderer {
   std::vector<unsigned char> rgb_;
   std::vector<float> zbuf_;
   unsigned long frames_ = 0;
+  int culled_ = 0;
 };
 
 /// Depth image of an active-stereo camera (noise growing with z^2, dropouts, no depth at grazing angles) from a
