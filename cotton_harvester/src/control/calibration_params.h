@@ -10,7 +10,7 @@ namespace cotton_harvester {
 namespace control {
 
 /// Manipulator calibration under `nh` (keys as the struct's members).
-inline ManipulatorCalibration loadCalibration(const ros::NodeHandle& nh) {
+inline ManipulatorCalibration loadCalibration(const NodeParams& nh) {
   ManipulatorCalibration c;
   c.vertical_slope_steps_per_m = readDouble(nh, "vertical_slope_steps_per_m", c.vertical_slope_steps_per_m);
   c.vertical_offset_steps = readDouble(nh, "vertical_offset_steps", c.vertical_offset_steps);
@@ -26,7 +26,7 @@ inline ManipulatorCalibration loadCalibration(const ros::NodeHandle& nh) {
 }
 
 /// Rover controller parameters under `nh`.
-inline RoverControllerParams loadRoverParams(const ros::NodeHandle& nh) {
+inline RoverControllerParams loadRoverParams(const NodeParams& nh) {
   RoverControllerParams p;
   const std::string control = readString(nh, "position_control", toString(p.position_control));
   const auto parsed = parsePositionControl(control);

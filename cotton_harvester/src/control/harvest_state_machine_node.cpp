@@ -21,37 +21,37 @@ namespace cotton_harvester {
 namespace control {
 namespace {
 
-HarvestParams loadHarvestParams(const ros::NodeHandle& pnh) {
+HarvestParams loadHarvestParams(const NodeParams& params) {
   HarvestParams p;
-  p.decision.y_tolerance_m = readDouble(pnh, "y_tolerance_m", p.decision.y_tolerance_m);
-  p.decision.z_tolerance_m = readDouble(pnh, "z_tolerance_m", p.decision.z_tolerance_m);
-  p.decision.pick_reach_m = readDouble(pnh, "pick_reach_m", p.decision.pick_reach_m);
-  p.decision.y_forward_sign = readDouble(pnh, "y_forward_sign", p.decision.y_forward_sign);
-  p.tracker.match_radius_m = readDouble(pnh, "match_radius_m", p.tracker.match_radius_m);
-  p.tracker.max_pick_attempts = readInt(pnh, "max_pick_attempts", p.tracker.max_pick_attempts, 1);
-  p.tracker.max_align_moves = readInt(pnh, "max_align_moves", p.tracker.max_align_moves, 1);
-  p.max_rover_step_m = readDouble(pnh, "max_rover_step_m", p.max_rover_step_m);
-  p.pass_step_m = readDouble(pnh, "pass_step_m", p.pass_step_m);
-  p.row_length_m = readDouble(pnh, "row_length_m", p.row_length_m);
-  p.max_missed_observations = readInt(pnh, "max_missed_observations", p.max_missed_observations, 1);
-  p.max_failed_actions = readInt(pnh, "max_failed_actions", p.max_failed_actions, 1);
-  p.bolls_present = readInt(pnh, "bolls_present", p.bolls_present, 0);
-  requireSound(pnh, p.check());
+  p.decision.y_tolerance_m = readDouble(params, "y_tolerance_m", p.decision.y_tolerance_m);
+  p.decision.z_tolerance_m = readDouble(params, "z_tolerance_m", p.decision.z_tolerance_m);
+  p.decision.pick_reach_m = readDouble(params, "pick_reach_m", p.decision.pick_reach_m);
+  p.decision.y_forward_sign = readDouble(params, "y_forward_sign", p.decision.y_forward_sign);
+  p.tracker.match_radius_m = readDouble(params, "match_radius_m", p.tracker.match_radius_m);
+  p.tracker.max_pick_attempts = readInt(params, "max_pick_attempts", p.tracker.max_pick_attempts, 1);
+  p.tracker.max_align_moves = readInt(params, "max_align_moves", p.tracker.max_align_moves, 1);
+  p.max_rover_step_m = readDouble(params, "max_rover_step_m", p.max_rover_step_m);
+  p.pass_step_m = readDouble(params, "pass_step_m", p.pass_step_m);
+  p.row_length_m = readDouble(params, "row_length_m", p.row_length_m);
+  p.max_missed_observations = readInt(params, "max_missed_observations", p.max_missed_observations, 1);
+  p.max_failed_actions = readInt(params, "max_failed_actions", p.max_failed_actions, 1);
+  p.bolls_present = readInt(params, "bolls_present", p.bolls_present, 0);
+  requireSound(params, p.check());
   return p;
 }
 
-TopicPlantParams loadPlantParams(const ros::NodeHandle& pnh) {
+TopicPlantParams loadPlantParams(const NodeParams& params) {
   TopicPlantParams p;
-  p.observe_timeout_s = readPositive(pnh, "observe_timeout_s", p.observe_timeout_s);
-  p.settle_s = readDouble(pnh, "settle_s", p.settle_s);
-  p.effector_max_age_s = readPositive(pnh, "effector_max_age_s", p.effector_max_age_s);
-  p.rover_tolerance_m = readPositive(pnh, "rover_tolerance_m", p.rover_tolerance_m);
-  p.rover_settle_s = readDouble(pnh, "rover_settle_s", p.rover_settle_s);
-  p.rover_timeout_s = readPositive(pnh, "rover_timeout_s", p.rover_timeout_s);
-  p.rover_timeout_per_m_s = readDouble(pnh, "rover_timeout_per_m_s", p.rover_timeout_per_m_s);
-  p.arm_tolerance_m = readPositive(pnh, "arm_tolerance_m", p.arm_tolerance_m);
-  p.arm_timeout_s = readPositive(pnh, "arm_timeout_s", p.arm_timeout_s);
-  p.pick_dwell_s = readDouble(pnh, "pick_dwell_s", p.pick_dwell_s);
+  p.observe_timeout_s = readPositive(params, "observe_timeout_s", p.observe_timeout_s);
+  p.settle_s = readDouble(params, "settle_s", p.settle_s);
+  p.effector_max_age_s = readPositive(params, "effector_max_age_s", p.effector_max_age_s);
+  p.rover_tolerance_m = readPositive(params, "rover_tolerance_m", p.rover_tolerance_m);
+  p.rover_settle_s = readDouble(params, "rover_settle_s", p.rover_settle_s);
+  p.rover_timeout_s = readPositive(params, "rover_timeout_s", p.rover_timeout_s);
+  p.rover_timeout_per_m_s = readDouble(params, "rover_timeout_per_m_s", p.rover_timeout_per_m_s);
+  p.arm_tolerance_m = readPositive(params, "arm_tolerance_m", p.arm_tolerance_m);
+  p.arm_timeout_s = readPositive(params, "arm_timeout_s", p.arm_timeout_s);
+  p.pick_dwell_s = readDouble(params, "pick_dwell_s", p.pick_dwell_s);
   return p;
 }
 
@@ -59,16 +59,16 @@ std::string number(const std::optional<double>& value) { return value ? std::to_
 
 class HarvestNode {
  public:
-  HarvestNode(ros::NodeHandle& nh, ros::NodeHandle& pnh)
-      : plant_(nh, loadPlantParams(pnh)), machine_(plant_, loadHarvestParams(pnh)), updater_(nh, pnh) {
-    csv_path_ = readString(pnh, "metrics_csv", "");
-    run_name_ = readString(pnh, "run_name", "harvest");
-    const bool autostart = readBool(pnh, "autostart", true);
+  HarvestNode(ros::NodeHandle& nh, ros::NodeHandle& pnh, const NodeParams& params)
+      : plant_(nh, loadPlantParams(params)), machine_(plant_, loadHarvestParams(params)), updater_(nh, pnh) {
+    csv_path_ = readString(params, "metrics_csv", "");
+    run_name_ = readString(params, "run_name", "harvest");
+    const bool autostart = readBool(params, "autostart", true);
     ros::NodeHandle hnh(nh, "harvest");
     status_ = std::make_unique<thorvald_state_machine::StatusPublisher>(hnh, machine_.machine(), "machine_status", 1.0);
     metrics_pub_ = hnh.advertise<diagnostic_msgs::DiagnosticStatus>("metrics", 1, true);
     markers_pub_ = hnh.advertise<visualization_msgs::MarkerArray>("markers", 1);
-    camera_frame_ = readString(pnh, "camera_frame", "camera");
+    camera_frame_ = readString(params, "camera_frame", "camera");
     start_srv_ = hnh.advertiseService("start", &HarvestNode::onStart, this);
     stop_srv_ = hnh.advertiseService("stop", &HarvestNode::onStop, this);
     updater_.setHardwareID("none");
@@ -232,7 +232,10 @@ int main(int argc, char** argv) {
   ros::init(argc, argv, "harvest_state_machine");
   ros::NodeHandle nh, pnh("~");
   try {
-    cotton_harvester::control::HarvestNode node(nh, pnh);
+    thorvald_base::ParamReader reader(pnh);
+    reader.alsoRead("diagnostic_period");  // diagnostic_updater's own
+    cotton_harvester::control::HarvestNode node(nh, pnh, cotton_harvester::control::NodeParams(reader));
+    reader.finish();
     ros::AsyncSpinner spinner(2);
     spinner.start();
     ros::waitForShutdown();

@@ -33,12 +33,12 @@ struct AxisState {
 
 class ManipulatorNode {
  public:
-  ManipulatorNode(ros::NodeHandle& nh, ros::NodeHandle& pnh) : updater_(nh, pnh) {
-    port_path_ = readString(pnh, "port", "/dev/ttyUSB0");
-    baud_ = readInt(pnh, "baud", 115200, 1);
-    reconnect_period_s_ = readPositive(pnh, "reconnect_period_s", 1.0);
-    report_timeout_s_ = readPositive(pnh, "report_timeout_s", 1.0);
-    calibration_ = loadCalibration(ros::NodeHandle(pnh, "calibration"));
+  ManipulatorNode(ros::NodeHandle& nh, ros::NodeHandle& pnh, const NodeParams& params) : updater_(nh, pnh) {
+    port_path_ = readString(params, "port", "/dev/ttyUSB0");
+    baud_ = readInt(params, "baud", 115200, 1);
+    reconnect_period_s_ = readPositive(params, "reconnect_period_s", 1.0);
+    report_timeout_s_ = readPositive(params, "report_timeout_s", 1.0);
+    calibration_ = loadCalibration(params.sub("calibration"));
 
     joints_pub_ = nh.advertise<sensor_msgs::JointState>("manipulator/joint_states", 10);
     busy_pub_ = nh.advertise<std_msgs::Bool>("manipulator/busy", 10);
@@ -47,7 +47,7 @@ class ManipulatorNode {
     updater_.setHardwareID("manipulation controller " + port_path_);
     updater_.add("manipulator", this, &ManipulatorNode::diagnose);
     timer_ = nh.createWallTimer(ros::WallDuration(0.01), [this](const ros::WallTimerEvent&) { tick(); });
-    publish_timer_ = nh.createWallTimer(ros::WallDuration(readPositive(pnh, "publish_period_s", 0.05)),
+    publish_timer_ = nh.createWallTimer(ros::WallDuration(readPositive(params, "publish_period_s", 0.05)),
                                         [this](const ros::WallTimerEvent&) { publish(); });
   }
 
@@ -208,7 +208,10 @@ int main(int argc, char** argv) {
   ros::init(argc, argv, "manipulator");
   ros::NodeHandle nh, pnh("~");
   try {
-    cotton_harvester::control::ManipulatorNode node(nh, pnh);
+    thorvald_base::ParamReader reader(pnh);
+    reader.alsoRead("diagnostic_period");  // diagnostic_updater's own
+    cotton_harvester::control::ManipulatorNode node(nh, pnh, cotton_harvester::control::NodeParams(reader));
+    reader.finish();
     ros::spin();
   } catch (const std::exception& e) {
     ROS_FATAL("manipulator cannot start: %s", e.what());

@@ -1,65 +1,57 @@
 #pragma once
 
-// Parameter reading shared by the control nodes: a missing key takes its default, a present key of
-// the wrong kind or out of range stops the node with the key and what was expected.
+// Parameter reading shared by the control nodes, through the workspace's thorvald_base::ParamReader: a missing key
+// takes its default, a present key of the wrong kind or out of range stops the node with the key and what was
+// expected, and parameters nobody read are warned about when the node calls the reader's finish().
 
-#include <cmath>
-#include <stdexcept>
 #include <string>
 
 #include <ros/ros.h>
+#include <thorvald_base/ros/param_reader.h>
 
 namespace cotton_harvester {
 namespace control {
 
-/// Thrown by the readers; main() reports it and exits non-zero.
-class ParamError : public std::runtime_error {
+using thorvald_base::ParamError;
+
+/// A node's private parameters, optionally under a sub-namespace ("calibration/"). Copies share the reader.
+class NodeParams {
  public:
-  using std::runtime_error::runtime_error;
+  explicit NodeParams(thorvald_base::ParamReader& reader, std::string prefix = "")
+      : reader_(&reader), prefix_(std::move(prefix)) {}
+  /// The parameters under `ns` (e.g. "calibration").
+  NodeParams sub(const std::string& ns) const { return NodeParams(*reader_, prefix_ + ns + "/"); }
+  thorvald_base::ParamReader& reader() const { return *reader_; }
+  std::string key(const std::string& name) const { return prefix_ + name; }
+
+ private:
+  thorvald_base::ParamReader* reader_;
+  std::string prefix_;
 };
 
-inline double readDouble(const ros::NodeHandle& nh, const std::string& key, double fallback) {
-  double value = fallback;
-  if (nh.hasParam(key) && !nh.getParam(key, value)) {
-    int as_int = 0;
-    if (!nh.getParam(key, as_int)) throw ParamError(nh.resolveName(key) + ": expected a number");
-    value = as_int;
-  }
-  if (!std::isfinite(value)) throw ParamError(nh.resolveName(key) + ": expected a finite number");
-  return value;
+inline double readDouble(const NodeParams& p, const std::string& key, double fallback) {
+  return p.reader().number(p.key(key), fallback, thorvald_base::ParamRange::any());
 }
 
-inline double readPositive(const ros::NodeHandle& nh, const std::string& key, double fallback) {
-  const double value = readDouble(nh, key, fallback);
-  if (!(value > 0.0)) throw ParamError(nh.resolveName(key) + ": expected > 0, got " + std::to_string(value));
-  return value;
+inline double readPositive(const NodeParams& p, const std::string& key, double fallback) {
+  return p.reader().number(p.key(key), fallback, thorvald_base::ParamRange::above(0.0));
 }
 
-inline int readInt(const ros::NodeHandle& nh, const std::string& key, int fallback, int min_value) {
-  int value = fallback;
-  if (nh.hasParam(key) && !nh.getParam(key, value)) throw ParamError(nh.resolveName(key) + ": expected an integer");
-  if (value < min_value) {
-    throw ParamError(nh.resolveName(key) + ": expected >= " + std::to_string(min_value) + ", got " +
-                     std::to_string(value));
-  }
-  return value;
+inline int readInt(const NodeParams& p, const std::string& key, int fallback, int min_value) {
+  return p.reader().integer(p.key(key), fallback, min_value);
 }
 
-inline std::string readString(const ros::NodeHandle& nh, const std::string& key, const std::string& fallback) {
-  std::string value = fallback;
-  if (nh.hasParam(key) && !nh.getParam(key, value)) throw ParamError(nh.resolveName(key) + ": expected a string");
-  return value;
+inline std::string readString(const NodeParams& p, const std::string& key, const std::string& fallback) {
+  return p.reader().text(p.key(key), fallback);
 }
 
-inline bool readBool(const ros::NodeHandle& nh, const std::string& key, bool fallback) {
-  bool value = fallback;
-  if (nh.hasParam(key) && !nh.getParam(key, value)) throw ParamError(nh.resolveName(key) + ": expected true/false");
-  return value;
+inline bool readBool(const NodeParams& p, const std::string& key, bool fallback) {
+  return p.reader().flag(p.key(key), fallback);
 }
 
-/// Throws with the node's namespace when a library check() found a problem.
-inline void requireSound(const ros::NodeHandle& nh, const std::string& problem) {
-  if (!problem.empty()) throw ParamError(nh.resolveName("") + ": " + problem);
+/// Throws with the node's name when a library check() found a problem.
+inline void requireSound(const NodeParams&, const std::string& problem) {
+  if (!problem.empty()) throw ParamError(ros::this_node::getName() + ": " + problem);
 }
 
 }  // namespace control

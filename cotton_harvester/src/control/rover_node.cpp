@@ -28,14 +28,15 @@ namespace {
 
 class RoverNode {
  public:
-  RoverNode(ros::NodeHandle& nh, ros::NodeHandle& pnh) : updater_(nh, pnh), controller_(loadRoverParams(pnh)) {
-    port_path_ = readString(pnh, "port", "/dev/ttyACM0");
-    baud_ = readInt(pnh, "baud", 115200, 1);
-    reconnect_period_s_ = readPositive(pnh, "reconnect_period_s", 1.0);
-    cmd_vel_timeout_s_ = readPositive(pnh, "cmd_vel_timeout_s", 0.5);
-    telemetry_timeout_s_ = readPositive(pnh, "telemetry_timeout_s", 0.5);
-    frame_id_ = readString(pnh, "frame_id", "odom");
-    child_frame_id_ = readString(pnh, "child_frame_id", "base_link");
+  RoverNode(ros::NodeHandle& nh, ros::NodeHandle& pnh, const NodeParams& params)
+      : updater_(nh, pnh), controller_(loadRoverParams(params)) {
+    port_path_ = readString(params, "port", "/dev/ttyACM0");
+    baud_ = readInt(params, "baud", 115200, 1);
+    reconnect_period_s_ = readPositive(params, "reconnect_period_s", 1.0);
+    cmd_vel_timeout_s_ = readPositive(params, "cmd_vel_timeout_s", 0.5);
+    telemetry_timeout_s_ = readPositive(params, "telemetry_timeout_s", 0.5);
+    frame_id_ = readString(params, "frame_id", "odom");
+    child_frame_id_ = readString(params, "child_frame_id", "base_link");
     odometry_ = ArticulatedOdometry(controller_.params().axle_to_joint_m);
 
     odom_pub_ = nh.advertise<nav_msgs::Odometry>("wheel_odom", 10);
@@ -231,7 +232,10 @@ int main(int argc, char** argv) {
   ros::init(argc, argv, "rover");
   ros::NodeHandle nh, pnh("~");
   try {
-    cotton_harvester::control::RoverNode node(nh, pnh);
+    thorvald_base::ParamReader reader(pnh);
+    reader.alsoRead("diagnostic_period");  // diagnostic_updater's own
+    cotton_harvester::control::RoverNode node(nh, pnh, cotton_harvester::control::NodeParams(reader));
+    reader.finish();
     ros::spin();
   } catch (const std::exception& e) {
     ROS_FATAL("rover cannot start: %s", e.what());

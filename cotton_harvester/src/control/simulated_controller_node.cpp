@@ -35,35 +35,36 @@ void makeParentDirectory(const std::string& path) {
 
 class SimulatedControllerNode {
  public:
-  SimulatedControllerNode(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
-    manipulator_link_ = readString(pnh, "manipulator_port", "/tmp/cotton_harvester_sim/manipulator");
-    navigation_link_ = readString(pnh, "navigation_port", "/tmp/cotton_harvester_sim/navigation");
-    rate_hz_ = readPositive(pnh, "rate_hz", 500.0);
-    calibration_ = loadCalibration(ros::NodeHandle(pnh, "calibration"));
+  SimulatedControllerNode(ros::NodeHandle& nh, ros::NodeHandle& pnh, const NodeParams& params) {
+    manipulator_link_ = readString(params, "manipulator_port", "/tmp/cotton_harvester_sim/manipulator");
+    navigation_link_ = readString(params, "navigation_port", "/tmp/cotton_harvester_sim/navigation");
+    rate_hz_ = readPositive(params, "rate_hz", 500.0);
+    calibration_ = loadCalibration(params.sub("calibration"));
 
     SimulatedNavigationParams nav;
-    nav.drive.max_forward_speed_mps = readPositive(pnh, "max_forward_speed_mps", nav.drive.max_forward_speed_mps);
-    nav.drive.max_reverse_speed_mps = readPositive(pnh, "max_reverse_speed_mps", nav.drive.max_reverse_speed_mps);
-    nav.drive.actuator_rate_pwm_per_s = readPositive(pnh, "actuator_rate_pwm_per_s", nav.drive.actuator_rate_pwm_per_s);
-    nav.drive.flow_time_constant_s = readDouble(pnh, "flow_time_constant_s", nav.drive.flow_time_constant_s);
-    nav.drive.deadband_low_pwm = readDouble(pnh, "deadband_low_pwm", nav.drive.deadband_low_pwm);
-    nav.drive.deadband_high_pwm = readDouble(pnh, "deadband_high_pwm", nav.drive.deadband_high_pwm);
-    nav.drive.metres_per_pulse = readPositive(pnh, "metres_per_pulse", nav.drive.metres_per_pulse);
-    nav.pot_counts_per_deg = readDouble(pnh, "pot_counts_per_deg", nav.pot_counts_per_deg);
-    nav.pot_noise_counts = readDouble(pnh, "pot_noise_counts", nav.pot_noise_counts);
-    nav.seed = static_cast<unsigned>(readInt(pnh, "seed", 7, 0));
-    if (const char* bad = nav.drive.check(); *bad) throw ParamError(pnh.resolveName("") + ": " + bad);
+    nav.drive.max_forward_speed_mps = readPositive(params, "max_forward_speed_mps", nav.drive.max_forward_speed_mps);
+    nav.drive.max_reverse_speed_mps = readPositive(params, "max_reverse_speed_mps", nav.drive.max_reverse_speed_mps);
+    nav.drive.actuator_rate_pwm_per_s =
+        readPositive(params, "actuator_rate_pwm_per_s", nav.drive.actuator_rate_pwm_per_s);
+    nav.drive.flow_time_constant_s = readDouble(params, "flow_time_constant_s", nav.drive.flow_time_constant_s);
+    nav.drive.deadband_low_pwm = readDouble(params, "deadband_low_pwm", nav.drive.deadband_low_pwm);
+    nav.drive.deadband_high_pwm = readDouble(params, "deadband_high_pwm", nav.drive.deadband_high_pwm);
+    nav.drive.metres_per_pulse = readPositive(params, "metres_per_pulse", nav.drive.metres_per_pulse);
+    nav.pot_counts_per_deg = readDouble(params, "pot_counts_per_deg", nav.pot_counts_per_deg);
+    nav.pot_noise_counts = readDouble(params, "pot_noise_counts", nav.pot_noise_counts);
+    nav.seed = static_cast<unsigned>(readInt(params, "seed", 7, 0));
+    if (const char* bad = nav.drive.check(); *bad) throw ParamError(ros::this_node::getName() + ": " + bad);
     navigation_ = std::make_unique<SimulatedNavigationController>(nav);
 
     SimulatedManipulatorParams arm;
-    arm.vertical_steps_per_s = readPositive(pnh, "vertical_steps_per_s", arm.vertical_steps_per_s);
-    arm.horizontal_steps_per_s = readPositive(pnh, "horizontal_steps_per_s", arm.horizontal_steps_per_s);
-    arm.vertical_start_steps = readInt(pnh, "vertical_start_steps", arm.vertical_start_steps, 0);
+    arm.vertical_steps_per_s = readPositive(params, "vertical_steps_per_s", arm.vertical_steps_per_s);
+    arm.horizontal_steps_per_s = readPositive(params, "horizontal_steps_per_s", arm.horizontal_steps_per_s);
+    arm.vertical_start_steps = readInt(params, "vertical_start_steps", arm.vertical_start_steps, 0);
     manipulator_ = std::make_unique<SimulatedManipulationController>(arm);
 
-    row_enabled_ = readBool(pnh, "virtual_row/enabled", true);
+    row_enabled_ = readBool(params, "virtual_row/enabled", true);
     VirtualRowParams row;
-    ros::NodeHandle rnh(pnh, "virtual_row");
+    const NodeParams rnh = params.sub("virtual_row");
     row.plants = readInt(rnh, "plants", row.plants, 0);
     row.bolls_per_plant = readInt(rnh, "bolls_per_plant", row.bolls_per_plant, 0);
     row.first_plant_m = readDouble(rnh, "first_plant_m", row.first_plant_m);
@@ -244,7 +245,10 @@ int main(int argc, char** argv) {
   ros::init(argc, argv, "simulated_controller");
   ros::NodeHandle nh, pnh("~");
   try {
-    cotton_harvester::control::SimulatedControllerNode node(nh, pnh);
+    thorvald_base::ParamReader reader(pnh);
+    reader.alsoRead("diagnostic_period");  // diagnostic_updater's own
+    cotton_harvester::control::SimulatedControllerNode node(nh, pnh, cotton_harvester::control::NodeParams(reader));
+    reader.finish();
     ros::spin();
   } catch (const std::exception& e) {
     ROS_FATAL("simulated_controller cannot start: %s", e.what());
