@@ -273,6 +273,9 @@ void depthFromView(const RenderedView& view, const RayCaster& caster, const Sens
     f.b = f.R.transpose() * (pose.origin - f.c);
   }
   const double min_cos = std::cos(s.grazing_limit_rad);
+  const double min_cos2 = min_cos > 0.0 ? min_cos * min_cos : 0.0;
+  std::vector<double> xs(s.width);  // the ray's x at z = 1, per column
+  for (int u = 0; u < s.width; ++u) xs[u] = (u - k.cx) / k.fx;
   // Rows in a fixed number of blocks, each with its own noise stream drawn in order from `rng`: the image is the
   // same whatever the number of threads.
   constexpr int kBlocks = 8;
@@ -290,29 +293,32 @@ void depthFromView(const RenderedView& view, const RayCaster& caster, const Sens
         if (g < 0 || z < s.range_min_m || z > s.range_max_m) continue;
         if (s.dropout > 0 && noise.uniform() < s.dropout) continue;
         const Frame& f = frames[g];
-        const Eigen::Vector3d ray((u - k.cx) / k.fx, y, 1.0);  // z = 1
-        const Eigen::Vector3d dir_c = ray / ray.norm();        // unit ray in the optical frame
+        const Eigen::Vector3d ray(xs[u], y, 1.0);  // z = 1
         const int type = m->geom_type[g];
-        double cos_incidence;
-        if (type == mjGEOM_PLANE) {
-          cos_incidence = std::fabs(f.A.row(2).dot(dir_c));
-        } else if (type == mjGEOM_BOX) {  // the face nearest to the point
-          const Eigen::Vector3d p = f.A * (ray * z) + f.b;
-          const mjtNum* half = m->geom_size + 3 * g;
-          int face = 0;
-          double gap = std::fabs(std::fabs(p[0]) - half[0]);
-          for (int a = 1; a < 3; ++a) {
-            const double ga = std::fabs(std::fabs(p[a]) - half[a]);
-            if (ga < gap) gap = ga, face = a;
+        // Seen more obliquely than grazing_limit: the cosine between the ray and the surface normal n is below
+        // min_cos. For planes and boxes, with the face normal n in the optical frame: (n . ray)^2 < min_cos^2 |ray|^2.
+        bool grazing;
+        if (type == mjGEOM_PLANE || type == mjGEOM_BOX) {
+          int face = 2;
+          if (type == mjGEOM_BOX) {  // the face nearest to the point
+            const Eigen::Vector3d p = f.A * (ray * z) + f.b;
+            const mjtNum* half = m->geom_size + 3 * g;
+            face = 0;
+            double gap = std::fabs(std::fabs(p[0]) - half[0]);
+            for (int a = 1; a < 3; ++a) {
+              const double ga = std::fabs(std::fabs(p[a]) - half[a]);
+              if (ga < gap) gap = ga, face = a;
+            }
           }
-          cos_incidence = std::fabs(f.A.row(face).dot(dir_c));
+          const double dot = f.A.row(face).dot(ray);
+          grazing = dot * dot < min_cos2 * ray.squaredNorm();
         } else {
-          const Eigen::Vector3d dir = pose.rotation * dir_c;
+          const Eigen::Vector3d dir = pose.rotation * ray.normalized();
           const Eigen::Vector3d n =
               geomNormal(type, m->geom_size + 3 * g, f.R, f.c, pose.origin + pose.rotation * (ray * z), dir);
-          cos_incidence = -n.dot(dir);
+          grazing = -n.dot(dir) < min_cos;
         }
-        if (cos_incidence < min_cos) continue;  // seen more obliquely than grazing_limit
+        if (grazing) continue;
         const double zn = z + (s.noise_coeff > 0 ? s.noise_coeff * z * z * noise.normal() : 0.0);
         img->points[i] = (ray * zn).cast<float>();
       }

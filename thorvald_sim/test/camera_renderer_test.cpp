@@ -277,6 +277,46 @@ TEST(CameraRenderer, DepthNoiseIsNormal) {
   EXPECT_NEAR(beyond3 / n, 0.0027, 0.0012);  // P(|x| > 3)
 }
 
+TEST(CameraRenderer, NoDepthWhereTheSurfaceIsSeenMoreObliquelyThanTheGrazingLimit) {
+  // A plane and a box's top face (both at z = 0) seen from 1 m up, looking ahead and down: a pixel has depth exactly
+  // where its ray meets the surface at an incidence within the limit (cos = |ray_z| >= cos(70 deg)).
+  for (const char* shape : {"plane", "box"}) {
+    SCOPED_TRACE(shape);
+    StaticWorld w(primitiveWorld(shape));
+    ts::CameraRenderer renderer(w.model.get());
+    ts::RayCaster caster(w.model.get(), w.data.get(), -1);
+    ts::DepthCameraSpec spec;
+    spec.width = 160, spec.height = 120, spec.range_max_m = 30.0;
+    spec.noise_coeff = 0.0, spec.dropout = 0.0, spec.grazing_limit_rad = 70.0 * M_PI / 180.0;
+    const auto cam = optical({0, 0, 1.0}, {1.0, 0.0, -0.45}, {0, 0, -1});
+    ts::RenderedView view;
+    renderer.render(w.data.get(), cam, viewOf(spec), -1, &view);
+    std::mt19937 rng(1);
+    const auto img = ts::depthFromView(view, caster, cam, spec, rng);
+    const auto k = ts::intrinsics(spec);
+    const double min_cos = std::cos(spec.grazing_limit_rad);
+    int checked = 0, valid = 0, refused = 0;
+    for (int v = 0; v < spec.height; ++v)
+      for (int u = 0; u < spec.width; ++u) {
+        const Eigen::Vector3d dir =
+            cam.rotation * Eigen::Vector3d((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0).normalized();
+        if (dir.z() > -1e-6) continue;  // above the horizon
+        const Eigen::Vector3d hit = cam.origin + dir * (-cam.origin.z() / dir.z());
+        if (std::string(shape) == "box" && (std::fabs(hit.x()) > 3.9 || std::fabs(hit.y()) > 2.9)) continue;
+        if ((hit - cam.origin).norm() > 25.0 || std::fabs(-dir.z() - min_cos) < 1e-3) continue;
+        const bool expect_depth = -dir.z() >= min_cos;
+        const bool has_depth = std::isfinite(img.points[static_cast<size_t>(v) * spec.width + u].z());
+        EXPECT_EQ(has_depth, expect_depth) << "pixel " << u << "," << v << " cos " << -dir.z();
+        ++checked;
+        valid += expect_depth;
+        refused += !expect_depth;
+      }
+    EXPECT_GT(valid, 1000);  // both outcomes occur in the image
+    EXPECT_GT(refused, 300);
+    EXPECT_GT(checked, 5000);
+  }
+}
+
 TEST(CameraRenderer, DepthImageDoesNotDependOnTheThreads) {
   StaticWorld w(ts::makeGreenhouseWorld(ts::GreenhouseParams(), nullptr));
   ts::CameraRenderer renderer(w.model.get());
