@@ -185,8 +185,8 @@ int main(int argc, char** argv) {
   DepthImage depth_img;
   ColorImage color_img;
   Every lidar_due(40), us_due(20), cam_due(30), imu_due(100);
-  long beams = 0, depth_frames = 0;
-  double lidar_cpu = 0.0, cam_cpu = 0.0;
+  long beams = 0, depth_frames = 0, us_readings = 0;
+  double lidar_cpu = 0.0, cam_cpu = 0.0, us_cpu = 0.0;
   Eigen::Matrix3d down;
   down << 0, 0, 1, 0, 1, 0, -1, 0, 0;  // x axis pointing down
   const Rate rtf_gh = drive(gh, sensor_seconds, {0.8, 0.0, 0.3}, [&](double t) {
@@ -196,9 +196,12 @@ int main(int argc, char** argv) {
           simulateLidar(caster, mount(gh, {0.45, 0, 0.62}, Eigen::Matrix3d::Identity()), lidar, rng).size());
       lidar_cpu += cpuNow() - w;
     }
-    if (us_due.due(t))
+    if (us_due.due(t)) {
+      const double w = cpuNow();
       for (double x : {0.52, 0.0})
-        for (double y : {-0.3, 0.3}) simulateUltrasonic(caster, mount(gh, {x, y, 0.35}, down), us, rng);
+        for (double y : {-0.3, 0.3}) simulateUltrasonic(caster, mount(gh, {x, y, 0.35}, down), us, rng), ++us_readings;
+      us_cpu += cpuNow() - w;
+    }
     if (cam_due.due(t)) {
       const double w = cpuNow();
       const SensorPose cam = mount(gh, {0.5, 0, 0.75}, opticalPitched(0.6));
@@ -213,8 +216,9 @@ int main(int argc, char** argv) {
     }
   });
   std::printf("%-52s %12.2f %12.2f\n", "greenhouse, lidar + 4 US + 640x480 depth@30Hz + IMU", rtf_gh.cpu, rtf_gh.wall);
-  std::printf("  (%ld depth frames, %.1f CPU ms each; %ld lidar beams, %.2f CPU ms per 1081-beam scan)\n", depth_frames,
+  std::printf("  (%ld depth frames, %.1f CPU ms each; %ld lidar beams, %.2f CPU ms per 1081-beam scan;\n", depth_frames,
               1e3 * cam_cpu / std::max(1L, depth_frames), beams, 1e3 * lidar_cpu / std::max(1.0, beams / 1081.0));
+  std::printf("   %ld ultrasonic readings, %.1f CPU us each)\n", us_readings, 1e6 * us_cpu / std::max(1L, us_readings));
 
   // The rover over the cotton row with the ZED at 720p, 2.2 m above the ground looking down, 15 Hz.
   CottonRowParams row;
