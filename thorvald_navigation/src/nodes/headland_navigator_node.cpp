@@ -35,16 +35,17 @@ struct Settings {
   std::string keep_out_topic = "keep_out_map";
   double controller_frequency = 20.0;
   double footprint_padding = 0.05;
-  std::vector<double> footprint;      // flat x0 y0 x1 y1 ...; empty: from the robot file
-  std::string drive_mode = "auto";    // auto | omnidirectional | differential
-  double obstacle_range = 3.0;        // lidar points farther than this are not obstacles [m]
-  double obstacle_check_ahead = 1.5;  // path length checked for obstacles [m]
-  double obstacle_wait = 10.0;        // give up when blocked for this long [s]
-  double planner_patience = 5.0;      // give up when no pose/plan for this long [s]
-  double settle_time = 0.5;           // after arriving, stand still this long before checking the pose [s]
-  int goal_corrections = 3;           // re-approaches when the settled pose is outside the tolerances
-  double final_approach = 0.3;        // differential: the last metres driven straight along the goal heading [m]
-  double scan_max_age = 0.5;          // obstacles older than this are forgotten [s]
+  std::vector<double> footprint;       // flat x0 y0 x1 y1 ...; empty: from the robot file
+  std::string drive_mode = "auto";     // auto | omnidirectional | differential
+  double obstacle_range = 3.0;         // lidar points farther than this are not obstacles [m]
+  double obstacle_check_ahead = 1.5;   // path length checked for obstacles [m]
+  double obstacle_wait = 10.0;         // give up when blocked for this long [s]
+  double planner_patience = 5.0;       // give up when no pose/plan for this long [s]
+  double settle_time = 0.5;            // after arriving, stand still this long before checking the pose [s]
+  int goal_corrections = 3;            // re-approaches when the settled pose is outside the tolerances
+  double final_approach = 0.3;         // differential: the last metres driven straight along the goal heading [m]
+  double obstacle_update_rate = 10.0;  // lidar obstacles enter the costmap (and its inflation) at most this often [Hz]
+  double scan_max_age = 0.5;           // obstacles older than this are forgotten [s]
   CostmapParams costmap;
   PlannerParams planner;
   FollowerParams follower;
@@ -83,6 +84,7 @@ bool loadSettings(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, Setting
     s->settle_time = r.number("settle_time", s->settle_time, R::closed(0.0, 5.0), "s");
     s->goal_corrections = r.integer("goal_corrections", s->goal_corrections, 0, 20);
     s->final_approach = r.number("final_approach", s->final_approach, R::closed(0.0, 2.0), "m");
+    s->obstacle_update_rate = r.number("obstacle_update_rate", s->obstacle_update_rate, R::aboveUpTo(0.0, 100.0), "Hz");
     s->scan_max_age = r.number("scan_max_age", s->scan_max_age, R::above(0.0), "s");
     s->costmap.inflation_radius_m = r.number("inflation_radius", s->costmap.inflation_radius_m, R::atLeast(0.0), "m");
     // 0: half the footprint's width (+ padding), set below.
@@ -228,7 +230,12 @@ class HeadlandNavigatorNode {
     }
     obstacles_ = std::move(pts.hits);
     last_scan_ = ros::Time::now();
-    if (costmap_) costmap_->setObstacles(obstacles_);
+    // Re-inflating the whole costmap costs milliseconds: not for every scan of a 40 Hz lidar.
+    if (costmap_ && (last_obstacle_update_.isZero() || last_scan_ < last_obstacle_update_ ||
+                     (last_scan_ - last_obstacle_update_).toSec() >= 1.0 / s_.obstacle_update_rate)) {
+      costmap_->setObstacles(obstacles_);
+      last_obstacle_update_ = last_scan_;
+    }
   }
 
   void onSimpleGoal(const geometry_msgs::PoseStamped::ConstPtr& msg) {
@@ -496,7 +503,7 @@ class HeadlandNavigatorNode {
   std::vector<Eigen::Vector2d> obstacles_, path_;
   Pose2D goal_;
   bool active_ = false, need_plan_ = false;
-  ros::Time blocked_since_, started_, last_scan_, arrived_at_;
+  ros::Time blocked_since_, started_, last_scan_, arrived_at_, last_obstacle_update_;
   int corrections_ = 0;
   bool to_pre_goal_ = false;  // a correction is on its way to the start of the final approach
   Eigen::Vector2d pre_goal_{0.0, 0.0};
