@@ -101,6 +101,9 @@ bool SimRos::loadParams() {
       c.bolls_per_plant = params.integer("cotton_row/bolls_per_plant", c.bolls_per_plant, 0, 1000);
       c.slope_deg = params.number("cotton_row/slope_deg", c.slope_deg, ParamRange::closed(-45.0, 45.0), "deg");
       c.seed = static_cast<unsigned>(params.integer("cotton_row/seed", static_cast<int>(c.seed), 0));
+      c.leaves_per_plant = params.integer("cotton_row/leaves_per_plant", c.leaves_per_plant, 0, 1000);
+      c.leaf_over_boll_fraction =
+          params.number("cotton_row/leaf_over_boll_fraction", c.leaf_over_boll_fraction, ParamRange::closed(0.0, 1.0));
     }
     params.alsoRead("diagnostic_period");
     params.finish();
