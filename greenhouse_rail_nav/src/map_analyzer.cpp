@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 #include "greenhouse_rail_nav/cell_clustering.h"
 #include "greenhouse_rail_nav/headland_scan.h"
 #include "greenhouse_rail_nav/map_denoise.h"
+#include "greenhouse_rail_nav/rail_set_layout.h"
 #include "greenhouse_rail_nav/rail_spacing.h"
 
 namespace greenhouse_rail_nav {
@@ -26,13 +26,7 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-std::string fmt(double value, int decimals = 2) {
-  std::ostringstream s;
-  s.setf(std::ios::fixed);
-  s.precision(decimals);
-  s << value;
-  return s.str();
-}
+std::string fmt(double value, int decimals = 2) { return formatMetres(value, decimals); }
 
 /// Rear wall: the line with the most evidence of a greenhouse on one side of it, i.e. its own length plus
 /// the length of the lines perpendicular to it that lie within its span and entirely on one side (rows
@@ -358,12 +352,7 @@ MapAnalysis analyzeMap(const OccupancyMap& input, const MapAnalyzerParams& param
   result.right_wall_found = right.wall_found;
 
   // Lines across the headland (walls, rows) and the gaps between them.
-  struct Boundary {
-    double u;
-    std::string name;
-    bool heading_ok;
-  };
-  std::vector<Boundary> bounds;
+  std::vector<HeadlandBoundary> bounds;
   if (left.wall_found) bounds.push_back({left.wall_u, "left side wall", true});
   for (const auto& r : rows) bounds.push_back({r.u, "row at " + fmt(r.u) + " m", r.heading_ok});
   if (right.wall_found) bounds.push_back({right.wall_u, "right side wall", true});
@@ -422,40 +411,7 @@ MapAnalysis analyzeMap(const OccupancyMap& input, const MapAnalyzerParams& param
 
   // Rail sets: whole numbers of spacings in each gap; on a side without a wall, sets by the spacing as
   // far as the mapped floor goes, all uncertain.
-  struct SetPlan {
-    double u;
-    std::vector<std::string> reasons;
-  };
-  std::vector<SetPlan> plans;
-  auto open_side = [&](const SideScan& scan, double u_out, double dir, const char* name) {
-    const int n = static_cast<int>(std::floor((scan.floor_extent_m + 0.25) / s + 0.25));
-    std::vector<SetPlan> extra;
-    for (int k = 0; k < n; ++k)
-      extra.push_back(
-          {u_out + dir * (k + 0.5) * s, {std::string("no ") + name + " side wall found: placed by the spacing"}});
-    return extra;
-  };
-  if (!left.wall_found) {
-    auto extra = open_side(left, rows.front().u, -1.0, "left");
-    std::reverse(extra.begin(), extra.end());
-    plans.insert(plans.end(), extra.begin(), extra.end());
-  }
-  for (std::size_t k = 0; k < gaps.size(); ++k) {
-    const int n = spacing.sets_per_gap[k];
-    std::vector<std::string> reasons;
-    if (!spacing.gap_fits[k])
-      reasons.push_back("gap of " + fmt(gaps[k]) + " m between " + bounds[k].name + " and " + bounds[k + 1].name +
-                        " is not a whole number of spacings (" + fmt(s) + " m)");
-    if (spacing.gap_ambiguous[k])
-      reasons.push_back("gap of " + fmt(gaps[k]) + " m fits more than one number of rail sets");
-    for (const auto* b : {&bounds[k], &bounds[k + 1]})
-      if (!b->heading_ok) reasons.push_back(b->name + " disagrees in heading with the other rows");
-    for (int j = 0; j < n; ++j) plans.push_back({bounds[k].u + (j + 0.5) * gaps[k] / n, reasons});
-  }
-  if (!right.wall_found) {
-    const auto extra = open_side(right, rows.back().u, +1.0, "right");
-    plans.insert(plans.end(), extra.begin(), extra.end());
-  }
+  const std::vector<RailSetPlan> plans = planRailSets(bounds, spacing, s, left, right, rows.front().u, rows.back().u);
   if (!spacing_regular && spacing_unique) global_reasons.push_back("rows and walls are not a regular pattern");
   const double edge_u0 = plans.empty() ? bounds.front().u : std::min(bounds.front().u, plans.front().u - 0.5 * s);
   const double edge_u1 = plans.empty() ? bounds.back().u : std::max(bounds.back().u, plans.back().u + 0.5 * s);
