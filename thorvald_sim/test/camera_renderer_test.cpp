@@ -49,6 +49,34 @@ double castPixel(const ts::RayCaster& caster, const ts::SensorPose& cam, const t
   return d < 0 ? -1.0 : d / ray.norm();
 }
 
+/// How a rendered view agrees with the ray caster pixel by pixel: pixels that see the same geom (or none), the
+/// largest depth difference among those, and the geom of every agreeing pixel that sees one.
+struct Agreement {
+  int total = 0, same = 0;
+  double worst_depth_m = 0.0;
+  std::vector<int> agreeing_geoms;
+};
+
+Agreement compareWithRayCaster(ts::RayCaster& caster, const ts::SensorPose& cam, const ts::DepthCameraSpec& spec,
+                               const ts::RenderedView& view) {
+  caster.prepare(cam.origin, 1e3, cam.rotation.col(2), M_PI);
+  const auto k = ts::intrinsics(spec);
+  Agreement a;
+  for (int v = 0; v < spec.height; ++v)
+    for (int u = 0; u < spec.width; ++u) {
+      int g = -1;
+      const double z = castPixel(caster, cam, k, u, v, &g);
+      const size_t i = static_cast<size_t>(v) * spec.width + u;
+      ++a.total;
+      if (view.geom[i] != g) continue;
+      ++a.same;
+      if (g < 0) continue;
+      a.worst_depth_m = std::max(a.worst_depth_m, std::fabs(view.depth_m[i] - z));
+      a.agreeing_geoms.push_back(g);
+    }
+  return a;
+}
+
 struct PrimitiveCase {
   const char* name;
   const char* geom;  // geom name in the world
@@ -135,30 +163,19 @@ TEST(CameraRenderer, CottonRowImageAgreesWithTheRayCaster) {
   const auto cam = optical(t.plant_bases[4] + Eigen::Vector3d(-0.6, 0.3, 2.2), {0.3, -0.1, -1.0}, {1, 0, 0});
   ts::RenderedView view;
   renderer.render(w.data.get(), cam, viewOf(spec), -1, &view);
-  caster.prepare(cam.origin, 1e3, cam.rotation.col(2), M_PI);
-  const auto k = ts::intrinsics(spec);
-  int same = 0, total = 0, bolls = 0;
-  double worst = 0.0;
-  for (int v = 0; v < spec.height; ++v)
-    for (int u = 0; u < spec.width; ++u) {
-      int g = -1;
-      const double z = castPixel(caster, cam, k, u, v, &g);
-      const size_t i = static_cast<size_t>(v) * spec.width + u;
-      ++total;
-      if (view.geom[i] != g) continue;
-      ++same;
-      if (g < 0) continue;
-      worst = std::max(worst, std::fabs(view.depth_m[i] - z));
-      const char* name = mj_id2name(w.model.get(), mjOBJ_GEOM, g);
-      if (name && std::string(name).find("boll") != std::string::npos) ++bolls;
-    }
-  EXPECT_GT(same, 0.995 * total);
-  EXPECT_LT(worst, 1e-4);
+  const Agreement a = compareWithRayCaster(caster, cam, spec, view);
+  int bolls = 0;
+  for (int g : a.agreeing_geoms) {
+    const char* name = mj_id2name(w.model.get(), mjOBJ_GEOM, g);
+    if (name && std::string(name).find("boll") != std::string::npos) ++bolls;
+  }
+  EXPECT_GT(a.same, 0.995 * a.total);
+  EXPECT_LT(a.worst_depth_m, 1e-4);
   EXPECT_GT(bolls, 50);  // the bolls are in view and agree
 }
 
 TEST(CameraRenderer, LeavesOutOnlyGeomsOutOfView) {
-  // The greenhouse seen from the headland at an angle: most of its geoms lie outside the view and are not drawn,
+  // The greenhouse seen from the headland at an angle: the geoms outside the view are not drawn,
   // and the image still agrees with the ray caster pixel by pixel.
   StaticWorld w(ts::makeGreenhouseWorld(ts::GreenhouseParams(), nullptr));
   ts::CameraRenderer renderer(w.model.get());
@@ -169,20 +186,9 @@ TEST(CameraRenderer, LeavesOutOnlyGeomsOutOfView) {
   ts::RenderedView view;
   renderer.render(w.data.get(), cam, viewOf(spec), -1, &view);
   EXPECT_GT(renderer.culledGeoms(), w.model->ngeom / 5);  // about a quarter of the geoms lie behind or beside it
-  caster.prepare(cam.origin, 1e3, cam.rotation.col(2), M_PI);
-  const auto k = ts::intrinsics(spec);
-  int same = 0, total = 0, seen = 0;
-  for (int v = 0; v < spec.height; ++v)
-    for (int u = 0; u < spec.width; ++u) {
-      int g = -1;
-      const double z = castPixel(caster, cam, k, u, v, &g);
-      const size_t i = static_cast<size_t>(v) * spec.width + u;
-      ++total;
-      same += view.geom[i] == g;
-      seen += g >= 0;
-    }
-  EXPECT_GT(seen, total / 2);
-  EXPECT_GT(same, 0.995 * total);
+  const Agreement a = compareWithRayCaster(caster, cam, spec, view);
+  EXPECT_GT(a.agreeing_geoms.size(), a.total / 2u);
+  EXPECT_GT(a.same, 0.995 * a.total);
 }
 
 // The existing ray-cast depth test, rendered: points on the pipes lie on their surfaces within 0.1 mm.
