@@ -3,6 +3,10 @@
 // process; fault timing runs on a simulated clock (2 ms device steps, 20 ms control cycles, faults injected at a
 // random point of the cycle), the flood part on the wall clock with a second thread sending 100,000 frames/s.
 //   rosrun thorvald_can_devices fault_stop_bench [--injections N] [--seed S] [--robot FILE] [--flood-seconds S]
+//     [--control-rt-priority P]
+#include <pthread.h>
+#include <sched.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -29,6 +33,13 @@ struct FaultKind {
   std::string name, target, fault;
 };
 
+/// CPU time of the calling thread [s]: a cycle's own work, without the time other threads had the core.
+double threadCpuS() {
+  timespec ts{};
+  ::clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
 double steadyS() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
 /// One base on one bus with its simulated devices, on a clock the bench sets (`t`).
@@ -37,19 +48,30 @@ struct Base {
       : config(cfg),
         sim_bus(std::make_unique<VirtualCanBus>(bus)),
         sim(cfg),
-        hw(CanBaseOptions{3.0, "", 1000},
+        // On the simulated clock the devices' thread advances the time start-up waits on, faster than a loaded
+        // machine may serve the CiA 402 configuration: a long start-up timeout (start-up ends as soon as every
+        // device answers) keeps a slow machine from losing a drive before the first injection.
+        hw(CanBaseOptions{wall_clock ? 3.0 : 60.0, "", 1000},
            wall_clock ? CanBaseHardware::Clock{} : CanBaseHardware::Clock([this] { return t.load(); })),
         wall_clock_(wall_clock) {
     if (wall_clock_) t = steadyS();
-    std::thread devices([&] {  // start-up needs the devices to answer while initialize() waits
-      const double end = steadyS() + 3.0;
-      while (!started_ && steadyS() < end) {
+    // Start-up needs the devices to answer while initialize() waits; on the simulated clock this thread also
+    // advances the time initialize() waits on, so it runs until initialize() returns (on a loaded machine that
+    // takes longer than its 3 s start-up timeout in wall time).
+    std::thread devices([&] {
+      while (!started_) {
         if (!wall_clock_) t = t + 0.002;
         sim.spinOnce(wall_clock_ ? steadyS() : t.load(), *sim_bus);
         std::this_thread::sleep_for(std::chrono::milliseconds(2));
       }
     });
-    hw.initializeOnBus(config, std::make_unique<VirtualCanBus>(bus));
+    try {
+      hw.initializeOnBus(config, std::make_unique<VirtualCanBus>(bus));
+    } catch (...) {
+      started_ = true;
+      devices.join();
+      throw;
+    }
     started_ = true;
     devices.join();
     driver = std::make_unique<thorvald_base::BaseDriver>(config, std::make_unique<thorvald_base::StandardCalculator>(),
@@ -135,11 +157,11 @@ std::vector<double> measure(const thorvald_base::RobotConfig& config, const Faul
 
 struct FloodResult {
   long cycles = 0, missed = 0, flood_frames = 0, drive_stops = 0;
-  double max_gap_ms = 0.0, max_cycle_ms = 0.0;
+  double max_gap_ms = 0.0, max_cycle_ms = 0.0, max_cycle_cpu_ms = 0.0;
 };
 
 /// 50 Hz control cycles on the wall clock while another endpoint floods the bus at `fps` frames per second.
-FloodResult flood(const thorvald_base::RobotConfig& config, double seconds, double fps) {
+FloodResult flood(const thorvald_base::RobotConfig& config, double seconds, double fps, int rt_priority) {
   const std::string bus = "fsb" + std::to_string(::getpid()) + "_flood";
   Base base(config, bus, true);
   std::atomic<bool> stop{false};
@@ -157,14 +179,24 @@ FloodResult flood(const thorvald_base::RobotConfig& config, double seconds, doub
       std::this_thread::sleep_for(std::chrono::microseconds(200));
     }
   });
-  // The devices run in a thread of their own, as can_device_sim runs in a process of its own.
+  // The devices run in a thread of their own, as can_device_sim runs in a process of its own. Real drives answer
+  // on their own processors: the simulated ones step every millisecond (reading what waits, bounded) instead of
+  // spinning on a flooded bus, which would take a core of this machine from the control loop being measured.
   std::thread devices([&] {
     while (!stop) {
       base.sim.spinOnce(steadyS(), *base.sim_bus);
-      base.sim_bus->waitReadable(0.002);
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
   });
   FloodResult r;
+  // The control loop at a real-time priority, as a robot runs base_driver (e.g. launch-prefix "chrt -f 50"); the
+  // flooder and the devices stay at normal priority.
+  if (rt_priority > 0) {
+    sched_param p{};
+    p.sched_priority = rt_priority;
+    const int e = ::pthread_setschedparam(::pthread_self(), SCHED_FIFO, &p);
+    if (e != 0) std::fprintf(stderr, "cannot run the control loop at SCHED_FIFO %d: error %d\n", rt_priority, e);
+  }
   const double period = 0.02;
   double next = steadyS(), last = -1.0;
   const double end = next + seconds;
@@ -174,9 +206,11 @@ FloodResult flood(const thorvald_base::RobotConfig& config, double seconds, doub
     std::this_thread::sleep_until(std::chrono::steady_clock::time_point(
         std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(next))));
     const double start = steadyS();
+    const double cpu_start = threadCpuS();
     base.t = start;
     base.hostCycle(cmd);
     const double done = steadyS();
+    r.max_cycle_cpu_ms = std::max(r.max_cycle_cpu_ms, 1000.0 * (threadCpuS() - cpu_start));
     if (last > 0.0) {
       const double gap = start - last;
       r.max_gap_ms = std::max(r.max_gap_ms, 1000.0 * gap);
@@ -189,6 +223,10 @@ FloodResult flood(const thorvald_base::RobotConfig& config, double seconds, doub
     ++r.cycles;
     next += period;
     if (next < steadyS()) next = steadyS();  // late: do not try to catch up with a burst
+  }
+  if (rt_priority > 0) {
+    sched_param p{};
+    ::pthread_setschedparam(::pthread_self(), SCHED_OTHER, &p);
   }
   stop = true;
   flooder.join();
@@ -211,6 +249,10 @@ int main(int argc, char** argv) {
   app.add_option("--flood-seconds", flood_seconds, "wall-clock length of the flood run [s]")
       ->check(CLI::Range(1.0, 600.0));
   app.add_option("--flood-fps", flood_fps, "flood rate [frames/s]")->check(CLI::Range(1.0, 1e7));
+  int rt_priority = 0;
+  app.add_option("--control-rt-priority", rt_priority,
+                 "SCHED_FIFO priority of the control loop in the flood runs (0: normal scheduling)")
+      ->check(CLI::Range(0, 99));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -252,20 +294,24 @@ int main(int argc, char** argv) {
   }
   // The same wall-clock run without a flood first: on a loaded machine cycles are missed anyway, and only the
   // difference is the flood's doing.
-  const FloodResult quiet = flood(config, flood_seconds, 0.0);
-  std::printf("no flood: %ld control cycles, %ld missed, longest gap %.1f ms, longest cycle %.2f ms, %ld drive stops\n",
-              quiet.cycles, quiet.missed, quiet.max_gap_ms, quiet.max_cycle_ms, quiet.drive_stops);
-  const FloodResult f = flood(config, flood_seconds, flood_fps);
+  const FloodResult quiet = flood(config, flood_seconds, 0.0, rt_priority);
   std::printf(
-      "flood: %ld frames in %.0f s, %ld control cycles, %ld missed, longest gap %.1f ms, longest cycle %.2f ms, "
-      "%ld drive stops\n",
-      f.flood_frames, flood_seconds, f.cycles, f.missed, f.max_gap_ms, f.max_cycle_ms, f.drive_stops);
+      "no flood: %ld control cycles, %ld missed, longest gap %.1f ms, longest cycle %.2f ms (CPU %.2f ms), %ld drive "
+      "stops\n",
+      quiet.cycles, quiet.missed, quiet.max_gap_ms, quiet.max_cycle_ms, quiet.max_cycle_cpu_ms, quiet.drive_stops);
+  const FloodResult f = flood(config, flood_seconds, flood_fps, rt_priority);
+  std::printf(
+      "flood: %ld frames in %.0f s, %ld control cycles, %ld missed, longest gap %.1f ms, longest cycle %.2f ms (CPU "
+      "%.2f ms), %ld drive stops\n",
+      f.flood_frames, flood_seconds, f.cycles, f.missed, f.max_gap_ms, f.max_cycle_ms, f.max_cycle_cpu_ms,
+      f.drive_stops);
   std::printf(
       "RESULT {%s\"flood_missed_cycles\": %ld, "
-      "\"flood_max_cycle_gap_ms\": %.1f, \"flood_drive_stops\": %ld, \"flood_frames_per_s\": %.0f, "
+      "\"flood_max_cycle_gap_ms\": %.1f, \"flood_max_cycle_cpu_ms\": %.2f, \"flood_drive_stops\": %ld, "
+      "\"flood_frames_per_s\": %.0f, "
       "\"no_flood_missed_cycles\": %ld, \"no_flood_max_cycle_gap_ms\": %.1f}\n",
-      json.c_str(), f.missed, f.max_gap_ms, f.drive_stops, f.flood_frames / flood_seconds, quiet.missed,
-      quiet.max_gap_ms);
+      json.c_str(), f.missed, f.max_gap_ms, f.max_cycle_cpu_ms, f.drive_stops, f.flood_frames / flood_seconds,
+      quiet.missed, quiet.max_gap_ms);
   ::rmdir(folder);
   return 0;
 }

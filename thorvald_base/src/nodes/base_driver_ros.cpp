@@ -48,6 +48,7 @@ BaseDriverRos::BaseDriverRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh),
   simple_sim_ = params.flag("simple_sim", true);
   enable_odom_tf_ = params.flag("enable_odom_tf", true);
   relay_max_per_cycle_ = params.integer("relay_max_frames_per_cycle", 20, 1, 1000);
+  relay_max_received_per_cycle_ = params.integer("relay_max_received_per_cycle", 200, 1, 1000);
   const double rate = params.number("rate", 50.0, ParamRange::aboveUpTo(0.0, 1000.0), "Hz");
 
   BaseDriverOptions options;
@@ -166,23 +167,6 @@ void BaseDriverRos::readLimitsAndBatteryPolicy(ParamReader& params, BaseDriverOp
   for (const auto& a : actions) {
     parseBatteryAction(params.choice(a.first, toString(*a.second), {"warn", "slow", "stop"}), a.second);
   }
-}
-
-RelayIdList BaseDriverRos::readRelayIds(ParamReader& params, const RobotConfig& config) {
-  RelayIdList list{config.implement_can_ids, config.source, "implement_can_ids"};
-  if (!params.has("relay_allowed_ids")) return list;
-  // The parameter overrides the robot file's list (e.g. on a test bench); the same ids are refused.
-  const std::vector<double> ids =
-      params.numbers("relay_allowed_ids", {}, ParamRange::closed(1, kMaxCanStdId), "", 0, kMaxModulesPerGroup);
-  list = {{}, "base_driver", "~relay_allowed_ids"};
-  for (size_t i = 0; i < ids.size(); ++i) {
-    if (ids[i] != std::floor(ids[i])) {
-      throw ConfigError("base_driver", "~relay_allowed_ids[" + std::to_string(i) + "]",
-                        "must be an integer CAN id, found " + std::to_string(ids[i]));
-    }
-    list.ids.push_back(static_cast<int>(ids[i]));
-  }
-  return list;
 }
 
 void BaseDriverRos::onCommand(const ros::MessageEvent<const geometry_msgs::Twist>& event) {
@@ -326,59 +310,6 @@ void BaseDriverRos::publish(const ros::Time& now) {
   }
 }
 
-void BaseDriverRos::relayFromBus() {
-  for (const auto& f : hardware_->takeRelayFrames()) {
-    CANFrame msg;
-    msg.id = f.id;
-    msg.length = f.length;
-    for (size_t i = 0; i < 8; ++i) msg.data[i] = f.data[i];
-    relay_pub_.publish(msg);
-    ++relay_received_;
-  }
-}
-
-void BaseDriverRos::refuseRelay(const std::string& sender, uint32_t id, const std::string& why) {
-  ++relay_refused_;
-  auto it = relay_refused_by_.find(sender);
-  if (it == relay_refused_by_.end()) {
-    // Bounded: past kMaxRelaySenders callers, the rest are counted together.
-    it = relay_refused_by_.size() < kMaxRelaySenders ? relay_refused_by_.emplace(sender, 0).first
-                                                     : relay_refused_by_.emplace("(other senders)", 0).first;
-  }
-  ++it->second;
-  ROS_WARN_THROTTLE(1.0, "base_driver: relay refused frame 0x%03X from %s: %s (%lu refused from it so far)", id,
-                    sender.c_str(), why.c_str(), it->second);
-}
-
-void BaseDriverRos::onRelayFrame(const ros::MessageEvent<const CANFrame>& event) {
-  const CANFrame& msg = *event.getConstMessage();
-  const std::string sender = event.getPublisherName();
-  if (relay_muted_) {
-    ++relay_dropped_;
-    return;
-  }
-  if (relay_sent_this_cycle_ >= relay_max_per_cycle_) {
-    ++relay_dropped_;
-    ROS_WARN_THROTTLE(1.0, "base_driver: relay limited to %d frames per cycle; frames dropped", relay_max_per_cycle_);
-    return;
-  }
-  if (!relay_allowed_.count(msg.id)) {
-    refuseRelay(sender, msg.id, "id not in the allow-list (implement_can_ids or ~relay_allowed_ids)");
-    return;
-  }
-  CanFrameData f;
-  f.id = msg.id;
-  f.length = msg.length;
-  for (size_t i = 0; i < 8; ++i) f.data[i] = msg.data[i];
-  std::string why;
-  if (!hardware_->sendRelayFrame(f, &why)) {
-    refuseRelay(sender, msg.id, why);
-    return;
-  }
-  ++relay_sent_;
-  ++relay_sent_this_cycle_;
-}
-
 bool BaseDriverRos::onSetDriveParams(SetDriveParams::Request& req, SetDriveParams::Response& res) {
   std::vector<DriveParamChange> changes;
   for (const auto& p : req.params) changes.push_back({p.drive, p.key, p.value});
@@ -414,103 +345,6 @@ bool BaseDriverRos::onSafetyStop(std_srvs::SetBool::Request& req, std_srvs::SetB
 bool BaseDriverRos::onClearDriveStop(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
   res.success = driver_->clearDriveStop(&res.message);
   return true;
-}
-
-bool BaseDriverRos::onMuteRelay(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res) {
-  relay_muted_ = req.data;
-  res.success = true;
-  res.message = relay_muted_ ? "relay muted" : "relay active";
-  return true;
-}
-
-void BaseDriverRos::diagnoseBase(diagnostic_updater::DiagnosticStatusWrapper& stat) {
-  using diagnostic_msgs::DiagnosticStatus;
-  const StopReason reason = driver_->stopReason();
-  if (reason == StopReason::kDriveStop) {
-    stat.summary(DiagnosticStatus::ERROR, "propulsion stopped: " + driver_->driveStopText());
-  } else if (reason == StopReason::kSafetyStop) {
-    stat.summary(DiagnosticStatus::WARN, "safety stop engaged");
-  } else if (reason == StopReason::kBatteryStop) {
-    stat.summary(DiagnosticStatus::ERROR, "propulsion stopped by the battery policy: " + driver_->batteryText());
-  } else if (hardware_ && !hardware_->busOk()) {
-    stat.summary(DiagnosticStatus::ERROR, "bus not usable");
-  } else {
-    stat.summary(DiagnosticStatus::OK, toString(reason));
-  }
-  bool wheels_turn = false;
-  for (const auto& fb : driver_->feedback()) wheels_turn = wheels_turn || std::fabs(fb.wheel_speed_radps) > 1e-3;
-  if (wheels_turn && !driver_->velocity().valid) {
-    stat.mergeSummary(DiagnosticStatus::ERROR,
-                      "odometry cannot resolve the motion: the wheels turn but too few of them report to determine "
-                      "(vx, vy, wz)");
-  }
-  stat.add("mode", simple_sim_ ? "simulation" : "hardware");
-  stat.add("kinematics", driver_->calculator().name());
-  stat.add("cycle rate [Hz]", cycle_rate_hz_);
-  stat.add("longest cycle gap since last report [ms]", 1000.0 * gap_max_window_s_);
-  stat.add("longest cycle gap [ms]", 1000.0 * gap_max_total_s_);
-  stat.add("missed cycles", missed_cycles_);
-  stat.add("longest cycle since last report [ms]", 1000.0 * cycle_work_max_window_s_);
-  stat.add("longest command wait in the queue since last report [ms]", 1000.0 * cmd_wait_max_window_s_);
-  cycle_work_max_window_s_ = cmd_wait_max_window_s_ = 0.0;
-  stat.add("commands written through", write_throughs_);
-  stat.add("wheel limit factor", driver_->wheelFactor());
-  if (!driver_->batteryText().empty()) stat.add("battery policy", driver_->batteryText());
-  if (gap_max_window_s_ > 3.0 * period_s_) {
-    stat.mergeSummary(
-        diagnostic_msgs::DiagnosticStatus::WARN,
-        "control cycle stalled for " + std::to_string(static_cast<int>(1000.0 * gap_max_window_s_)) + " ms");
-  }
-  gap_max_window_s_ = 0.0;
-  stat.add("cycles", driver_->cycles());
-  stat.add("rejected commands", driver_->rejectedCommands());
-  stat.add("distance travelled [m]", driver_->odometry().distance());
-  if (hardware_) {
-    for (const auto& kv : hardware_->diagnostics()) stat.add(kv.first, kv.second);
-    stat.add("relay frames sent", relay_sent_);
-    stat.add("relay frames received", relay_received_);
-    stat.add("relay frames refused", relay_refused_);
-    for (const auto& kv : relay_refused_by_) stat.add("relay frames refused from " + kv.first, kv.second);
-    stat.add("relay frames dropped", relay_dropped_);
-    stat.add("relay muted", relay_muted_);
-  }
-}
-
-void BaseDriverRos::diagnoseDrives(diagnostic_updater::DiagnosticStatusWrapper& stat) {
-  using diagnostic_msgs::DiagnosticStatus;
-  int bad = 0;
-  for (size_t i = 0; i < driver_->driveStatus().size(); ++i) {
-    const auto& s = driver_->driveStatus()[i];
-    const bool ok = s.online && !s.fault;
-    bad += ok ? 0 : 1;
-    stat.add("drive" + std::to_string(i), s.online ? s.text : "lost");
-  }
-  if (bad) {
-    stat.summary(DiagnosticStatus::ERROR, std::to_string(bad) + " drive(s) lost or faulted");
-  } else {
-    stat.summary(DiagnosticStatus::OK, "all drives ok");
-  }
-}
-
-void BaseDriverRos::diagnoseBatteries(diagnostic_updater::DiagnosticStatusWrapper& stat) {
-  using diagnostic_msgs::DiagnosticStatus;
-  stat.summary(DiagnosticStatus::OK, "batteries ok");
-  if (!driver_->batteryText().empty()) {
-    stat.mergeSummary(
-        driver_->stopReason() == StopReason::kBatteryStop ? DiagnosticStatus::ERROR : DiagnosticStatus::WARN,
-        driver_->batteryText());
-  }
-  const auto readings = driver_->batteries();
-  for (size_t i = 0; i < readings.size(); ++i) {
-    const auto& r = readings[i];
-    const std::string name = driver_->batteryDevices()[i]->name();
-    const std::string stale = r.online ? "" : " (stale)";
-    stat.add(name + " voltage [V]" + stale, r.voltage_v);
-    stat.add(name + " charge [%]" + stale, r.charge_pct);
-    if (r.age_s >= 0.0) stat.add(name + " last heard [s ago]", r.age_s);
-    if (!r.online) stat.mergeSummary(DiagnosticStatus::ERROR, name + " not heard from: values are stale");
-    if (r.alarms) stat.mergeSummary(DiagnosticStatus::WARN, name + " reports alarms");
-  }
 }
 
 }  // namespace thorvald_base

@@ -59,7 +59,9 @@ class BaseDriverRos {
   bool simple_sim_ = true;
   bool enable_odom_tf_ = true;
   bool relay_muted_ = false;
-  int relay_max_per_cycle_ = 20;
+  int relay_max_per_cycle_ = 20;            ///< frames from users sent to the bus per cycle at most
+  int relay_max_received_per_cycle_ = 200;  ///< frames from the bus published per cycle at most
+  unsigned long relay_received_dropped_ = 0;
   unsigned long relay_refused_ = 0, relay_sent_ = 0, relay_received_ = 0, relay_dropped_ = 0;
   int relay_sent_this_cycle_ = 0;
   std::set<uint32_t> relay_allowed_;                       ///< ids users may send; everything else is refused
