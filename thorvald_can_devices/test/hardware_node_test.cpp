@@ -234,6 +234,36 @@ TEST(HardwareBase, RelayWorksBothWaysAndGuardsTheBase) {
   for (const auto& m : robot->relayed) EXPECT_NE(m.id & 0x780u, 0x180u) << "a drive's feedback leaked to the relay";
 }
 
+TEST(HardwareBase, RelayFromTheBusIsBoundedPerCycle) {
+  // Bursts of 300 implement frames, each sent within a millisecond or so: more than one cycle publishes
+  // (~relay_max_received_per_cycle, default 200); the rest is dropped and counted in the diagnostics.
+  robot->relayed.clear();
+  const int bursts = 5, burst = 300;
+  for (int b = 0; b < bursts; ++b) {
+    for (int k = 0; k < burst; ++k) robot->bus_->send(makeFrame(0x322, {static_cast<uint8_t>(b), 1}));
+    robot->waitFor([] { return false; }, 0.1);
+  }
+  const auto published = [] {
+    size_t n = 0;
+    for (const auto& m : robot->relayed) n += m.id == 0x322 ? 1 : 0;
+    return n;
+  };
+  const std::string key = "relay frames from the bus dropped (per-cycle bound)";
+  unsigned long dropped = 0;
+  robot->diagnostics.clear();
+  ASSERT_TRUE(robot->waitFor(
+      [&] {
+        for (const auto& d : robot->diagnostics)
+          for (const auto& kv : d.values)
+            if (kv.key == key) dropped = std::stoul(kv.value);
+        return dropped > 0;
+      },
+      5.0))
+      << "no frame dropped by the per-cycle bound; " << published() << " of " << bursts * burst << " published";
+  EXPECT_LE(published() + dropped, static_cast<size_t>(bursts * burst));
+  EXPECT_LT(published(), static_cast<size_t>(bursts * burst));
+}
+
 TEST(HardwareBase, SilentDriveStopsTheBaseWithin100msAndRecovers) {
   const int drive = robot->pnh_.param("silent_drive", 0);
   const int node = robot->pnh_.param("silent_node", 1);
