@@ -41,10 +41,17 @@ class GreenhouseSimMapping(unittest.TestCase):
         truth_file = rospy.get_param("~truth_file")
         origin_x = rospy.get_param("~origin_x")
         tol = rospy.get_param("~tolerance")
-        deadline = time.time() + 160.0
-        while not os.path.exists(stem + ".yaml") and time.time() < deadline:
+        # A map left by an earlier run must not pass for this run's: only a map written after the test started counts
+        # (the scripted drive saves it after about a minute of driving).
+        started = time.time()
+        deadline = started + 160.0
+
+        def fresh():
+            return os.path.exists(stem + ".yaml") and os.path.getmtime(stem + ".yaml") >= started
+
+        while not fresh() and time.time() < deadline:
             time.sleep(0.5)
-        self.assertTrue(os.path.exists(stem + ".yaml"), "the scripted drive's save_map did not write the map")
+        self.assertTrue(fresh(), "the scripted drive's save_map did not write the map")
         time.sleep(1.0)  # the PGM is written with the YAML; let both be complete
         with open(stem + ".yaml") as f:
             meta = yaml.safe_load(f)

@@ -29,7 +29,7 @@ class Args:
     approach_x = -0.8
     jitter_xy = 0.05
     jitter_yaw = 0.05
-    goal_timeout = 60.0
+    goal_timeout = 120.0  # simulated seconds: up to three corrections of the approach at 0.5 m/s
 
 
 class GreenhouseSimNavigation(unittest.TestCase):
