@@ -175,9 +175,12 @@ thorvald_base::DriveStatus ThorvaldController::status(size_t) const {
     s.text = "not operational (NMT state 0x" + std::string(nmt_state_ == kHeartbeatBootUp ? "00" : "7F") + ")";
     return s;
   }
-  // Heartbeats alone do not keep a drive: its feedback must keep coming (a heartbeat can be sent by anyone).
+  // Heartbeats alone do not keep a drive: its feedback must keep coming (a heartbeat can be sent by anyone). A drive
+  // that has just become operational gets kFirstFeedbackS for its first feedback (a drive, or a loaded host, may
+  // take a few status periods to start); from then on feedback_timeout applies.
+  const bool fed = last_feedback_s_ >= operational_since_s_;
   const double silent_s = now_s_ - std::max(last_feedback_s_, operational_since_s_);
-  if (silent_s > feedback_timeout_s_) {
+  if (silent_s > (fed ? feedback_timeout_s_ : std::max(feedback_timeout_s_, kFirstFeedbackS))) {
     s.online = false;
     s.text = "no feedback for " + std::to_string(static_cast<int>(silent_s * 1000.0)) + " ms";
     return s;

@@ -123,6 +123,23 @@ TEST(ThorvaldDrive, HeartbeatsAloneDoNotKeepADrive) {
   EXPECT_LE(lost_at - silent_at, 0.1 + 1e-9);
 }
 
+TEST(ThorvaldDrive, FirstFeedbackMayTakeHalfASecondThenItIsLost) {
+  // drive2 answers nothing but its heartbeat says operational: it is given 0.5 s for its first feedback (a drive or a
+  // loaded host may take a few periods to start), not the 60 ms that a drive already feeding back gets.
+  Rig rig("robots/4wd4ws.yaml");
+  ASSERT_TRUE(rig.inject("drive2", "silent", true));
+  double lost_at = -1;
+  for (int i = 0; i < 60 && lost_at < 0; ++i) {
+    rig.spy->send(encodeHeartbeat(rig.config.drives[2].node, kHeartbeatOperational));
+    rig.cycle();
+    if (i == 15) EXPECT_TRUE(rig.drives[2]->status().online) << rig.drives[2]->status().text;  // 0.32 s in
+    if (i > 15 && !rig.drives[2]->status().online) lost_at = i * 0.02;
+  }
+  ASSERT_GT(lost_at, 0.0) << "a drive that never fed back stayed online";
+  EXPECT_LE(lost_at, 0.5 + 0.06);
+  EXPECT_NE(rig.drives[2]->status().text.find("no feedback for"), std::string::npos) << rig.drives[2]->status().text;
+}
+
 TEST(ThorvaldDrive, StallIsAFaultUntilClearedAfterTheCauseIsGone) {
   Rig rig("robots/4wd4ws.yaml");
   rig.run(0.3);

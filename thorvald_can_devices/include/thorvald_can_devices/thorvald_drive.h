@@ -63,6 +63,7 @@ class ThorvaldController : public CanDevice {
   double last_start_sent_s_ = -1e9;
   double operational_since_s_ = -1e9;
   double feedback_timeout_s_ = 0.06;
+  static constexpr double kFirstFeedbackS = 0.5;  ///< for the first feedback after becoming operational [s]
   uint8_t nmt_state_ = kHeartbeatBootUp;
   bool heard_ = false;
   bool status_seen_ = false;
