@@ -2,6 +2,8 @@
 
 #include <tinyxml2.h>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <regex>
@@ -146,7 +148,8 @@ std::string composeScene(const WorldDescription& world, const std::vector<RobotS
       if (!b->Attribute("name") || r.root_link != b->Attribute("name"))
         throw ModelError("robot " + r.name + ": expected root body " + r.root_link);
       b->SetAttribute("pos", (num(r.x) + " " + num(r.y) + " " + num(world.spawn_z + r.z)).c_str());
-      b->SetAttribute("quat", ("" + num(std::cos(0.5 * r.yaw)) + " 0 0 " + num(std::sin(0.5 * r.yaw))).c_str());
+      const Eigen::Quaterniond q(Eigen::AngleAxisd(r.yaw, Eigen::Vector3d::UnitZ()));
+      b->SetAttribute("quat", (num(q.w()) + " " + num(q.x()) + " " + num(q.y()) + " " + num(q.z())).c_str());
       tuneBody(b, o, &actuators);
       mass += treeMass(b);
       tinyxml2::XMLPrinter p(nullptr, true);
