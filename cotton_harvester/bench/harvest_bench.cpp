@@ -7,7 +7,10 @@
 //   RESULT {"potted_ct_s": .., "potted_asr_pct": .., "field_ct_s": .., "field_asr_pct": .., "rtf": ..}
 //   rosrun cotton_harvester harvest_bench [--potted-runs 5] [--field-runs 2] [--seed 1] [--png FILE]
 //                                          [--debug-image FILE]
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -42,8 +45,26 @@ struct Totals {
   control::HarvestCounts counts;
   int runs = 0, reachable = 0, failed = 0;
   double sim_s = 0.0, wall_s = 0.0;
+  sim::MissTable misses;
+  std::vector<double> missed_pick_distances_m;  ///< nozzle's closest approach to bolls tried but not taken
+  std::map<std::string, double> state_time_s;
+  std::map<std::string, int> state_entries;
+  int frames = 0, ee_found = 0, ee_rejected = 0, ee_fallback = 0;
   void add(const sim::HarvestRunReport& r) {
     ++runs;
+    misses.add(r.misses);
+    for (size_t i = 0; i < r.miss_causes.size(); ++i) {
+      const sim::MissCause c = r.miss_causes[i];
+      if ((c == sim::MissCause::kPicksFailed || c == sim::MissCause::kBelievedPicked) &&
+          std::isfinite(r.boll_records[i].closest_vacuum_m))
+        missed_pick_distances_m.push_back(r.boll_records[i].closest_vacuum_m);
+    }
+    for (const auto& [state, t] : r.state_time_s) state_time_s[state] += t;
+    for (const auto& [state, n] : r.state_entries) state_entries[state] += n;
+    frames += r.frames;
+    ee_found += r.frames_with_effector;
+    ee_rejected += r.effector_rejected;
+    ee_fallback += r.effector_from_calibration;
     counts.bolls_present += r.bolls_present;
     counts.detected += r.counts.detected;
     counts.reached += r.counts.reached;
@@ -58,6 +79,30 @@ struct Totals {
     failed += r.error.empty() && r.divergences == 0 ? 0 : 1;
   }
 };
+
+void printMisses(const Totals& t) {
+  std::printf("misses by cause (%d of %d bolls):", t.misses.misses(), t.counts.bolls_present);
+  for (int i = 1; i < static_cast<int>(sim::MissCause::kCount); ++i)
+    if (t.misses.count[i] > 0) std::printf("  %s %d", sim::toString(static_cast<sim::MissCause>(i)), t.misses.count[i]);
+  std::printf("\n");
+  if (!t.missed_pick_distances_m.empty()) {
+    std::printf("  nozzle's closest approach to bolls tried but not taken [cm]:");
+    for (double d : t.missed_pick_distances_m) std::printf(" %.1f", 100.0 * d);
+    std::printf("\n");
+  }
+}
+
+void printTimes(const Totals& t) {
+  const int picked = std::max(1, t.counts.picked);
+  std::printf("time by state (s per picked boll, entries):");
+  for (const auto& [state, s] : t.state_time_s) {
+    const auto n = t.state_entries.find(state);
+    std::printf("  %s %.2f (%d)", state.c_str(), s / picked, n == t.state_entries.end() ? 0 : n->second);
+  }
+  std::printf("\nend-effector: %d frames, found %d, rejected %d, calibrated position used %d\n", t.frames, t.ee_found,
+              t.ee_rejected, t.ee_fallback);
+  std::fflush(stdout);
+}
 
 /// Runs `runs` harvests of one experiment, prints their rows and the pooled row (metrics of the summed counts).
 bool verbose = false;
@@ -93,7 +138,11 @@ control::HarvestMetrics experiment(const char* title, bool field, int runs, unsi
   pooled.sim_time_s = t.sim_s;
   pooled.wall_time_s = t.wall_s;
   printRow("all", pooled);
+  printMisses(t);
+  printTimes(t);
   totals->sim_s += t.sim_s;
+  totals->ee_fallback += t.ee_fallback;
+  totals->frames += t.frames;
   totals->wall_s += t.wall_s;
   totals->failed += t.failed;
   return m;
@@ -127,8 +176,9 @@ int main(int argc, char** argv) {
   std::printf("\npaper: potted CT 17.3 s, ASR 88.9 %%, DP 96.7 %%, MRR 94.4 %%; field CT 38.4 s, ASR 78.6 %%\n");
   std::printf(
       "RESULT {\"potted_ct_s\": %.2f, \"potted_asr_pct\": %.1f, \"field_ct_s\": %.2f, \"field_asr_pct\": %.1f, "
-      "\"rtf\": %.2f, \"failed_runs\": %d}\n",
+      "\"rtf\": %.2f, \"ee_fallback_frames\": %d, \"frames\": %d, \"failed_runs\": %d}\n",
       value(potted.cycle_time_s), value(potted.action_success_pct), value(field.cycle_time_s),
-      value(field.action_success_pct), totals.wall_s > 0 ? totals.sim_s / totals.wall_s : 0.0, totals.failed);
+      value(field.action_success_pct), totals.wall_s > 0 ? totals.sim_s / totals.wall_s : 0.0, totals.ee_fallback,
+      totals.frames, totals.failed);
   return totals.failed == 0 ? 0 : 1;
 }

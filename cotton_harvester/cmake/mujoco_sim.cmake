@@ -13,6 +13,7 @@ add_library(cotton_harvester_sim
   src/sim/rover_sim.cpp
   src/sim/sim_harvest_plant.cpp
   src/sim/harvest_run.cpp
+  src/sim/miss_causes.cpp
 )
 target_include_directories(cotton_harvester_sim PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include ${thorvald_sim_INCLUDE_DIRS})
 target_link_libraries(cotton_harvester_sim cotton_harvester_control cotton_harvester_perception ${thorvald_sim_LIBRARIES}
@@ -36,5 +37,7 @@ install(TARGETS cotton_harvester_sim harvest_bench mujoco_harvest
 if(CATKIN_ENABLE_TESTING)
   catkin_add_gtest(test_mujoco_harvest test/sim/test_mujoco_harvest.cpp)
   target_link_libraries(test_mujoco_harvest cotton_harvester_sim)
+  catkin_add_gtest(test_miss_causes test/sim/test_miss_causes.cpp)
+  target_link_libraries(test_miss_causes cotton_harvester_sim)
   add_rostest(test/sim/harvest_mujoco.test DEPENDENCIES mujoco_harvest)
 endif()

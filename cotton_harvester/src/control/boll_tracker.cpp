@@ -54,6 +54,7 @@ std::vector<int> BollTracker::update(const HarvestObservation& observation) {
 std::optional<std::size_t> BollTracker::nearestPending(const HarvestObservation& observation,
                                                        const std::vector<int>& ids) const {
   std::optional<std::size_t> best;
+  double best_along = std::numeric_limits<double>::infinity();
   double best_distance = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < observation.bolls.size() && i < ids.size(); ++i) {
     const BollSighting& boll = observation.bolls[i];
@@ -61,7 +62,16 @@ std::optional<std::size_t> BollTracker::nearestPending(const HarvestObservation&
     if (!boll.reachable || track == nullptr || track->fate != BollFate::kPending) continue;
     const double distance = std::sqrt(boll.position.x * boll.position.x + boll.position.y * boll.position.y +
                                       boll.position.z * boll.position.z);  // eq. 6
-    if (distance < best_distance) {
+    bool better = distance < best_distance;
+    if (params_.order == TargetOrder::kAlongRow) {
+      const double along = params_.y_forward_sign * boll.position.y;
+      if (along < best_along - params_.along_row_band_m)
+        better = true;
+      else if (along > best_along + params_.along_row_band_m)
+        better = false;
+      if (better) best_along = along;
+    }
+    if (better) {
       best_distance = distance;
       best = i;
     }

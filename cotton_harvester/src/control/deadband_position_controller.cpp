@@ -125,7 +125,16 @@ double DeadbandPositionController::update(double position_m, double dt_s) {
   const bool profile_done = !velocity_mode_ && reference_m_ == target_m_ && reference_mps_ == 0.0;
   const double edge = speed_mps_ >= 0.0 ? params_.forward_edge_pwm : params_.reverse_edge_pwm;
   const double to_edge_s = std::abs(actuator_pwm_ - edge) / params_.actuator_rate_pwm_per_s;
-  const double coast_m = speed_mps_ * (0.5 * to_edge_s + params_.flow_lag_s);
+  // The pump's flow follows the actuator (known from the commands sent) and the wheels lag the flow: after neutral
+  // is sent the flow falls to zero at the edge (on average half the present flow until then) and the wheels' speed
+  // then decays with the lag; the measured speed also trails the true one by the speed filter.
+  const double flow_mps =
+      actuator_pwm_ >= params_.forward_edge_pwm + forward_correction_pwm_
+          ? (actuator_pwm_ - params_.forward_edge_pwm - forward_correction_pwm_) * params_.forward_mps_per_pwm
+      : actuator_pwm_ <= params_.reverse_edge_pwm - reverse_correction_pwm_
+          ? (actuator_pwm_ - params_.reverse_edge_pwm + reverse_correction_pwm_) * params_.reverse_mps_per_pwm
+          : 0.0;
+  const double coast_m = 0.5 * flow_mps * to_edge_s + speed_mps_ * (params_.flow_lag_s + params_.speed_filter_s);
   const double direction = error_to_target >= 0.0 ? 1.0 : -1.0;
   // Also before the profile has arrived: once the rover would coast to the target with the swashplate at
   // neutral, it goes to neutral (on a short step the profile's braking comes too late for the slow actuator).

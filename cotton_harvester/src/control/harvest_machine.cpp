@@ -13,6 +13,7 @@ std::string HarvestParams::check() const {
   if (!(tracker.match_radius_m > 0.0)) return "match_radius_m: expected > 0";
   if (!(tracker.max_pick_attempts >= 1)) return "max_pick_attempts: expected >= 1";
   if (!(tracker.max_align_moves >= 1)) return "max_align_moves: expected >= 1";
+  if (!(tracker.along_row_band_m >= 0.0)) return "along_row_band_m: expected >= 0";
   if (!(max_rover_step_m > 0.0)) return "max_rover_step_m: expected > 0";
   if (!(pass_step_m > 0.0)) return "pass_step_m: expected > 0";
   if (!(row_length_m > 0.0)) return "row_length_m: expected > 0";
@@ -20,6 +21,7 @@ std::string HarvestParams::check() const {
   if (!(max_failed_actions >= 1)) return "max_failed_actions: expected >= 1";
   if (!(bolls_present >= 0)) return "bolls_present: expected >= 0";
   if (!(remember_target_frames >= 0)) return "remember_target_frames: expected >= 0";
+  if (keep_target && remember_target_frames <= 0) return "keep_target: expected remember_target_frames >= 1 with it";
   return "";
 }
 
@@ -120,7 +122,9 @@ std::string HarvestMachine::observe(tsm::UserData& ud, tsm::ExecutionContext& ct
     const auto index = tracker_.nearestPending(*observation, ids);
     std::optional<Point3> boll;
     int id = 0;
-    if (index) {
+    if (params_.keep_target && (boll = keptTarget(*observation, ids))) {
+      id = target_id_;
+    } else if (index) {
       boll = observation->bolls[*index].position;
       id = ids[*index];
     } else if ((boll = rememberedTarget(*observation))) {
@@ -153,6 +157,15 @@ std::string HarvestMachine::observe(tsm::UserData& ud, tsm::ExecutionContext& ct
     ud.set<std::string>("action", toString(decision.action));
     return toString(decision.action);
   }
+}
+
+std::optional<Point3> HarvestMachine::keptTarget(const HarvestObservation& observation,
+                                                 const std::vector<int>& ids) const {
+  const TrackedBoll* track = target_id_ == 0 ? nullptr : tracker_.find(target_id_);
+  if (!track || track->fate != BollFate::kPending) return std::nullopt;
+  for (std::size_t i = 0; i < ids.size() && i < observation.bolls.size(); ++i)
+    if (ids[i] == target_id_ && observation.bolls[i].reachable) return observation.bolls[i].position;
+  return rememberedTarget(observation);
 }
 
 std::optional<Point3> HarvestMachine::rememberedTarget(const HarvestObservation& observation) const {

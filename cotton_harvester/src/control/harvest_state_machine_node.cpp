@@ -30,6 +30,11 @@ HarvestParams loadHarvestParams(const NodeParams& params) {
   p.tracker.match_radius_m = readDouble(params, "match_radius_m", p.tracker.match_radius_m);
   p.tracker.max_pick_attempts = readInt(params, "max_pick_attempts", p.tracker.max_pick_attempts, 1);
   p.tracker.max_align_moves = readInt(params, "max_align_moves", p.tracker.max_align_moves, 1);
+  const std::string order = readString(params, "target_order", "range");
+  if (order != "range" && order != "along_row")
+    throw ParamError(ros::this_node::getName() + ": target_order: expected range or along_row, got '" + order + "'");
+  p.tracker.order = order == "along_row" ? TargetOrder::kAlongRow : TargetOrder::kRange;
+  p.tracker.along_row_band_m = readDouble(params, "along_row_band_m", p.tracker.along_row_band_m);
   p.max_rover_step_m = readDouble(params, "max_rover_step_m", p.max_rover_step_m);
   p.pass_step_m = readDouble(params, "pass_step_m", p.pass_step_m);
   p.row_length_m = readDouble(params, "row_length_m", p.row_length_m);

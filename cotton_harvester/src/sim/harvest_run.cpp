@@ -1,5 +1,6 @@
 #include "cotton_harvester/sim/harvest_run.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cmath>
@@ -19,20 +20,57 @@ namespace {
 /// Bolls the arm can reach from the row's line as the rover drives it: the boll's centre across the row within the
 /// end-effector's travel, its top no deeper than the vertical axis goes, and passed by the camera's optical axis
 /// during the drive. Computed from the truth at the start, for scoring only.
-int reachableBolls(const RoverSim& sim, double row_length_m) {
+std::vector<bool> reachableBolls(const RoverSim& sim, double row_length_m) {
   const RoverGeometry& g = sim.params().geometry;
   const Eigen::Vector3d start_cam_world = sim.roverPosition();
-  int n = 0;
+  std::vector<bool> reachable;
   for (const BollTruth& b : sim.bolls()) {
     const Eigen::Vector3d c = sim.toCamera(b.centre);
     const double x_min = -g.arm_base_offset_m, x_max = -g.arm_base_offset_m + g.horizontal_travel_m;
     const double top_depth = c.z() - sim.params().row.boll_radius_m;
     const double along = b.centre.x() - start_cam_world.x() - g.camera_ahead_m;
-    if (c.x() >= x_min && c.x() <= x_max && top_depth >= g.min_depth_m && top_depth <= g.max_depth_m &&
-        along <= row_length_m)
-      ++n;
+    reachable.push_back(c.x() >= x_min && c.x() <= x_max && top_depth >= g.min_depth_m && top_depth <= g.max_depth_m &&
+                        along <= row_length_m);
   }
-  return n;
+  return reachable;
+}
+
+/// The scorer's view of one camera frame: which bolls were in view, how visible, and which detection was which
+/// boll (the nearest true visible top within the tracker's match radius), in the tracker's row coordinates.
+void scoreFrame(const RoverSim& sim, const perception::FrameResult& result, double rover_position_m,
+                double y_forward_sign, double match_radius_m, std::vector<BollRecord>* records) {
+  const double radius = sim.params().row.boll_radius_m;
+  const auto& bolls = sim.bolls();
+  for (size_t i = 0; i < bolls.size(); ++i) {
+    if (bolls[i].captured || !sim.bollInView(i)) continue;
+    BollRecord& r = (*records)[i];
+    ++r.frames_in_view;
+    r.max_visible_fraction = std::max(r.max_visible_fraction, sim.bollVisibleFraction(i));
+  }
+  std::vector<bool> detected(bolls.size(), false);
+  for (const auto& d : result.bolls) {
+    const Eigen::Vector3d p(d.position.x, d.position.y, d.position.z);
+    double best = match_radius_m;
+    size_t best_i = bolls.size();
+    for (size_t i = 0; i < bolls.size(); ++i) {
+      if (bolls[i].captured) continue;
+      const Eigen::Vector3d c = sim.toCamera(bolls[i].centre);
+      const double dist = (p - (c - radius * c.normalized())).norm();
+      if (dist < best) {
+        best = dist;
+        best_i = i;
+      }
+    }
+    if (best_i == bolls.size() || detected[best_i]) continue;
+    detected[best_i] = true;
+    BollRecord& r = (*records)[best_i];
+    ++r.frames_detected;
+    if (d.reachable) ++r.frames_detected_reachable;
+    r.sighted = true;
+    r.along_row_m = rover_position_m + y_forward_sign * p.y();
+    r.across_m = p.x();
+    r.depth_m = p.z();
+  }
 }
 
 }  // namespace
@@ -50,6 +88,8 @@ HarvestRunConfig pottedConfig(unsigned seed) {
   c.machine.row_length_m = 2.9;
   c.machine.bolls_present = 18;
   c.machine.remember_target_frames = 2;
+  c.machine.tracker.order = control::TargetOrder::kAlongRow;
+  c.machine.keep_target = true;
   c.time_limit_s = 900.0;
   return c;
 }
@@ -80,8 +120,16 @@ HarvestRunReport runHarvest(const HarvestRunConfig& config) {
     control::HarvestMachine machine(plant, mp);
     const bool verbose = config.verbose;
     std::uint32_t printed = 0;
+    std::string state_now;
+    double state_since = sim.time();
     machine.machine().setObserver([&](const thorvald_state_machine::StatusSnapshot& s) {
       if (!s.active_state.empty()) report.states_visited.insert(s.active_state);
+      if (s.active_state != state_now) {
+        if (!state_now.empty()) report.state_time_s[state_now] += sim.time() - state_since;
+        if (!s.active_state.empty()) ++report.state_entries[s.active_state];
+        state_now = s.active_state;
+        state_since = sim.time();
+      }
       if (config.status_observer) config.status_observer(s);
       if (verbose && s.transitions != printed && !s.history.empty()) {
         printed = s.transitions;
@@ -98,8 +146,13 @@ HarvestRunReport runHarvest(const HarvestRunConfig& config) {
     machine.machine().setClock([&sim] { return sim.time(); });
     bool debug_written = config.debug_image_path.empty();
     const double t0 = sim.time();
+    const std::vector<bool> reachable = reachableBolls(sim, mp.row_length_m);
+    report.boll_records.resize(sim.bolls().size());
+    for (size_t i = 0; i < reachable.size(); ++i) report.boll_records[i].reachable = reachable[i];
     plant.setFrameHook([&](const cv::Mat& bgr, const perception::FrameResult& result) {
       if (sim.time() - t0 > config.time_limit_s) machine.machine().requestPreempt();
+      scoreFrame(sim, result, plant.roverPositionM(), mp.decision.y_forward_sign, mp.tracker.match_radius_m,
+                 &report.boll_records);
       if (!config.frames_dir.empty()) {
         char name[32];
         std::snprintf(name, sizeof(name), "/frame_%04d.png", plant.frames());
@@ -110,8 +163,9 @@ HarvestRunReport runHarvest(const HarvestRunConfig& config) {
       }
     });
     report.rover_start = sim.roverPosition();
-    report.bolls_reachable = reachableBolls(sim, mp.row_length_m);
+    report.bolls_reachable = static_cast<int>(std::count(reachable.begin(), reachable.end(), true));
     report.outcome = machine.run();
+    if (!state_now.empty()) report.state_time_s[state_now] += sim.time() - state_since;
     report.counts = machine.counts();
     report.machine_picked = report.counts.picked;
     report.counts.picked = sim.bollsCaptured();
@@ -127,6 +181,15 @@ HarvestRunReport runHarvest(const HarvestRunConfig& config) {
     report.bolls = sim.bolls();
     report.rover_end = sim.roverPosition();
     report.divergences = sim.divergences();
+    const std::vector<control::TrackedBoll> tracks = machine.tracks();
+    for (size_t i = 0; i < report.bolls.size(); ++i) {
+      BollRecord& r = report.boll_records[i];
+      r.captured = report.bolls[i].captured;
+      r.closest_vacuum_m = report.bolls[i].closest_vacuum_m;
+      const MissCause cause = classifyMiss(r, tracks, mp.tracker);
+      report.miss_causes.push_back(cause);
+      report.misses.add(cause);
+    }
   } catch (const std::exception& e) {
     report.error = e.what();
   }

@@ -269,6 +269,7 @@ void RoverSim::stepOnce() {
   for (BollTruth& b : bolls_) {
     if (b.captured) continue;
     const double dist = (b.centre - nozzle).norm();
+    if (vacuum_) b.closest_vacuum_m = std::min(b.closest_vacuum_m, dist);
     if (vacuum_ && dist <= params_.capture_radius_m) {
       b.near_nozzle_s += dt;
       if (b.near_nozzle_s >= params_.capture_time_s) {
@@ -351,6 +352,39 @@ void RoverSim::renderCamera(cv::Mat* bgr, cv::Mat* cloud) {
 
 int RoverSim::bollsCaptured() const {
   return static_cast<int>(std::count_if(bolls_.begin(), bolls_.end(), [](const BollTruth& b) { return b.captured; }));
+}
+
+bool RoverSim::bollInView(size_t index) const {
+  if (index >= bolls_.size()) return false;
+  const Eigen::Vector3d c = toCamera(bolls_[index].centre);
+  if (!(c.z() > 0.0)) return false;
+  const double u = params_.cx + params_.fx * c.x() / c.z(), v = params_.cy + params_.fx * c.y() / c.z();
+  return u >= 0.0 && v >= 0.0 && u < params_.camera_width && v < params_.camera_height;
+}
+
+double RoverSim::bollVisibleFraction(size_t index) const {
+  if (index >= bolls_.size()) return 0.0;
+  const BollTruth& b = bolls_[index];
+  Eigen::Vector3d origin;
+  Eigen::Matrix3d rotation;
+  cameraPose(&origin, &rotation);
+  const Eigen::Vector3d view = (b.centre - origin).normalized();
+  // Two directions across the line of sight span the disc the camera sees.
+  const Eigen::Vector3d a = view.unitOrthogonal(), c = view.cross(a);
+  const double r = 0.7 * params_.row.boll_radius_m;
+  int visible = 0, rays = 0;
+  for (int k = -1; k < 8; ++k) {
+    const double phi = 2.0 * M_PI * k / 8.0;
+    const Eigen::Vector3d target =
+        k < 0 ? b.centre : Eigen::Vector3d(b.centre + r * (std::cos(phi) * a + std::sin(phi) * c));
+    const Eigen::Vector3d dir = target - origin;
+    int geom = -1;
+    const mjtNum pnt[3] = {origin.x(), origin.y(), origin.z()}, vec[3] = {dir.x(), dir.y(), dir.z()};
+    mj_ray(model_.get(), data_.get(), pnt, vec, nullptr, 1, -1, &geom);
+    ++rays;
+    visible += geom == b.geom ? 1 : 0;
+  }
+  return static_cast<double>(visible) / rays;
 }
 
 Eigen::Vector3d RoverSim::roverPosition() const {

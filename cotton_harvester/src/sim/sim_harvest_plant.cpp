@@ -120,8 +120,10 @@ std::optional<control::HarvestObservation> SimHarvestPlant::observe(const Preemp
 
 control::MoveResult SimHarvestPlant::moveRover(double distance_m, const Preempted& preempted) {
   if (!std::isfinite(distance_m)) return control::MoveResult::kFailed;
-  // Drive with the arm up, clear of the plants.
+  // Drive with the arm up, clear of the plants: both axes go to their rest as the drive starts (the pump needs
+  // most of a second to cross its deadband, and the arm's steppers are independent of it).
   sim_.commandHorizontal(params_.rest_extension_m);
+  if (sim_.verticalPosition() > params_.rest_depth_m) sim_.commandVertical(params_.rest_depth_m);
   target_m_ = roverPositionM() + distance_m;
   rover_.setTarget(target_m_);
   const double timeout = params_.rover_timeout_s + params_.rover_timeout_per_m_s * std::abs(distance_m);
@@ -135,7 +137,7 @@ control::MoveResult SimHarvestPlant::moveRover(double distance_m, const Preempte
     if (sim_.time() - start > timeout) return control::MoveResult::kFailed;
     run(params_.control_period_s);
     const std::int32_t count = sim_.encoderCount();
-    still_s = rover_.atRest() && count == last_count ? still_s + params_.control_period_s : 0.0;
+    still_s = rover_.atRest() && count == last_count && !sim_.armMoving() ? still_s + params_.control_period_s : 0.0;
     last_count = count;
   }
   return std::abs(roverPositionM() - target_m_) <=
@@ -170,11 +172,12 @@ control::MoveResult SimHarvestPlant::pick(double offset_m, const Preempted& pree
   sim_.commandHorizontal(params_.rest_extension_m);
   const bool back = waitArm(preempted);
   sim_.setVacuum(false);
-  // Up above the plants again, so the next frame sees the row and not the housing over it.
-  sim_.commandVertical(params_.rest_depth_m);
-  const bool up = waitArm(preempted);
+  if (params_.raise_after_pick) {
+    sim_.commandVertical(params_.rest_depth_m);
+    if (!waitArm(preempted)) return preempted() ? control::MoveResult::kPreempted : control::MoveResult::kFailed;
+  }
   if (preempted()) return control::MoveResult::kPreempted;
-  return back && up ? control::MoveResult::kDone : control::MoveResult::kFailed;
+  return back ? control::MoveResult::kDone : control::MoveResult::kFailed;
 }
 
 }  // namespace sim

@@ -348,3 +348,52 @@ TEST(HarvestMachine, HiddenTargetIsAimedAtFromMemory) {
     }
   }
 }
+
+// The along-row order takes the rearmost pending boll (a sweep in the direction of travel), and among bolls of one
+// stop the nearest from the lens; the range order (eq. 6) takes the highest wherever it is.
+TEST(HarvestMachine, AlongRowOrderTakesTheRearmostBoll) {
+  for (TargetOrder order : {TargetOrder::kRange, TargetOrder::kAlongRow}) {
+    ScriptedPlant plant;
+    plant.frames.push_back(frame({{0.0, 0.3, 0.6}, {0.0, -0.2, 1.2}, {0.0, -0.21, 1.0}, {0.0, 0.1, 0.9}}));
+    HarvestParams params = shortRow();
+    params.tracker.order = order;
+    HarvestMachine machine(plant, params);
+    machine.run();
+    ASSERT_FALSE(plant.actions.empty());
+    EXPECT_EQ(plant.actions[0], "rover");
+    // kRange: the boll at 0.67 m from the lens (y 0.3); kAlongRow: y -0.21 (within 3 cm of -0.2, nearer the lens).
+    EXPECT_NEAR(plant.values[0], order == TargetOrder::kRange ? 0.3 : -0.21, 1e-9);
+  }
+}
+
+// With keep_target, the boll being worked on stays the target when the next frame ranks another first (here: the
+// target is hidden once the rover stands over it and a boll further back appears): no turning back and forth.
+TEST(HarvestMachine, KeptTargetIsFinishedBeforeAnotherIsStarted) {
+  for (bool keep : {false, true}) {
+    ScriptedPlant plant;
+    plant.frames.push_back(frame({{0.1, 0.2, 1.0}}));    // ahead: forward 0.2 m
+    plant.frames.push_back(frame({{0.0, -0.25, 1.1}}));  // target hidden, another one behind
+    plant.frames.push_back(frame({{0.1, 0.0, 1.0}, {0.0, -0.25, 1.1}}));
+    HarvestParams params = shortRow();
+    params.tracker.order = TargetOrder::kAlongRow;
+    params.remember_target_frames = 2;
+    params.keep_target = keep;
+    HarvestMachine machine(plant, params);
+    machine.run();
+    ASSERT_GE(plant.actions.size(), 2u) << keep;
+    EXPECT_EQ(plant.actions[0], "rover");
+    if (keep) {
+      EXPECT_EQ(plant.actions[1], "arm");  // down to the remembered target, the rover stays
+      EXPECT_NEAR(plant.values[1], 1.0, 1e-9);
+    } else {
+      EXPECT_EQ(plant.actions[1], "rover");  // turns back to the other boll
+      EXPECT_NEAR(plant.values[1], -0.25, 1e-9);
+    }
+  }
+  HarvestParams bad = shortRow();
+  bad.keep_target = true;
+  EXPECT_NE(bad.check().find("keep_target"), std::string::npos);
+  bad.keep_target = false;
+  bad.tracker.along_row_band_m = -0.1;
+  EXPECT_NE(bad.check().find("along_row_band_m"), std::string::npos);
+}

@@ -24,11 +24,21 @@ struct TrackedBoll {
   int last_seen_frame = 0;
 };
 
+/// Which pending boll is worked on next.
+enum class TargetOrder {
+  kRange,    ///< the nearest from the lens (eq. 6, Algorithm 1 step 6): high bolls first, wherever they are
+  kAlongRow  ///< the rearmost along the row (a sweep in the direction of travel), then the nearest from the lens
+};
+
 struct TrackerParams {
   double match_radius_m = 0.06;  ///< a sighting within this of a track is that boll
   int max_pick_attempts = 3;     ///< failed picks before the boll is skipped
   int max_align_moves = 8;       ///< moves towards one boll before it is skipped
   double y_forward_sign = 1.0;
+  TargetOrder order = TargetOrder::kRange;
+  /// kAlongRow: bolls whose along-row positions differ by less than this are one stop of the rover and are taken
+  /// nearest from the lens first [m].
+  double along_row_band_m = 0.03;
 };
 
 /// Remembers the bolls of a run: associates sightings with tracks, counts attempts, decides
@@ -43,8 +53,8 @@ class BollTracker {
   /// attempt (skipped after max_pick_attempts).
   std::vector<int> update(const HarvestObservation& observation);
 
-  /// The nearest (smallest distance from the camera, eq. 6) reachable sighting whose boll is still
-  /// pending; its index in the observation, or nullopt.
+  /// The next reachable sighting whose boll is still pending, in `order` (kRange: the smallest distance from the
+  /// camera, eq. 6); its index in the observation, or nullopt.
   std::optional<std::size_t> nearestPending(const HarvestObservation& observation, const std::vector<int>& ids) const;
 
   void notePick(int id);       ///< a pick was made on this boll: resolve it on the next frame

@@ -51,6 +51,11 @@ struct HarvestParams {
   /// over it) is still aimed at from where the tracker last saw it, for this many frames after its last
   /// sighting; 0: only what the frame shows (the paper's Algorithm 1).
   int remember_target_frames = 0;
+  /// The boll being worked on stays the target until it is picked or skipped, whichever boll the order would pick
+  /// in a frame (seen, or remembered as above); without it a boll that a frame does not show, or that the order
+  /// ranks behind another after the rover moved, makes the rover turn to the other one and back. Needs
+  /// remember_target_frames >= 1. false: a new choice in every frame (Algorithm 1).
+  bool keep_target = false;
   std::string check() const;  ///< empty when sound, otherwise "key: expected ..."
 };
 
@@ -83,6 +88,8 @@ class HarvestMachine {
   std::string resultOutcome(MoveResult result);
   /// The target boll from the tracker's memory (camera frame at the frame's rover position), when it may be used.
   std::optional<Point3> rememberedTarget(const HarvestObservation& observation) const;
+  /// The target boll while it is pending: its sighting in the frame, else rememberedTarget().
+  std::optional<Point3> keptTarget(const HarvestObservation& observation, const std::vector<int>& ids) const;
 
   HarvestPlant& plant_;
   HarvestParams params_;

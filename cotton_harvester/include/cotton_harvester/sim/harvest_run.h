@@ -1,12 +1,14 @@
 #pragma once
 
 #include <functional>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "cotton_harvester/control/harvest_machine.h"
 #include "cotton_harvester/control/harvest_metrics.h"
+#include "cotton_harvester/sim/miss_causes.h"
 #include "cotton_harvester/sim/sim_harvest_plant.h"
 
 namespace cotton_harvester {
@@ -41,6 +43,13 @@ struct HarvestRunReport {
   std::vector<BollTruth> bolls;                        ///< truth at the end: positions, captured or not
   Eigen::Vector3d rover_start = Eigen::Vector3d::Zero(), rover_end = Eigen::Vector3d::Zero();
   int divergences = 0;
+  /// Per boll (the order of `bolls`): what the scorer saw of it, and why it was missed (kCaptured when taken).
+  std::vector<BollRecord> boll_records;
+  std::vector<MissCause> miss_causes;
+  MissTable misses;
+  /// Simulated time spent in each state of the machine [s] and how often it was entered.
+  std::map<std::string, double> state_time_s;
+  std::map<std::string, int> state_entries;
   std::string error;  ///< set when the run could not be done (model, renderer)
 };
 

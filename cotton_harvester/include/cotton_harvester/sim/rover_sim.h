@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 #include <memory>
 #include <random>
 #include <string>
@@ -67,6 +68,8 @@ struct BollTruth {
   bool captured = false;
   double captured_at_s = 0.0;
   double near_nozzle_s = 0.0;  ///< vacuum time with the boll within the capture radius
+  /// Closest approach of the nozzle to the centre while the vacuum ran [m] (infinity: never).
+  double closest_vacuum_m = std::numeric_limits<double>::infinity();
 };
 
 /// The cotton rover and a row of cotton in MuJoCo: a centre-articulated body on four wheels driven by a
@@ -112,6 +115,11 @@ class RoverSim {
   // ---- Truth (scoring and tests only) ----
   const std::vector<BollTruth>& bolls() const { return bolls_; }
   int bollsCaptured() const;
+  /// Share of rays from the camera to points spread over the boll's disc (as the camera sees it) that reach the
+  /// boll before anything else (a leaf, the arm) [0, 1]. Uses the state of the last renderCamera().
+  double bollVisibleFraction(size_t index) const;
+  /// Whether the boll's centre projects into the camera image.
+  bool bollInView(size_t index) const;
   /// World position of the articulation joint and the nozzle [m].
   Eigen::Vector3d roverPosition() const;
   Eigen::Vector3d nozzlePosition() const;

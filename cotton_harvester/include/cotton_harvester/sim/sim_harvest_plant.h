@@ -25,10 +25,13 @@ struct StackParams {
   double rover_timeout_s = 20.0;            ///< + rover_timeout_per_m_s per metre: the move failed
   double rover_timeout_per_m_s = 20.0;
   double arm_timeout_s = 15.0;
-  double settle_s = 0.15;           ///< wait after an action before the frame is taken
-  double pick_dwell_s = 1.0;        ///< vacuum on at the boll [s]
-  double rest_extension_m = 0.35;   ///< horizontal axis between picks
-  double rest_depth_m = 1.20;       ///< end-effector depth while driving on (above the plants)
+  double settle_s = 0.15;          ///< wait after an action before the frame is taken
+  double pick_dwell_s = 1.0;       ///< vacuum on at the boll [s]
+  double rest_extension_m = 0.35;  ///< horizontal axis between picks
+  double rest_depth_m = 1.20;      ///< end-effector depth while driving on (above the plants)
+  /// After a pick the arm goes up to rest_depth_m at once (true), or stays at the boll's depth for the next boll of
+  /// the same stop and goes up only when the rover moves (false).
+  bool raise_after_pick = false;
   double arm_base_offset_m = 0.55;  ///< the calibration the stack knows: horizontal extension 0 = camera x
   double arm_min_depth_m = 0.30;    ///< -arm_base_offset_m; depth limits of the vertical axis
   double arm_max_depth_m = 1.93;
