@@ -43,6 +43,9 @@ WorldDescription makeGreenhouseWorld(const GreenhouseParams& p, GreenhouseTruth*
   if (p.rail_top_m - p.pipe_diameter_m <= -p.row_ground_drop_m)
     throw std::invalid_argument("rail_top must leave the pipes above the rows' ground (row_ground_drop)");
   if (p.vent_every < 0) throw std::invalid_argument("vent_every must be 0 (none) or positive");
+  if (!(p.plant_bottom_m >= 0.0 && p.plant_bottom_m < p.plant_top_m))
+    throw std::invalid_argument("plant_bottom must be at least 0 and below plant_top (" +
+                                std::to_string(p.plant_top_m) + " m)");
 
   GreenhouseTruth t;
   t.params = p;
@@ -84,15 +87,20 @@ WorldDescription makeGreenhouseWorld(const GreenhouseParams& p, GreenhouseTruth*
     }
     t.rail_sets.push_back(s);
   }
-  // Plant rows hang between neighbouring sets and outside the outer ones; ventilation lines under some.
+  // Plant rows hang between neighbouring sets and outside the outer ones (where they fit inside the side walls: a
+  // wall_margin of half the set spacing puts the side walls where the outer rows would be); ventilation lines under
+  // some.
   const double row_len = p.rail_length_m;
   for (int k = 0; k <= p.rail_sets; ++k) {
     const double y = (k - 0.5) * p.set_spacing_m;
-    t.plant_row_y.push_back(y);
-    const double zc = 0.5 * (p.plant_bottom_m + p.plant_top_m);
-    w.boxPieces("plant_row" + std::to_string(k), {p.rail_start_gap_m + 0.5 + 0.5 * row_len, y, zc},
-                {0.5 * row_len, 0.5 * p.plant_width_m, 0.5 * (p.plant_top_m - p.plant_bottom_m)}, colours::kPlant,
-                kPiece);
+    const bool fits = y - 0.5 * p.plant_width_m > y_min && y + 0.5 * p.plant_width_m < y_max;
+    if (fits) {
+      t.plant_row_y.push_back(y);
+      const double zc = 0.5 * (p.plant_bottom_m + p.plant_top_m);
+      w.boxPieces("plant_row" + std::to_string(k), {p.rail_start_gap_m + 0.5 + 0.5 * row_len, y, zc},
+                  {0.5 * row_len, 0.5 * p.plant_width_m, 0.5 * (p.plant_top_m - p.plant_bottom_m)}, colours::kPlant,
+                  kPiece);
+    }
     if (p.vent_every > 0 && k > 0 && k < p.rail_sets && k % p.vent_every == 1 % p.vent_every) {
       t.vent_line_y.push_back(y);
       w.capsulePieces("vent_line" + std::to_string(k), {0.5 * p.vent_diameter_m, y, p.vent_height_m},

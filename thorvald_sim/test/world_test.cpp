@@ -82,6 +82,29 @@ TEST(Greenhouse, BadParametersAreNamed) {
   p = ts::GreenhouseParams();
   p.pipe_diameter_m = -1;
   EXPECT_THROW(ts::makeGreenhouseWorld(p, nullptr), std::invalid_argument);
+  p = ts::GreenhouseParams();
+  p.plant_bottom_m = p.plant_top_m;
+  try {
+    ts::makeGreenhouseWorld(p, nullptr);
+    FAIL() << "accepted plants hanging from their top";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("plant_bottom"), std::string::npos);
+  }
+}
+
+TEST(Greenhouse, OuterPlantRowsOnlyInsideTheSideWalls) {
+  ts::GreenhouseParams p;
+  p.rail_sets = 3;
+  ts::GreenhouseTruth t;
+  ts::makeGreenhouseWorld(p, &t);  // walls 1.2 m beside the outer sets: a row beside each of them
+  ASSERT_EQ(t.plant_row_y.size(), 4u);
+  EXPECT_NEAR(t.plant_row_y.front(), -0.8, 1e-9);
+  p.wall_margin_m = 0.5 * p.set_spacing_m;  // side walls where the outer rows would hang: only the inner rows
+  ts::makeGreenhouseWorld(p, &t);
+  ASSERT_EQ(t.plant_row_y.size(), 2u);
+  EXPECT_NEAR(t.plant_row_y[0], 0.8, 1e-9);
+  EXPECT_NEAR(t.plant_row_y[1], 2.4, 1e-9);
+  EXPECT_NEAR(t.side_wall_y[0], -0.8, 1e-9);
 }
 
 TEST(CottonRow, PlantsThirtyCentimetresApartOnTheSlope) {

@@ -52,6 +52,7 @@ bool SimRos::loadParams() {
     p.ground_truth_rate_hz =
         params.number("ground_truth_rate", p.ground_truth_rate_hz, ParamRange::aboveUpTo(0.0, 1000.0), "Hz");
     p.publish_map_tf = params.flag("publish_map_tf", p.publish_map_tf);
+    p.sphere_wheels = params.flag("sphere_wheels", p.sphere_wheels);
     p.start_paused = params.flag("start_paused", p.start_paused);
     p.wait_for_description_s =
         params.number("wait_for_description", p.wait_for_description_s, ParamRange::closed(0.0, 3600.0), "s");
@@ -89,6 +90,11 @@ bool SimRos::loadParams() {
           params.number("greenhouse/row_ground_drop", g.row_ground_drop_m, ParamRange::closed(0.0, 2.0), "m");
       g.vent_every = params.integer("greenhouse/vent_every", g.vent_every, 0, 1000);
       g.vent_height_m = params.number("greenhouse/vent_height", g.vent_height_m, ParamRange::aboveUpTo(0.0, 5.0), "m");
+      g.vent_diameter_m =
+          params.number("greenhouse/vent_diameter", g.vent_diameter_m, ParamRange::aboveUpTo(0.01, 2.0), "m");
+      g.wall_margin_m = params.number("greenhouse/wall_margin", g.wall_margin_m, ParamRange::aboveUpTo(0.2, 20.0), "m");
+      g.plant_bottom_m =
+          params.number("greenhouse/plant_bottom", g.plant_bottom_m, ParamRange::aboveUpTo(0.0, 10.0), "m");
     } else {
       auto& c = p.cotton_row;
       c.plants = params.integer("cotton_row/plants", c.plants, 0, 10000);
@@ -198,6 +204,7 @@ bool SimRos::loadRobots(const WorldDescription& world) {
   }
   try {
     SceneOptions options;
+    options.sphere_wheels = params_.sphere_wheels;
     for (const auto& list : sensors)  // the offscreen buffer must hold the largest camera image
       for (const auto& c : list)
         if (c.type == SensorType::kDepthCamera) {

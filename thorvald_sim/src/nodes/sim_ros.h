@@ -24,6 +24,7 @@ struct SimNodeParams {
   double control_period_s = 0.01;  ///< /clock and joint targets advance in these steps [s]
   double ground_truth_rate_hz = 50.0;
   bool publish_map_tf = false;
+  bool sphere_wheels = true;  ///< SceneOptions::sphere_wheels: false keeps the wheels' URDF cylinders
   bool start_paused = false;
   double wait_for_description_s = 30.0;
   std::string encoders = "joint_simulator";  ///< default of the robots' `encoders`
