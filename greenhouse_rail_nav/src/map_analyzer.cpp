@@ -86,6 +86,29 @@ bool fitRowLine(const LineSegment& segment, const HeadlandFrame& frame, double v
   return true;
 }
 
+/// Whether free floor shows on both sides of a line u = u0 + slope * v over [v_from, v_to]: a row stands
+/// on the floor between two paths, while a side wall (or a piece of one behind a door) has the outside of
+/// the greenhouse, never mapped as floor, on one side. A side has floor when at least a third of the samples
+/// along the line find a free cell between lateral_min_m and lateral_max_m from it.
+bool floorOnBothSides(const OccupancyMap& map, const HeadlandFrame& frame, double u0, double slope, double v_from,
+                      double v_to, double lateral_min_m, double lateral_max_m) {
+  int samples = 0, left = 0, right = 0;
+  const double step = std::max(map.resolution, 0.1);
+  for (double v = v_from; v <= v_to; v += step) {
+    ++samples;
+    const double u_line = u0 + slope * v;
+    for (const double side : {-1.0, 1.0}) {
+      bool free = false;
+      for (double d = lateral_min_m; d <= lateral_max_m && !free; d += map.resolution) {
+        const std::int8_t value = map.valueAt(frame.toMap(u_line + side * d, v));
+        free = value >= 0 && value < 25;
+      }
+      (side < 0 ? left : right) += free;
+    }
+  }
+  return samples > 0 && 3 * left >= samples && 3 * right >= samples;
+}
+
 std::string joinReasons(const std::vector<std::string>& reasons) {
   std::string out;
   for (const auto& r : reasons) out += (out.empty() ? "" : "; ") + r;
@@ -194,6 +217,12 @@ MapAnalysis analyzeMap(const OccupancyMap& input, const MapAnalyzerParams& param
     if (starts.empty() || starts.front() < 0.5 * params.min_headland_depth_m) continue;
     for (const double s : starts)
       if (s >= params.min_headland_depth_m) row.starts.push_back(s);
+    // A line with no floor on one side is a side wall (seen behind a door, it starts like a row).
+    if (!row.starts.empty() &&
+        !floorOnBothSides(map, frame, row.u0, row.slope, row.starts.front(),
+                          std::min(row.far_v, row.starts.front() + 3.0), 0.25,
+                          std::max(0.3, 0.4 * params.rail_set_spacing_m / params.spacing_search_ratio)))
+      continue;
     if (!row.starts.empty()) candidates.push_back(row);
   }
   if (candidates.empty()) {
@@ -341,11 +370,18 @@ MapAnalysis analyzeMap(const OccupancyMap& input, const MapAnalyzerParams& param
   }
   result.rows.clear();
   for (const auto& r : rows) result.rows.push_back(r.line);
+  // Straightness of the edge from the row starts that lie on it: a row whose start is hidden by something
+  // on the headland (or whose first pots are missing) starts later; it is named, not averaged in.
   double sq_start_dev = 0.0;
   int with_start = 0;
   for (const auto& r : rows) {
     if (!std::isfinite(r.start_v)) continue;
-    sq_start_dev += (r.start_v - edge_v) * (r.start_v - edge_v);
+    const double dev = r.start_v - edge_v;
+    if (std::abs(dev) > 2.0 * params.edge_straightness_m) {
+      result.warnings.push_back("row at " + fmt(r.u) + " m starts " + fmt(dev) + " m off the headland edge");
+      continue;
+    }
+    sq_start_dev += dev * dev;
     ++with_start;
   }
   result.left_wall_found = left.wall_found;
