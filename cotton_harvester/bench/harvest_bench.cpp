@@ -124,6 +124,18 @@ control::HarvestMetrics experiment(const char* title, bool field, int runs, unsi
     if (i == 0 && !field) config.frames_dir = frames_dir;
     const sim::HarvestRunReport r = runHarvest(config);
     if (!r.error.empty()) std::printf("run %d failed: %s\n", i + 1, r.error.c_str());
+    if (verbose) {
+      for (size_t b = 0; b < r.miss_causes.size() && b < r.bolls.size(); ++b) {
+        if (r.miss_causes[b] == sim::MissCause::kCaptured) continue;
+        const sim::BollRecord& rec = r.boll_records[b];
+        std::fprintf(stderr,
+                     "missed boll %zu (plant %d, x %.2f y %.2f z %.2f): %s; in view %d frames, detected %d (reachable "
+                     "%d), best visible %.0f %%, nozzle closest %.1f cm\n",
+                     b, r.bolls[b].plant, r.bolls[b].centre.x(), r.bolls[b].centre.y(), r.bolls[b].centre.z(),
+                     sim::toString(r.miss_causes[b]), rec.frames_in_view, rec.frames_detected,
+                     rec.frames_detected_reachable, 100.0 * rec.max_visible_fraction, 100.0 * rec.closest_vacuum_m);
+      }
+    }
     printRow("run" + std::to_string(i + 1), r);
     if (i == 0 && !png.empty() && !writePathPng(r, png)) std::printf("could not write %s\n", png.c_str());
     t.add(r);

@@ -36,6 +36,8 @@ std::vector<int> BollTracker::update(const HarvestObservation& observation) {
     track.across_m = p.x;
     track.depth_m = p.z;
     track.last_seen_frame = frame_;
+    ++track.sightings;
+    track.seen_reachable = track.seen_reachable || observation.bolls[i].reachable;
     ids[i] = track.id;
   }
   if (pending_pick_) {

@@ -21,7 +21,7 @@ std::string HarvestParams::check() const {
   if (!(max_failed_actions >= 1)) return "max_failed_actions: expected >= 1";
   if (!(bolls_present >= 0)) return "bolls_present: expected >= 0";
   if (!(remember_target_frames >= 0)) return "remember_target_frames: expected >= 0";
-  if (keep_target && remember_target_frames <= 0) return "keep_target: expected remember_target_frames >= 1 with it";
+  if (!(revisit_window_m >= 0.0)) return "revisit_window_m: expected >= 0";
   return "";
 }
 
@@ -129,6 +129,8 @@ std::string HarvestMachine::observe(tsm::UserData& ud, tsm::ExecutionContext& ct
       id = ids[*index];
     } else if ((boll = rememberedTarget(*observation))) {
       id = target_id_;
+    } else if (params_.revisit_pending) {
+      boll = revisitTarget(*observation, ids, &id);
     }
     if (!boll) {
       missed_ = 0;
@@ -157,6 +159,22 @@ std::string HarvestMachine::observe(tsm::UserData& ud, tsm::ExecutionContext& ct
     ud.set<std::string>("action", toString(decision.action));
     return toString(decision.action);
   }
+}
+
+std::optional<Point3> HarvestMachine::revisitTarget(const HarvestObservation& observation, const std::vector<int>& ids,
+                                                    int* id) const {
+  const TrackedBoll* best = nullptr;
+  const double sign = params_.decision.y_forward_sign;
+  for (const auto& t : tracker_.tracks()) {
+    if (t.fate != BollFate::kPending || !t.seen_reachable || t.sightings < 2) continue;
+    if (std::find(ids.begin(), ids.end(), t.id) != ids.end()) continue;  // in this frame, and not reachable
+    const double along = (t.along_row_m - observation.rover_position_m) * sign;
+    if (std::abs(along) > params_.revisit_window_m) continue;
+    if (!best || along < (best->along_row_m - observation.rover_position_m) * sign) best = &t;
+  }
+  if (!best) return std::nullopt;
+  *id = best->id;
+  return Point3{best->across_m, (best->along_row_m - observation.rover_position_m) * sign, best->depth_m};
 }
 
 std::optional<Point3> HarvestMachine::keptTarget(const HarvestObservation& observation,

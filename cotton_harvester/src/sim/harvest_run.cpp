@@ -87,9 +87,12 @@ HarvestRunConfig pottedConfig(unsigned seed) {
   c.sim.start_x_m = -0.3;
   c.machine.row_length_m = 2.9;
   c.machine.bolls_present = 18;
-  c.machine.remember_target_frames = 2;
+  // A boll seen from further back and hidden from straight above: the rover moves (twice at most with the deadband
+  // controller), the arm goes down, the pick is made: four frames without it.
+  c.machine.remember_target_frames = 4;
   c.machine.tracker.order = control::TargetOrder::kAlongRow;
   c.machine.keep_target = true;
+  c.machine.revisit_pending = true;
   c.time_limit_s = 900.0;
   return c;
 }

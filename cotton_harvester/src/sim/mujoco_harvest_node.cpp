@@ -31,6 +31,11 @@ HarvestRunConfig readConfig(thorvald_base::ParamReader& r) {
   c.sim.row.slope_deg = r.number("slope_deg", c.sim.row.slope_deg, ParamRange::closed(-15.0, 15.0), "deg");
   c.machine.row_length_m = r.number("row_length_m", c.machine.row_length_m, ParamRange::aboveUpTo(0.0, 100.0), "m");
   c.machine.remember_target_frames = r.integer("remember_target_frames", c.machine.remember_target_frames, 0, 20);
+  c.machine.keep_target = r.flag("keep_target", c.machine.keep_target);
+  c.machine.revisit_pending = r.flag("revisit_pending", c.machine.revisit_pending);
+  const std::string order = r.choice("target_order", "along_row", {"along_row", "range"});
+  c.machine.tracker.order = order == "range" ? cotton_harvester::control::TargetOrder::kRange
+                                             : cotton_harvester::control::TargetOrder::kAlongRow;
   c.time_limit_s = r.number("time_limit_s", c.time_limit_s, ParamRange::aboveUpTo(0.0, 36000.0), "s");
   c.debug_image_path = r.text("debug_image", "");
   return c;

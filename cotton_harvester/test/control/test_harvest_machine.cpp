@@ -391,9 +391,34 @@ TEST(HarvestMachine, KeptTargetIsFinishedBeforeAnotherIsStarted) {
     }
   }
   HarvestParams bad = shortRow();
-  bad.keep_target = true;
-  EXPECT_NE(bad.check().find("keep_target"), std::string::npos);
-  bad.keep_target = false;
   bad.tracker.along_row_band_m = -0.1;
   EXPECT_NE(bad.check().find("along_row_band_m"), std::string::npos);
+}
+
+// revisit_pending: a boll two frames showed reachable and the next frames hide is aimed at from the tracker's memory
+// before the rover passes on; without it (and without the target's memory) the rover passes on.
+TEST(HarvestMachine, HiddenPendingBollIsRevisitedBeforePassingOn) {
+  for (bool revisit : {false, true}) {
+    ScriptedPlant plant;
+    plant.frames.push_back(frame({{0.1, 0.2, 1.0}}));  // ahead: forward 0.2 m
+    plant.frames.push_back(frame({{0.1, 0.0, 1.0}}));  // aligned: the arm down to 1.0 m; then hidden for good
+    for (int i = 0; i < 12; ++i) plant.frames.push_back(frame({}));
+    HarvestParams params = shortRow();
+    params.revisit_pending = revisit;
+    HarvestMachine machine(plant, params);
+    EXPECT_EQ(machine.run(), "finished");
+    ASSERT_GE(plant.actions.size(), 3u) << revisit;
+    EXPECT_EQ(plant.actions[0], "rover");
+    EXPECT_EQ(plant.actions[1], "arm");
+    if (revisit) {
+      EXPECT_EQ(plant.actions[2], "arm");  // aimed at from memory (the scripted arm never gets there)
+      EXPECT_NEAR(plant.values[2], 1.0, 1e-9);
+      const auto tracks = machine.tracks();
+      ASSERT_EQ(tracks.size(), 1u);
+      EXPECT_EQ(tracks[0].fate, BollFate::kSkipped);  // after max_align_moves
+    } else {
+      EXPECT_EQ(plant.actions[2], "rover");  // pass on
+      EXPECT_NEAR(plant.values[2], params.pass_step_m, 1e-9);
+    }
+  }
 }

@@ -22,6 +22,8 @@ struct TrackedBoll {
   bool reached = false;      ///< the arm got to it and tried a pick
   BollFate fate = BollFate::kPending;
   int last_seen_frame = 0;
+  int sightings = 0;            ///< frames that showed it
+  bool seen_reachable = false;  ///< some frame showed it inside the arm's workspace
 };
 
 /// Which pending boll is worked on next.

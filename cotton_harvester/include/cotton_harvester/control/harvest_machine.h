@@ -53,10 +53,15 @@ struct HarvestParams {
   int remember_target_frames = 0;
   /// The boll being worked on stays the target until it is picked or skipped, whichever boll the order would pick
   /// in a frame (seen, or remembered as above); without it a boll that a frame does not show, or that the order
-  /// ranks behind another after the rover moved, makes the rover turn to the other one and back. Needs
-  /// remember_target_frames >= 1. false: a new choice in every frame (Algorithm 1).
+  /// ranks behind another after the rover moved, makes the rover turn to the other one and back. With
+  /// remember_target_frames 0 it is kept only while frames show it. false: a new choice in every frame (Algorithm 1).
   bool keep_target = false;
-  std::string check() const;  ///< empty when sound, otherwise "key: expected ..."
+  /// Before passing on: a pending boll that earlier frames showed reachable (at least twice) but this one does not
+  /// (hidden from where the camera now stands), within revisit_window_m behind or ahead of the camera, is aimed at
+  /// from the tracker's memory, the rearmost first. false: only what the frame shows or the target's memory.
+  bool revisit_pending = false;
+  double revisit_window_m = 1.0;  ///< [m] along the row
+  std::string check() const;      ///< empty when sound, otherwise "key: expected ..."
 };
 
 /// The harvest state machine (paper §2.9, Algorithm 1, Figures 13–14) on thorvald_state_machine:
@@ -88,6 +93,9 @@ class HarvestMachine {
   std::string resultOutcome(MoveResult result);
   /// The target boll from the tracker's memory (camera frame at the frame's rover position), when it may be used.
   std::optional<Point3> rememberedTarget(const HarvestObservation& observation) const;
+  /// revisit_pending: the rearmost pending boll hidden in this frame (its id in *id), in the camera frame.
+  std::optional<Point3> revisitTarget(const HarvestObservation& observation, const std::vector<int>& ids,
+                                      int* id) const;
   /// The target boll while it is pending: its sighting in the frame, else rememberedTarget().
   std::optional<Point3> keptTarget(const HarvestObservation& observation, const std::vector<int>& ids) const;
 
