@@ -71,15 +71,28 @@ SideScan scanToSideWall(const OccupancyMap& map, const HeadlandFrame& frame, dou
   std::vector<Stop> stops;
   for (int k = 0; k < lines; ++k) {
     const double v = edge_v * (k + 0.5) / lines;
+    // Walk on through obstacles with floor behind them (boxes, hoses, noise) to where the mapped floor
+    // ends: the greenhouse's outside is never mapped as floor. The stop is the face after the last free
+    // sample; it is a wall when an occupied cell follows that sample (a door leads into unknown at once).
     Stop stop{max_travel_m, false};
+    double last_free = -step;
+    bool blocked = false, blocked_by_occupied = false;
     for (double travelled = 0.0; travelled < max_travel_m; travelled += step) {
       const std::int8_t value = map.valueAt(frame.toMap(u_start + direction * travelled, v));
-      if (value >= kOccupied || value < 0) {
-        // The face lies between the last free sample and this one.
-        stop = {std::max(0.0, travelled - 0.5 * step), value >= kOccupied};
+      if (value < 0) {
+        stop = {std::max(0.0, last_free + 0.5 * step), blocked ? blocked_by_occupied : false};
         break;
       }
+      if (value >= kOccupied) {
+        if (!blocked) blocked_by_occupied = true;
+        blocked = true;
+      } else {
+        last_free = travelled;
+        blocked = false;
+        blocked_by_occupied = false;
+      }
     }
+    if (blocked && stop.distance >= max_travel_m) stop = {std::max(0.0, last_free + 0.5 * step), blocked_by_occupied};
     stops.push_back(stop);
   }
   scan.scanlines = lines;

@@ -132,6 +132,29 @@ TEST(MapRobustness, SideWallsBehindDoorsDoNotSetTheHeadlandEdge) {
   }
 }
 
+TEST(MapRobustness, BoxesInFrontOfASideWallDoNotHideIt) {
+  // Boxes between the side wall and the outermost row stop most of the scanlines across the headland before
+  // the wall; with floor behind them they are walked through and the wall is still found.
+  for (const double yaw : {0.0, 2.5}) {
+    GreenhouseLayout layout;
+    layout.rail_sets = 5;
+    layout.visible_rows = {1, 2, 3, 4};
+    layout.headland_depth_m = 4.0;
+    layout.clutter_objects = 0;
+    layout.layout_in_map = Pose2D(1.0, 1.0, yaw);
+    auto truth = makeGreenhouseMap(layout);
+    for (const auto& box :
+         {Eigen::Vector2d(0.1, 0.9), Eigen::Vector2d(1.2, 2.0), Eigen::Vector2d(2.3, 3.1), Eigen::Vector2d(3.4, 3.9)}) {
+      for (double x = 0.3; x <= 1.1; x += 0.5 * layout.resolution_m)
+        paintLine(&truth.map, layout.layout_in_map, {x, box.x()}, {x, box.y()});
+    }
+    SCOPED_TRACE(yaw);
+    const auto result = analyzeMap(truth.map, MapAnalyzerParams());
+    EXPECT_TRUE(result.left_wall_found) << result.message;
+    expectAllGoodAndRight(truth, result);
+  }
+}
+
 TEST(MapRobustness, ARowWhoseStartIsHiddenIsNamedNotAveragedIntoTheEdge) {
   // A narrow box just in front of one of five rows makes that row seem to start 0.3 m early; the edge and
   // its straightness come from the rows that agree, and the row is named in a warning.

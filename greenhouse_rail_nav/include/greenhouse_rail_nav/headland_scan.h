@@ -36,10 +36,11 @@ struct SideScan {
 };
 
 /// Many scanlines across the headland (between the rear wall and the edge) from u_start outwards
-/// (direction -1: left, +1: right), each stopping at the first occupied or unknown cell. A side wall is
-/// the farthest place where at least min_support of the scanlines stop at an occupied cell together
-/// (clutter stops some earlier; a door lets some into unknown space at the same place) and almost none
-/// go on beyond. max_travel_m bounds each walk.
+/// (direction -1: left, +1: right), each walking on through obstacles that have floor behind them (boxes,
+/// hoses, noise) and stopping where the mapped floor ends (the face after the last free cell). A side
+/// wall is the farthest place where at least min_support of the scanlines stop at an occupied cell
+/// together (a door lets some into unknown space at the same place) and almost none go on beyond.
+/// max_travel_m bounds each walk.
 SideScan scanToSideWall(const OccupancyMap& map, const HeadlandFrame& frame, double u_start, double edge_v,
                         double direction, double min_support, double max_travel_m);
 
