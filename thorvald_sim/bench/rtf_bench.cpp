@@ -258,24 +258,39 @@ int main(int argc, char** argv) {
               static_cast<double>(white) / std::max(1L, zed_frames));
 
   // One frame alone: render + depth image (+ colour image), the robots standing where they stopped.
+  // Each stage's CPU time too: the render (MuJoCo on OSMesa, read-back, exact depth of curved geoms), the depth image
+  // (range, dropout, grazing angle, noise) and the colour image.
+  double stage[2][3] = {{0, 0, 0}, {0, 0, 0}};
+  auto timed = [](double* acc, const std::function<void()>& f) {
+    const double c0 = cpuNow();
+    f();
+    *acc += cpuNow() - c0;
+  };
   double w = wallNow(), c = cpuNow();
   for (int i = 0; i < frames; ++i) {
     const SensorPose cam = mount(gh, {0.5, 0, 0.75}, opticalPitched(0.6));
-    gh_renderer.render(gh.sim->data(), cam, cameraView(depth, false), gh.sim->robot(0).root_body, &view);
-    depthFromView(view, caster, cam, depth, rng, &depth_img, image_threads);
+    timed(&stage[0][0], [&] {
+      gh_renderer.render(gh.sim->data(), cam, cameraView(depth, false), gh.sim->robot(0).root_body, &view);
+    });
+    timed(&stage[0][1], [&] { depthFromView(view, caster, cam, depth, rng, &depth_img, image_threads); });
   }
   const double ms_depth = 1e3 * (cpuNow() - c) / frames, ms_depth_wall = 1e3 * (wallNow() - w) / frames;
   w = wallNow(), c = cpuNow();
   for (int i = 0; i < frames; ++i) {
     const SensorPose cam = mount(cotton, {1.2, 0, 2.2}, opticalPitched(M_PI / 2));
-    cotton_renderer.render(cotton.sim->data(), cam, cameraView(zed, true), cotton.sim->robot(0).root_body, &view);
-    depthFromView(view, cotton_caster, cam, zed, rng, &depth_img, image_threads);
-    colorFromView(view, cotton.sim->model(), zed_color, &color_img);
+    timed(&stage[1][0], [&] {
+      cotton_renderer.render(cotton.sim->data(), cam, cameraView(zed, true), cotton.sim->robot(0).root_body, &view);
+    });
+    timed(&stage[1][1], [&] { depthFromView(view, cotton_caster, cam, zed, rng, &depth_img, image_threads); });
+    timed(&stage[1][2], [&] { colorFromView(view, cotton.sim->model(), zed_color, &color_img); });
   }
   const double ms_rgbd = 1e3 * (cpuNow() - c) / frames, ms_rgbd_wall = 1e3 * (wallNow() - w) / frames;
   std::printf("%-52s %12s %12s\n", "one camera frame alone", "CPU ms", "wall ms");
   std::printf("%-52s %12.2f %12.2f\n", "640x480 depth (greenhouse)", ms_depth, ms_depth_wall);
+  std::printf("  (render %.2f, depth image %.2f CPU ms)\n", 1e3 * stage[0][0] / frames, 1e3 * stage[0][1] / frames);
   std::printf("%-52s %12.2f %12.2f\n", "1280x720 RGB + depth (cotton row)", ms_rgbd, ms_rgbd_wall);
+  std::printf("  (render %.2f, depth image %.2f, colour image %.2f CPU ms)\n", 1e3 * stage[1][0] / frames,
+              1e3 * stage[1][1] / frames, 1e3 * stage[1][2] / frames);
   const double load_end = loadAverage();
   std::printf("load average at the end: %.2f\n", load_end);
   std::printf("(%.0f s simulated per flat scene, %.0f s per scene with sensors, llvmpipe threads: %s)\n", seconds,

@@ -212,28 +212,31 @@ const std::vector<double>& normalQuantiles() {
 }
 
 // A fast generator for the per-pixel noise of one frame, seeded from the caller's engine (so the frame stays
-// reproducible from the sensor's seed): splitmix64 for uniforms, the quantile table for normals.
+// reproducible from the sensor's seed): one splitmix64 draw per pixel gives both its dropout (a 24-bit uniform) and
+// its normal deviate (the quantile table: 12 bits pick the step, 28 bits where in it).
 class PixelNoise {
  public:
+  static constexpr int kUniformBits = 24;
   explicit PixelNoise(std::mt19937& rng) : quantiles_(normalQuantiles().data()) {
     const uint64_t high = rng();  // two statements: the order of the draws is fixed
     state_ = (high << 32) | rng();
   }
-  double uniform() { return (next() >> 11) * 0x1.0p-53; }
-  double normal() {
-    const uint64_t bits = next();
-    const size_t i = bits >> 52;                               // 12 bits: the step
-    const double f = (bits & ((1ull << 40) - 1)) * 0x1.0p-40;  // 40 bits: where in the step
-    return quantiles_[i] + f * (quantiles_[i + 1] - quantiles_[i]);
-  }
-
- private:
+  /// A draw; uniform(draw) and normal(draw) use disjoint bits of it.
   uint64_t next() {
     uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
     z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
     z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
     return z ^ (z >> 31);
   }
+  /// Uniform in [0, 2^24): compare with p 2^24 for an event of probability p.
+  static uint32_t uniform(uint64_t draw) { return static_cast<uint32_t>(draw & ((1u << kUniformBits) - 1)); }
+  double normal(uint64_t draw) const {
+    const size_t i = draw >> 52;                                               // 12 bits: the step
+    const double f = ((draw >> kUniformBits) & ((1u << 28) - 1)) * 0x1.0p-28;  // 28 bits: where in the step
+    return quantiles_[i] + f * (quantiles_[i + 1] - quantiles_[i]);
+  }
+
+ private:
   const double* quantiles_;
   uint64_t state_ = 0;
 };
@@ -246,18 +249,26 @@ void depthFromView(const RenderedView& view, const RayCaster& caster, const Sens
   img->width = s.width;
   img->height = s.height;
   const float nan = std::numeric_limits<float>::quiet_NaN();
-  img->points.assign(static_cast<size_t>(s.width) * s.height, Eigen::Vector3f(nan, nan, nan));
-  if (view.width != s.width || view.height != s.height) return;
+  const Eigen::Vector3f none(nan, nan, nan);
+  const size_t n = static_cast<size_t>(s.width) * s.height;
+  if (view.width != s.width || view.height != s.height) {
+    img->points.assign(n, none);
+    return;
+  }
+  img->points.resize(n);  // every pixel is written below
   const mjModel* m = caster.model();
   const mjData* d = caster.data();
   // Each seen geom once per frame (a frame sees few geoms, many pixels each), in the optical frame: the faces'
   // normals of planes and boxes (rows of A = R_geom^T R_camera), and for boxes the map from a point in the optical
   // frame to the box frame, p_box = A p + b.
+  enum Kind : char { kPlane, kBox, kOther };
   struct Frame {
     Eigen::Matrix3d A;
     Eigen::Vector3d b;
     Eigen::Matrix3d R;  ///< world frame, for the other types
     Eigen::Vector3d c;
+    Eigen::Vector3d half;
+    Kind kind = kOther;
   };
   std::vector<Frame> frames(m->ngeom);
   std::vector<char> seen(m->ngeom, 0);
@@ -271,9 +282,16 @@ void depthFromView(const RenderedView& view, const RayCaster& caster, const Sens
     f.c = Eigen::Vector3d(d->geom_xpos[3 * g], d->geom_xpos[3 * g + 1], d->geom_xpos[3 * g + 2]);
     f.A = f.R.transpose() * pose.rotation;
     f.b = f.R.transpose() * (pose.origin - f.c);
+    f.half = Eigen::Vector3d(m->geom_size[3 * g], m->geom_size[3 * g + 1], m->geom_size[3 * g + 2]);
+    const int type = m->geom_type[g];
+    f.kind = type == mjGEOM_PLANE ? kPlane : (type == mjGEOM_BOX ? kBox : kOther);
   }
   const double min_cos = std::cos(s.grazing_limit_rad);
   const double min_cos2 = min_cos > 0.0 ? min_cos * min_cos : 0.0;
+  const float range_min = static_cast<float>(s.range_min_m), range_max = static_cast<float>(s.range_max_m);
+  // Dropout with probability p: the draw's 24-bit uniform below p 2^24.
+  const uint32_t dropout_below =
+      s.dropout > 0 ? static_cast<uint32_t>(std::min(1.0, s.dropout) * (1u << PixelNoise::kUniformBits)) : 0u;
   std::vector<double> xs(s.width);  // the ray's x at z = 1, per column
   for (int u = 0; u < s.width; ++u) xs[u] = (u - k.cx) / k.fx;
   // Rows in a fixed number of blocks, each with its own noise stream drawn in order from `rng`: the image is the
@@ -286,41 +304,41 @@ void depthFromView(const RenderedView& view, const RayCaster& caster, const Sens
     const int v0 = s.height * b / kBlocks, v1 = s.height * (b + 1) / kBlocks;
     for (int v = v0; v < v1; ++v) {
       const double y = (v - k.cy) / k.fy;
+      const size_t row = static_cast<size_t>(v) * s.width;
+      const int* geoms = view.geom.data() + row;
+      const float* depths = view.depth_m.data() + row;
+      Eigen::Vector3f* out = img->points.data() + row;
       for (int u = 0; u < s.width; ++u) {
-        const size_t i = static_cast<size_t>(v) * s.width + u;
-        const int g = view.geom[i];
-        const double z = view.depth_m[i];
-        if (g < 0 || z < s.range_min_m || z > s.range_max_m) continue;
-        if (s.dropout > 0 && noise.uniform() < s.dropout) continue;
+        const int g = geoms[u];
+        const float zf = depths[u];
+        out[u] = none;
+        if (g < 0 || !(zf >= range_min && zf <= range_max)) continue;
+        const uint64_t draw = noise.next();
+        if (PixelNoise::uniform(draw) < dropout_below) continue;
+        const double z = zf;
         const Frame& f = frames[g];
         const Eigen::Vector3d ray(xs[u], y, 1.0);  // z = 1
-        const int type = m->geom_type[g];
         // Seen more obliquely than grazing_limit: the cosine between the ray and the surface normal n is below
         // min_cos. For planes and boxes, with the face normal n in the optical frame: (n . ray)^2 < min_cos^2 |ray|^2.
         bool grazing;
-        if (type == mjGEOM_PLANE || type == mjGEOM_BOX) {
+        if (f.kind != kOther) {
           int face = 2;
-          if (type == mjGEOM_BOX) {  // the face nearest to the point
+          if (f.kind == kBox) {  // the face nearest to the point
             const Eigen::Vector3d p = f.A * (ray * z) + f.b;
-            const mjtNum* half = m->geom_size + 3 * g;
-            face = 0;
-            double gap = std::fabs(std::fabs(p[0]) - half[0]);
-            for (int a = 1; a < 3; ++a) {
-              const double ga = std::fabs(std::fabs(p[a]) - half[a]);
-              if (ga < gap) gap = ga, face = a;
-            }
+            const Eigen::Vector3d gap = (p.cwiseAbs() - f.half).cwiseAbs();
+            face = gap[0] <= gap[1] ? (gap[0] <= gap[2] ? 0 : 2) : (gap[1] <= gap[2] ? 1 : 2);
           }
           const double dot = f.A.row(face).dot(ray);
           grazing = dot * dot < min_cos2 * ray.squaredNorm();
         } else {
           const Eigen::Vector3d dir = pose.rotation * ray.normalized();
-          const Eigen::Vector3d n =
-              geomNormal(type, m->geom_size + 3 * g, f.R, f.c, pose.origin + pose.rotation * (ray * z), dir);
-          grazing = -n.dot(dir) < min_cos;
+          const Eigen::Vector3d nrm =
+              geomNormal(m->geom_type[g], m->geom_size + 3 * g, f.R, f.c, pose.origin + pose.rotation * (ray * z), dir);
+          grazing = -nrm.dot(dir) < min_cos;
         }
         if (grazing) continue;
-        const double zn = z + (s.noise_coeff > 0 ? s.noise_coeff * z * z * noise.normal() : 0.0);
-        img->points[i] = (ray * zn).cast<float>();
+        const double zn = z + (s.noise_coeff > 0 ? s.noise_coeff * z * z * noise.normal(draw) : 0.0);
+        out[u] = Eigen::Vector3f(static_cast<float>(xs[u] * zn), static_cast<float>(y * zn), static_cast<float>(zn));
       }
     }
   };
