@@ -146,33 +146,41 @@ void CameraRenderer::render(const mjData* data, const SensorPose& pose, const Ca
   out->height = view.height;
   out->depth_m.resize(n);
   out->geom.resize(n);
-  const double nr = view.near_m, fr = view.far_m;
+  // Window depth d in [0, 1] of a perspective projection back to the distance along the optical axis:
+  // z = near far / (far - d (far - near)).
+  const float nf = static_cast<float>(view.near_m * view.far_m), fr = static_cast<float>(view.far_m),
+              span = static_cast<float>(view.far_m - view.near_m);
+  const float inf = std::numeric_limits<float>::infinity();
+  const int segments = static_cast<int>(seg_geom_.size());
   for (int row = 0; row < view.height; ++row) {
     const size_t src = static_cast<size_t>(view.height - 1 - row) * view.width;  // OpenGL: bottom row first
     const size_t dst = static_cast<size_t>(row) * view.width;
-    for (int u = 0; u < view.width; ++u) {
-      const unsigned char* c = &rgb_[3 * (src + u)];
+    const unsigned char* c = &rgb_[3 * src];
+    const float* zb = &zbuf_[src];
+    float* depth = &out->depth_m[dst];
+    int* geom = &out->geom[dst];
+    for (int u = 0; u < view.width; ++u, c += 3) {
       const int id = (c[0] | (c[1] << 8) | (c[2] << 16)) - 1;
-      const int g = (id >= 0 && id < static_cast<int>(seg_geom_.size())) ? seg_geom_[id] : -1;
-      const double d = zbuf_[src + u];
-      out->geom[dst + u] = d < 1.0 ? g : -1;
-      if (g < 0 || d >= 1.0) {
-        out->depth_m[dst + u] = std::numeric_limits<float>::infinity();
+      const int g = (id >= 0 && id < segments) ? seg_geom_[id] : -1;
+      const float d = zb[u];
+      if (g < 0 || d >= 1.0f) {
+        geom[u] = -1;
+        depth[u] = inf;
         continue;
       }
-      // Window depth d in [0, 1] of a perspective projection back to the distance along the optical axis.
-      double z = nr * fr / (fr - d * (fr - nr));
+      geom[u] = g;
+      float z = nf / (fr - d * span);
       if (curved_[g]) {
         // Tessellation only decided which geom the pixel sees; its depth comes from the exact surface.
-        const Eigen::Vector3d ray((u - k.cx) / k.fx, (row - k.cy) / k.fy, 1.0);
+        const Eigen::Vector3d ray((u - view.k.cx) / view.k.fx, (row - view.k.cy) / view.k.fy, 1.0);
         const double len = ray.norm();
         const Eigen::Vector3d dir = pose.rotation * (ray / len);
         const mjtNum pnt[3] = {pose.origin.x(), pose.origin.y(), pose.origin.z()}, vec[3] = {dir.x(), dir.y(), dir.z()};
         const double x = mju_rayGeom(data->geom_xpos + 3 * g, data->geom_xmat + 9 * g, m_->geom_size + 3 * g, pnt, vec,
                                      m_->geom_type[g]);
-        if (x >= 0.0) z = x / len;
+        if (x >= 0.0) z = static_cast<float>(x / len);
       }
-      out->depth_m[dst + u] = static_cast<float>(z);
+      depth[u] = z;
     }
   }
 }
