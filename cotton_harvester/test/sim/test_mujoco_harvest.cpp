@@ -84,6 +84,45 @@ TEST(RoverSim, CameraShowsTheEndEffectorWherePerceptionFindsIt) {
   }
 }
 
+// The scorer's truth about a frame: a boll is in view when its centre projects into the image (checked here with
+// the pinhole model), a detected boll is at least partly visible along the camera's rays, and a fully visible boll
+// in view is detected (the rendered bolls are flat white discs from above).
+TEST(RoverSim, ScorerVisibilityAgreesWithTheImageAndTheDetections) {
+  sim::RoverSim s(shortRow(5));
+  cv::Mat bgr, cloud;
+  s.renderCamera(&bgr, &cloud);
+  perception::PerceptionPipeline pipeline(
+      sim::simPerceptionParams(s.params()),
+      std::make_unique<perception::ColourBollDetector>(perception::ColourBollParams()));
+  const perception::FrameResult r = pipeline.process(bgr, cloud);
+  ASSERT_EQ(r.status, perception::FrameStatus::kOk);
+  const auto& p = s.params();
+  int in_view = 0, fully_visible = 0;
+  for (size_t i = 0; i < s.bolls().size(); ++i) {
+    const Eigen::Vector3d c = s.toCamera(s.bolls()[i].centre);
+    const double u = p.cx + p.fx * c.x() / c.z(), v = p.cy + p.fx * c.y() / c.z();
+    const bool expected = c.z() > 0 && u >= 0 && v >= 0 && u < p.camera_width && v < p.camera_height;
+    EXPECT_EQ(s.bollInView(i), expected) << i;
+    const double visible = s.bollVisibleFraction(i);
+    EXPECT_GE(visible, 0.0);
+    EXPECT_LE(visible, 1.0);
+    const Eigen::Vector3d top = c - p.row.boll_radius_m * c.normalized();
+    bool detected = false;
+    for (const auto& b : r.bolls)
+      detected = detected || (top - Eigen::Vector3d(b.position.x, b.position.y, b.position.z)).norm() < 0.03;
+    if (detected) EXPECT_GT(visible, 0.0) << "boll " << i << " detected but no ray reaches it";
+    if (expected) ++in_view;
+    if (expected && visible == 1.0) {
+      ++fully_visible;
+      EXPECT_TRUE(detected) << "boll " << i << " fully visible in view but not detected";
+    }
+  }
+  EXPECT_GE(in_view, 1);
+  EXPECT_GE(fully_visible, 1);
+  EXPECT_FALSE(s.bollInView(s.bolls().size()));
+  EXPECT_EQ(s.bollVisibleFraction(s.bolls().size()), 0.0);
+}
+
 TEST(RoverSim, VacuumTakesNothingOutOfReach) {
   sim::RoverSim s(shortRow(2));
   s.setVacuum(true);
