@@ -19,6 +19,9 @@ struct CameraRenderer::Context {
   mjvOption option;
   mjvPerturb perturb;
   bool have_con = false, have_scene = false;
+  /// OSMesa's own glReadPixels (the process may also link a GL library whose entry points go elsewhere).
+  using ReadPixels = void (*)(GLint, GLint, GLsizei, GLsizei, GLenum, GLenum, void*);
+  ReadPixels read_pixels = nullptr;
 
   void makeCurrent() const {
     if (!OSMesaMakeCurrent(gl, const_cast<unsigned char*>(window.data()), GL_UNSIGNED_BYTE, 16, 16))
@@ -35,6 +38,7 @@ CameraRenderer::CameraRenderer(const mjModel* model) : m_(model), ctx_(std::make
   mjr_makeContext(m_, &ctx_->con, mjFONTSCALE_50);
   ctx_->have_con = true;
   mjr_setBuffer(mjFB_OFFSCREEN, &ctx_->con);
+  ctx_->read_pixels = reinterpret_cast<Context::ReadPixels>(OSMesaGetProcAddress("glReadPixels"));
   if (ctx_->con.currentBuffer != mjFB_OFFSCREEN) throw RenderError("MuJoCo has no offscreen buffer in this context");
   curved_.resize(m_->ngeom);
   for (int g = 0; g < m_->ngeom; ++g) {
@@ -137,9 +141,20 @@ void CameraRenderer::render(const mjData* data, const SensorPose& pose, const Ca
   const mjrRect rect = {0, 0, view.width, view.height};
   mjr_render(rect, &s, &ctx_->con);
   const size_t n = static_cast<size_t>(view.width) * view.height;
-  rgb_.resize(3 * n);
-  zbuf_.resize(n);
-  mjr_readPixels(rgb_.data(), zbuf_.data(), rect, &ctx_->con);
+  const bool direct = ctx_->read_pixels && ctx_->con.offSamples == 0;
+  if (direct) {
+    // The offscreen buffer is bound for reading (mjr_setBuffer) and needs no resolve: read it in its own formats,
+    // RGBA bytes and 24-bit depth as unsigned integers, which Mesa copies without converting each pixel.
+    rgba_.resize(4 * n);
+    zbits_.resize(n);
+    ctx_->read_pixels(0, 0, view.width, view.height, GL_RGBA, GL_UNSIGNED_BYTE, rgba_.data());
+    ctx_->read_pixels(0, 0, view.width, view.height, GL_DEPTH_COMPONENT, GL_UNSIGNED_INT, zbits_.data());
+  } else {
+    rgb_.resize(3 * n);
+    zbuf_.resize(n);
+    mjr_readPixels(rgb_.data(), zbuf_.data(), rect, &ctx_->con);
+  }
+  const int stride = direct ? 4 : 3;
   ++frames_;
 
   out->width = view.width;
@@ -155,14 +170,16 @@ void CameraRenderer::render(const mjData* data, const SensorPose& pose, const Ca
   for (int row = 0; row < view.height; ++row) {
     const size_t src = static_cast<size_t>(view.height - 1 - row) * view.width;  // OpenGL: bottom row first
     const size_t dst = static_cast<size_t>(row) * view.width;
-    const unsigned char* c = &rgb_[3 * src];
-    const float* zb = &zbuf_[src];
+    const unsigned char* c = direct ? &rgba_[4 * src] : &rgb_[3 * src];
+    const float* zb = direct ? nullptr : &zbuf_[src];
+    const uint32_t* zi = direct ? &zbits_[src] : nullptr;
     float* depth = &out->depth_m[dst];
     int* geom = &out->geom[dst];
-    for (int u = 0; u < view.width; ++u, c += 3) {
+    for (int u = 0; u < view.width; ++u, c += stride) {
       const int id = (c[0] | (c[1] << 8) | (c[2] << 16)) - 1;
       const int g = (id >= 0 && id < segments) ? seg_geom_[id] : -1;
-      const float d = zb[u];
+      // The depth as a fraction of the buffer's range; 1 where nothing was drawn.
+      const float d = direct ? static_cast<float>(zi[u] * (1.0 / 4294967295.0)) : zb[u];
       if (g < 0 || d >= 1.0f) {
         geom[u] = -1;
         depth[u] = inf;

@@ -71,10 +71,11 @@ class CameraRenderer {
   struct Context;
   const mjModel* m_;
   std::unique_ptr<Context> ctx_;
-  std::vector<char> curved_;   ///< per geom: depth refined analytically
-  std::vector<int> seg_geom_;  ///< segmentation id -> geom id of the last frame
-  std::vector<unsigned char> rgb_;
+  std::vector<char> curved_;               ///< per geom: depth refined analytically
+  std::vector<int> seg_geom_;              ///< segmentation id -> geom id of the last frame
+  std::vector<unsigned char> rgb_, rgba_;  ///< read back through MuJoCo (rgb_) or directly (rgba_)
   std::vector<float> zbuf_;
+  std::vector<uint32_t> zbits_;
   unsigned long frames_ = 0;
   int culled_ = 0;
 };
