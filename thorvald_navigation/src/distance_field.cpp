@@ -42,7 +42,24 @@ void transform1d(const std::vector<double>& f, std::vector<double>* d, std::vect
 
 }  // namespace
 
-DistanceField::DistanceField(const Grid2D& grid, double max_distance_m, int occupied_threshold)
+namespace {
+
+// A wall cell with a known-free 4-neighbour: the row of cells that holds a wall's face, seen from the free side.
+bool isFaceCell(const Grid2D& grid, int x, int y) {
+  constexpr int kFreeBelow = 25;  // map_server's free_thresh is 0.196
+  const int nb[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+  for (const auto& d : nb) {
+    const int nx = x + d[0], ny = y + d[1];
+    if (!grid.inside(nx, ny)) continue;
+    const int v = grid.at(nx, ny);
+    if (v >= 0 && v < kFreeBelow) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+DistanceField::DistanceField(const Grid2D& grid, double max_distance_m, int occupied_threshold, bool faces_only)
     : width_(grid.width),
       height_(grid.height),
       resolution_m_(grid.resolution_m),
@@ -56,6 +73,22 @@ DistanceField::DistanceField(const Grid2D& grid, double max_distance_m, int occu
     if (grid.data[i] >= occupied_threshold) {
       sq[i] = 0.0;
       ++occupied_cells_;
+    }
+  }
+  if (faces_only && grid.data.size() >= n) {
+    std::vector<double> faces(n, far);
+    int face_cells = 0;
+    for (int y = 0; y < height_; ++y)
+      for (int x = 0; x < width_; ++x) {
+        const std::size_t i = static_cast<std::size_t>(y) * width_ + x;
+        if (sq[i] == 0.0 && isFaceCell(grid, x, y)) {
+          faces[i] = 0.0;
+          ++face_cells;
+        }
+      }
+    if (face_cells > 0) {  // a grid without free space (nothing seen from the inside) keeps every wall cell
+      sq.swap(faces);
+      occupied_cells_ = face_cells;
     }
   }
   if (width_ <= 0 || height_ <= 0) {

@@ -37,7 +37,7 @@ const char* statusName(LocalizationStatus s) {
 std::string MapLocalizer::setMap(const Grid2D& map) {
   const std::string problem = map.check();
   if (!problem.empty()) return problem;
-  DistanceField field(map, params_.field_max_distance_m);
+  DistanceField field(map, params_.field_max_distance_m, 65, true);
   if (field.occupiedCells() < 10) return "map has fewer than 10 occupied cells: nothing to localise against";
   map_ = map;
   field_ = std::move(field);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace thorvald_navigation {
 
@@ -50,34 +51,46 @@ void OccupancyMapper::ensureInside(const Eigen::Vector2d& p) {
   geometry_.origin_y_m -= dy * res;
 }
 
-void OccupancyMapper::trace(const Eigen::Vector2d& from, const Eigen::Vector2d& to, bool hit) {
-  ensureInside(from);
-  ensureInside(to);
+bool OccupancyMapper::update(const Eigen::Vector2i& c, double log_odds) {
+  if (!geometry_.inside(c.x(), c.y())) return false;
+  const std::size_t i = geometry_.index(c.x(), c.y());
+  if (scan_stamp_[i] == scan_counter_) return false;  // already updated by this scan
+  scan_stamp_[i] = scan_counter_;
+  const float clamp = static_cast<float>(params_.clamp_log_odds);
+  log_odds_[i] = std::clamp(log_odds_[i] + static_cast<float>(log_odds), -clamp, clamp);
+  return true;
+}
+
+// Walks the cells that the segment itself crosses (Amanatides and Woo), not a line between cell centres: near its end
+// a beam that meets a wall at a grazing angle crosses only the part of the wall's cells in front of the face, where a
+// centre-to-centre line would already run through the face's row of cells and clear it.
+void OccupancyMapper::traceFree(const Eigen::Vector2d& from, const Eigen::Vector2d& to, bool include_end) {
   const Eigen::Vector2i a = geometry_.cellOf(from), b = geometry_.cellOf(to);
   if (!geometry_.inside(a.x(), a.y()) || !geometry_.inside(b.x(), b.y())) return;
-  const float clamp = static_cast<float>(params_.clamp_log_odds);
-  auto add = [&](int x, int y, double v) {
-    float& l = log_odds_[geometry_.index(x, y)];
-    l = std::clamp(l + static_cast<float>(v), -clamp, clamp);
-  };
-  // Bresenham from a to b, b excluded.
+  const double res = geometry_.resolution_m;
+  const Eigen::Vector2d d = to - from;
+  const int sx = d.x() > 0.0 ? 1 : -1, sy = d.y() > 0.0 ? 1 : -1;
+  // Ray parameter t in [0, 1] at the next vertical / horizontal cell border, and its step per cell.
+  const double inf = std::numeric_limits<double>::infinity();
+  const double next_x = geometry_.origin_x_m + (a.x() + (sx > 0 ? 1 : 0)) * res;
+  const double next_y = geometry_.origin_y_m + (a.y() + (sy > 0 ? 1 : 0)) * res;
+  double t_x = std::abs(d.x()) > 1e-12 ? (next_x - from.x()) / d.x() : inf;
+  double t_y = std::abs(d.y()) > 1e-12 ? (next_y - from.y()) / d.y() : inf;
+  const double dt_x = std::abs(d.x()) > 1e-12 ? res / std::abs(d.x()) : inf;
+  const double dt_y = std::abs(d.y()) > 1e-12 ? res / std::abs(d.y()) : inf;
   int x = a.x(), y = a.y();
-  const int dx = std::abs(b.x() - x), dy = -std::abs(b.y() - y);
-  const int sx = x < b.x() ? 1 : -1, sy = y < b.y() ? 1 : -1;
-  int err = dx + dy;
-  while (x != b.x() || y != b.y()) {
-    add(x, y, params_.miss_log_odds);
-    const int e2 = 2 * err;
-    if (e2 >= dy) {
-      err += dy;
+  const int max_steps = std::abs(b.x() - a.x()) + std::abs(b.y() - a.y());
+  for (int step = 0; step < max_steps && (x != b.x() || y != b.y()); ++step) {
+    update({x, y}, params_.miss_log_odds);
+    if (t_x < t_y) {
       x += sx;
-    }
-    if (e2 <= dx) {
-      err += dx;
+      t_x += dt_x;
+    } else {
       y += sy;
+      t_y += dt_y;
     }
   }
-  add(b.x(), b.y(), hit ? params_.hit_log_odds : params_.miss_log_odds);
+  if (include_end) update(b, params_.miss_log_odds);
 }
 
 MapperUpdate OccupancyMapper::addScan(const Pose2D& odom, const Eigen::Vector2d& sensor_base,
@@ -110,7 +123,7 @@ MapperUpdate OccupancyMapper::addScan(const Pose2D& odom, const Eigen::Vector2d&
   if (!first_) {
     if (field_stale_) {
       Grid2D g = occupancyGrid();
-      field_ = DistanceField(g, params_.field_max_distance_m);
+      field_ = DistanceField(g, params_.field_max_distance_m, 65, true);
       field_stale_ = false;
     }
     const MatchResult m = matchScan(field_, points_base, pose, params_.matcher);
@@ -121,23 +134,7 @@ MapperUpdate OccupancyMapper::addScan(const Pose2D& odom, const Eigen::Vector2d&
       map_to_odom_ = pose * odom.inverse();
     }
   }
-  const Eigen::Vector2d origin = pose.transform(sensor_base);
-  for (const auto& p : points_base) {
-    const Eigen::Vector2d rel = p - sensor_base;
-    const double r = rel.norm();
-    if (r > params_.max_range_m) {
-      trace(origin, pose.transform(sensor_base + rel * (params_.max_range_m / r)), false);
-    } else {
-      trace(origin, pose.transform(p), true);
-    }
-  }
-  for (const auto& p : free_ends_base) {
-    const Eigen::Vector2d rel = p - sensor_base;
-    const double r = rel.norm();
-    const Eigen::Vector2d end =
-        r > params_.max_range_m ? Eigen::Vector2d(sensor_base + rel * (params_.max_range_m / r)) : p;
-    trace(origin, pose.transform(end), false);
-  }
+  insert(pose, sensor_base, points_base, free_ends_base);
   field_stale_ = true;
   first_ = false;
   last_integrated_odom_ = odom;
@@ -145,6 +142,41 @@ MapperUpdate OccupancyMapper::addScan(const Pose2D& odom, const Eigen::Vector2d&
   u.integrated = true;
   u.pose = pose;
   return u;
+}
+
+// Every cell is updated at most once per scan, and a beam's end before any beam's free space: a beam that grazes a
+// wall crosses the cells holding the wall's face (their free part) before it ends, and without this those cells would
+// be cleared by the many grazing beams of each scan and the wall drawn behind its face, the headland too wide.
+void OccupancyMapper::insert(const Pose2D& pose, const Eigen::Vector2d& sensor_base,
+                             const std::vector<Eigen::Vector2d>& points_base,
+                             const std::vector<Eigen::Vector2d>& free_ends_base) {
+  const Eigen::Vector2d origin = pose.transform(sensor_base);
+  std::vector<Eigen::Vector2d> hits, free_ends;
+  hits.reserve(points_base.size());
+  free_ends.reserve(points_base.size() + free_ends_base.size());
+  auto clipped = [&](const Eigen::Vector2d& p) {
+    const Eigen::Vector2d rel = p - sensor_base;
+    const double r = rel.norm();
+    return pose.transform(r > params_.max_range_m ? Eigen::Vector2d(sensor_base + rel * (params_.max_range_m / r)) : p);
+  };
+  for (const auto& p : points_base) {
+    if ((p - sensor_base).norm() > params_.max_range_m)
+      free_ends.push_back(clipped(p));
+    else
+      hits.push_back(pose.transform(p));
+  }
+  for (const auto& p : free_ends_base) free_ends.push_back(clipped(p));
+  ensureInside(origin);
+  for (const auto& p : hits) ensureInside(p);
+  for (const auto& p : free_ends) ensureInside(p);
+  if (scan_stamp_.size() != log_odds_.size()) scan_stamp_.assign(log_odds_.size(), 0);
+  if (++scan_counter_ == 0) {  // wrapped: forget every stamp
+    std::fill(scan_stamp_.begin(), scan_stamp_.end(), 0);
+    scan_counter_ = 1;
+  }
+  for (const auto& p : hits) update(geometry_.cellOf(p), params_.hit_log_odds);
+  for (const auto& p : hits) traceFree(origin, p, false);
+  for (const auto& p : free_ends) traceFree(origin, p, true);
 }
 
 Grid2D OccupancyMapper::occupancyGrid() const {

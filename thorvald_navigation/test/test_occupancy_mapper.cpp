@@ -87,6 +87,58 @@ TEST(OccupancyMapper, ScanMatchingRemovesOdometryDrift) {
   }
 }
 
+// A wall seen at every angle from a robot driving along it, its face at several places inside a cell: the wall's
+// first occupied cell must hold the face on average (grazing beams cross that cell's free part before they end and
+// must not clear it; scan matching must not slide the robot into a wall drawn two cells thick and so push the wall
+// outwards scan after scan). Independent expectation: the first occupied cell's centre lies (0.5 - f) cells behind a
+// face at fraction f of its cell.
+TEST(OccupancyMapper, WallDrawnInTheCellHoldingItsFace) {
+  for (const double res : {0.025, 0.05}) {
+    double sum_dev = 0.0;
+    const double fracs[] = {0.1, 0.35, 0.6, 0.9};
+    for (const double frac : fracs) {
+      const double wall_y = 1.5 + frac * res, end_x = 8.0;  // side wall and an end wall that holds the matcher
+      tn::MapperParams p;
+      p.resolution_m = res;
+      tn::OccupancyMapper mapper(p);
+      std::mt19937 rng(static_cast<std::uint32_t>(1000 * frac + 1000000 * res));
+      std::normal_distribution<double> noise(0.0, 0.005);
+      for (double x = 0.0; x <= 4.5; x += 0.05) {
+        const Eigen::Vector2d sensor(x + kSensor.x(), kSensor.y());
+        std::vector<Eigen::Vector2d> pts;
+        for (int i = 0; i < 541; ++i) {
+          const double a = -2.356 + 4.712 * i / 540.0;
+          const double c = std::cos(a), s = std::sin(a);
+          double r = 30.0;
+          if (s > 1e-6) r = std::min(r, (wall_y - sensor.y()) / s);
+          if (c > 1e-6) r = std::min(r, (end_x - sensor.x()) / c);
+          if (r >= 30.0) continue;
+          r += noise(rng);
+          pts.emplace_back(kSensor.x() + r * c, kSensor.y() + r * s);
+        }
+        mapper.addScan({x, 0.0, 0.0}, kSensor, pts, {});
+      }
+      const tn::Grid2D g = mapper.occupancyGrid();
+      int columns = 0;
+      double dev = 0.0;
+      for (double x = 0.5; x <= 4.5; x += res) {
+        const Eigen::Vector2i c0 = g.cellOf({x, 0.5});
+        for (int cy = c0.y(); cy < g.height; ++cy) {
+          if (g.at(c0.x(), cy) < 65) continue;
+          ++columns;
+          dev += (g.centerOf(c0.x(), cy).y() - wall_y) - (0.5 - frac) * res;
+          break;
+        }
+      }
+      ASSERT_GT(columns, static_cast<int>(3.5 / res)) << "resolution " << res << " face at " << frac;
+      dev /= columns;
+      EXPECT_LT(std::abs(dev), 0.5 * res) << "resolution " << res << " face at " << frac << " of a cell";
+      sum_dev += dev;
+    }
+    EXPECT_LT(std::abs(sum_dev / 4.0), 0.3 * res) << "resolution " << res << ": walls drawn off their face on average";
+  }
+}
+
 TEST(OccupancyMapper, SkipsScansWhileStandingAndRejectsBadInput) {
   tn::OccupancyMapper mapper{tn::MapperParams{}};
   const SyntheticHeadland world(HeadlandOptions{});

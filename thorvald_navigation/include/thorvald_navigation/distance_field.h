@@ -14,8 +14,11 @@ namespace thorvald_navigation {
 class DistanceField {
  public:
   DistanceField() = default;
-  /// `occupied_threshold`: cells with value >= it are walls [0..100].
-  DistanceField(const Grid2D& grid, double max_distance_m, int occupied_threshold = 65);
+  /// `occupied_threshold`: cells with value >= it are walls [0..100]. `faces_only`: only wall cells with a
+  /// known-free 4-neighbour count (the row that holds the face), so that a wall drawn two or three cells thick (beam
+  /// noise, the mapper's own pose error) still has its zero at the face instead of a flat band that scan matching
+  /// slides into; a grid without any free cell keeps every wall cell.
+  DistanceField(const Grid2D& grid, double max_distance_m, int occupied_threshold = 65, bool faces_only = false);
 
   bool empty() const { return width_ == 0; }
   double maxDistance() const { return max_distance_m_; }

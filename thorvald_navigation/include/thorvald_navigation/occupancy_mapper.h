@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -62,10 +63,18 @@ class OccupancyMapper {
 
  private:
   void ensureInside(const Eigen::Vector2d& p);
-  void trace(const Eigen::Vector2d& from, const Eigen::Vector2d& to, bool hit);
+  /// Traces one scan into the grid: hits first, then the free space of every beam.
+  void insert(const Pose2D& pose, const Eigen::Vector2d& sensor_base, const std::vector<Eigen::Vector2d>& points_base,
+              const std::vector<Eigen::Vector2d>& free_ends_base);
+  /// Clears the cells from `from` to `to` (the last one only when include_end).
+  void traceFree(const Eigen::Vector2d& from, const Eigen::Vector2d& to, bool include_end);
+  /// Adds log-odds to a cell unless this scan already updated it; false when it did not.
+  bool update(const Eigen::Vector2i& c, double log_odds);
 
   MapperParams params_;
   std::vector<float> log_odds_;
+  std::vector<std::uint32_t> scan_stamp_;  ///< per cell: the scan that last updated it
+  std::uint32_t scan_counter_ = 0;
   Grid2D geometry_;  ///< size and origin of log_odds_ (its data is unused)
   DistanceField field_;
   bool field_stale_ = true;
