@@ -1,10 +1,11 @@
 // Map analysis over varied generated headland maps: how many maps are wrong while the analysis says they
 // are fine, how many are fully right, origin accuracy, and time against map size.
-//   rosrun greenhouse_rail_nav map_analysis_bench [--maps 120] [--seed 7] [--png-dir DIR]
+//   rosrun greenhouse_rail_nav map_analysis_bench [--maps 120] [--seed 7] [--png-dir DIR] [--verbose]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
+#include <map>
 #include <random>
 #include <string>
 #include <vector>
@@ -58,15 +59,21 @@ GreenhouseLayout drawLayout(std::mt19937* rng, int m) {
 struct MapScore {
   bool wrong = false;        ///< a good set is off, or a true set is missing without being reported
   bool fully_right = false;  ///< status ok and every true set found as good within the tolerances
+  /// Fully right, or (a side wall missing from the map) not wrong, every true set up to the outermost
+  /// drawn row on an open side found as good, and the only failed check the side wall: the best answer
+  /// the map allows, since nothing in it says how many sets lie beyond that row.
+  bool right_as_map_allows = false;
   int good_sets = 0, uncertain_sets = 0;
   double max_across_m = 0.0;
 };
 
 /// Scores one analysis against the truth: a reported set matches the true set whose origin is nearest
 /// (across the rails); it is off when more than 5 cm across or 0.5 degrees in heading from it.
-MapScore score(const SyntheticGreenhouseMap& truth, const MapAnalysis& result, double spacing,
+MapScore score(const GreenhouseLayout& layout, const SyntheticGreenhouseMap& truth, const MapAnalysis& result,
                std::vector<double>* origin_err) {
+  const double spacing = layout.spacing_m;
   MapScore out;
+  std::vector<bool> matched_good(truth.rail_frames.size(), false);
   const double across_tol = 0.05, heading_tol = 0.5 * M_PI / 180.0;
   std::vector<bool> matched(truth.rail_frames.size(), false);
   for (const auto& set : result.rail_sets) {
@@ -89,6 +96,7 @@ MapScore score(const SyntheticGreenhouseMap& truth, const MapAnalysis& result, d
       ++out.good_sets;
       out.max_across_m = std::max(out.max_across_m, across);
       if (!close) out.wrong = true;
+      if (close) matched_good[best] = true;
       origin_err->push_back(best_d);
     } else {
       ++out.uncertain_sets;
@@ -111,7 +119,40 @@ MapScore score(const SyntheticGreenhouseMap& truth, const MapAnalysis& result, d
   out.fully_right = result.status == MapStatus::kOk && !out.wrong &&
                     good_matches == static_cast<int>(truth.rail_frames.size()) &&
                     std::all_of(matched.begin(), matched.end(), [](bool b) { return b; });
+  out.right_as_map_allows = out.fully_right;
+  const bool left_wall = layout.side_walls && layout.left_wall, right_wall = layout.side_walls && layout.right_wall;
+  if (!out.fully_right && !out.wrong && result.ok && (!left_wall || !right_wall) && !truth.rows_drawn.empty()) {
+    const bool only_walls = std::all_of(result.checks.begin(), result.checks.end(), [](const AnalysisCheck& c) {
+      return c.passed || c.name == "side_walls_found";
+    });
+    const int first = left_wall ? 0 : truth.rows_drawn.front();
+    const int last = right_wall ? layout.rail_sets : truth.rows_drawn.back();
+    bool inner_good = true;
+    for (int i = first; i < last; ++i) inner_good = inner_good && matched_good[static_cast<std::size_t>(i)];
+    out.right_as_map_allows = only_walls && inner_good;
+  }
   return out;
+}
+
+/// Why a map is not fully right, from the analysis' failed checks and the map's conditions.
+std::string causeOf(const GreenhouseLayout& layout, const MapAnalysis& result, const MapScore& s) {
+  auto failed = [&](const char* name) {
+    return std::any_of(result.checks.begin(), result.checks.end(),
+                       [&](const AnalysisCheck& c) { return c.name == name && !c.passed; });
+  };
+  const bool wall_missing = !(layout.side_walls && layout.left_wall && layout.right_wall);
+  if (s.wrong) return "wrong: a good set off or a true set missing unreported";
+  if (result.status == MapStatus::kFailed) return "failed: " + result.message;
+  if (failed("rear_wall_spans_rows")) return "rear wall shorter than the rows' span";
+  if (failed("edge_straight")) return "headland edge not confirmed by the row starts";
+  if (failed("spacing_unambiguous")) return "spacing ambiguous (more than one pattern of sets per gap fits)";
+  if (failed("spacing_regular")) return "rows and walls not a regular pattern";
+  if (failed("spacing_confirmed")) return "spacing from one gap only, not the configured one";
+  if (failed("rows_agree_in_heading") || failed("each_row_parallel")) return "rows disagree in heading";
+  if (failed("side_walls_found"))
+    return wall_missing ? "side wall missing from the map (outer sets uncertain, as they should be)"
+                        : "side wall in the map but not found";
+  return "sets missing or uncertain with every check passed";
 }
 
 }  // namespace
@@ -125,6 +166,7 @@ int main(int argc, char** argv) {
   double configured_spacing = 1.60;
   std::string png_dir;
   int only = -1;
+  bool verbose = false;
   app.add_option("--maps", maps, "number of generated maps")->check(CLI::Range(1, 100000));
   app.add_option("--seed", seed, "seed of the map conditions");
   app.add_option("--configured-spacing", configured_spacing,
@@ -132,6 +174,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.5, 5.0));
   app.add_option("--png-dir", png_dir, "write an overlay PNG of every map that is not fully right into this folder");
   app.add_option("--only", only, "analyse only this map of the set and print every check and warning");
+  app.add_flag("--verbose", verbose, "print the cause of every map that is not fully right, and a count per cause");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -141,6 +184,8 @@ int main(int argc, char** argv) {
 
   std::mt19937 rng(seed);
   std::vector<double> origin_err;
+  std::map<std::string, int> causes;
+  int right_as_allows = 0;
   int wrong = 0, wrong_but_ok = 0, fully_right = 0, uncertain_maps = 0, failed_maps = 0, good_total = 0,
       uncertain_total = 0, true_total = 0;
   std::printf("Map analysis over %d generated maps, configured spacing %.2f m\n\n", maps, configured_spacing);
@@ -161,7 +206,8 @@ int main(int argc, char** argv) {
     const double t0 = threadMs();
     const auto result = analyzeMap(truth.map, params);
     const double ms = threadMs() - t0;
-    const MapScore s = score(truth, result, layout.spacing_m, &origin_err);
+    const MapScore s = score(layout, truth, result, &origin_err);
+    right_as_allows += s.right_as_map_allows;
     wrong += s.wrong;
     wrong_but_ok += s.wrong;  // a wrong good set or an unreported missing set is wrong whatever the status
     fully_right += s.fully_right;
@@ -184,6 +230,11 @@ int main(int argc, char** argv) {
     if (result.status != MapStatus::kOk && !result.uncertain_reasons.empty())
       std::printf("       %s\n", result.uncertain_reasons.substr(0, 300).c_str());
     if (result.status == MapStatus::kFailed || only >= 0) std::printf("       %s\n", result.message.c_str());
+    if (!s.fully_right) {
+      const std::string cause = causeOf(layout, result, s);
+      ++causes[cause];
+      if (verbose) std::printf("       cause: %s\n", cause.c_str());
+    }
     if (only >= 0) {
       for (const auto& c : result.checks)
         std::printf("       check %-22s %-4s %.4f (limit %.4f) %s\n", c.name.c_str(), c.passed ? "pass" : "FAIL",
@@ -208,10 +259,15 @@ int main(int argc, char** argv) {
   for (const double e : origin_err) sum2 += e * e;
   const double rms_origin = origin_err.empty() ? NAN : std::sqrt(sum2 / origin_err.size());
   const double fully_right_pct = 100.0 * fully_right / maps;
+  const double right_as_allows_pct = 100.0 * right_as_allows / maps;
   std::printf("\nmaps: %d, fully right %d (%.1f %%), uncertain %d, failed %d, wrong %d\n", maps, fully_right,
               fully_right_pct, uncertain_maps, failed_maps, wrong);
   std::printf("rail sets: %d true, %d reported good, %d reported uncertain; good-set origin error RMS %.4f m\n",
               true_total, good_total, uncertain_total, rms_origin);
+  std::printf("right as far as the map allows (fully right, or only a side wall missing from the map): %d (%.1f %%)\n",
+              right_as_allows, right_as_allows_pct);
+  std::printf("maps not fully right, by cause:\n");
+  for (const auto& [cause, count] : causes) std::printf("  %4d  %s\n", count, cause.c_str());
   std::fflush(stdout);
 
   // Time against map size: greenhouses filling maps of about 50x20, 100x40 and 200x60 m at 5 cm.
@@ -247,7 +303,7 @@ int main(int argc, char** argv) {
   }
   std::printf(
       "RESULT {\"maps\": %d, \"maps_wrong_but_ok\": %d, \"maps_fully_right_pct\": %.1f, \"map_origin_err_m\": %.4f, "
-      "\"map_ms_200x60m\": %.1f}\n",
-      maps, wrong_but_ok, fully_right_pct, rms_origin, ms_200x60);
+      "\"map_ms_200x60m\": %.1f, \"maps_right_as_map_allows_pct\": %.1f}\n",
+      maps, wrong_but_ok, fully_right_pct, rms_origin, ms_200x60, right_as_allows_pct);
   return 0;
 }
