@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """One forced entry onto the rails in the simulated greenhouse: drives the robot straight on at ~speed until the
-range finders report an edge (caught), a wheel leaves its support (base_link drops or rolls: missed), or base_link
+range finders report an edge (caught), a wheel leaves its support (base_link drops, rolls or pitches: missed), or
+base_link
 is ~carried_x onto the rails with neither (carried). Prints one line `TRIAL {json}` and exits. Truth
 (ground_truth/odom) only scores; surface_monitor's state is what the mission would see."""
 import json
@@ -52,10 +53,12 @@ def main():
         p = s["truth"].pose.pose
         q = p.orientation
         roll = math.atan2(2 * (q.w * q.x + q.y * q.z), 1 - 2 * (q.x * q.x + q.y * q.y))
+        pitch = math.asin(max(-1.0, min(1.0, 2 * (q.w * q.y - q.z * q.x))))
         if s["edge"] is not None:
             outcome, x_event = "caught", s["edge"][1]
             break
-        if p.position.z < s["z0"] - drop_m or abs(roll) > roll_rad:
+        # base_link is on the front axle: a rear wheel leaving its support shows as pitch
+        if p.position.z < s["z0"] - drop_m or abs(roll) > roll_rad or abs(pitch) > roll_rad:
             outcome, x_event = "missed", p.position.x
             break
         if p.position.x >= carried_x or time.monotonic() > deadline:

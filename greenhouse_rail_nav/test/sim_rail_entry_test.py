@@ -29,6 +29,7 @@ class Recorder:
         self.z0 = None
         self.z_min = self.z_max = None
         self.max_abs_y = 0.0
+        self.max_tilt = 0.0  # largest |pitch| or |roll| [rad]: base_link is on the front axle, the rear shows as pitch
         self.edges = []
         self.locks = 0
         self.lock_reasons = set()
@@ -40,7 +41,11 @@ class Recorder:
         with self.mutex:
             self.truth = m
             z, y = m.pose.pose.position.z, m.pose.pose.position.y
+            q = m.pose.pose.orientation
+            pitch = math.asin(max(-1.0, min(1.0, 2 * (q.w * q.y - q.z * q.x))))
+            roll = math.atan2(2 * (q.w * q.x + q.y * q.z), 1 - 2 * (q.x * q.x + q.y * q.y))
             if self.z0 is not None:
+                self.max_tilt = max(self.max_tilt, abs(pitch), abs(roll))
                 self.z_min = z if self.z_min is None else min(self.z_min, z)
                 self.z_max = z if self.z_max is None else max(self.z_max, z)
                 self.max_abs_y = max(self.max_abs_y, abs(y))
@@ -82,6 +87,7 @@ class SimRailEntry(unittest.TestCase):
         self.rail_r = float(rospy.get_param("~rail_wheel_radius"))
         self.max_dz = float(rospy.get_param("~max_height_change"))
         self.max_y = float(rospy.get_param("~max_lateral"))
+        self.max_tilt = float(rospy.get_param("~max_tilt"))
         self.speed_tol = float(rospy.get_param("~speed_tolerance"))
         self.deadline = time.monotonic() + float(rospy.get_param("~timeout"))
         self.rec = Recorder()
@@ -176,10 +182,12 @@ class SimRailEntry(unittest.TestCase):
         self.stop(0.5)
         with rec.mutex:
             dz = (rec.z_min - rec.z0, rec.z_max - rec.z0)
-            rospy.loginfo("base_link height change %.4f .. %.4f m, largest |y| %.4f m, radii %s, edges %s, locks %d",
-                          dz[0], dz[1], rec.max_abs_y, rec.radii, rec.edges[:5], rec.locks)
+            rospy.loginfo("base_link height change %.4f .. %.4f m, largest |y| %.4f m, largest tilt %.4f rad, radii %s, "
+                          "edges %s, locks %d", dz[0], dz[1], rec.max_abs_y, rec.max_tilt, rec.radii, rec.edges[:5],
+                          rec.locks)
             self.assertLessEqual(max(abs(dz[0]), abs(dz[1])), self.max_dz, "base_link did not stay level")
             self.assertLessEqual(rec.max_abs_y, self.max_y, "drifted off the centre line")
+            self.assertLessEqual(rec.max_tilt, self.max_tilt, "pitched or rolled: a wheel left its support")
             self.assertEqual(rec.edges, [], "an edge was reported on an aligned entry")
             self.assertEqual(rec.locks, 0, "the safety lock engaged on an aligned entry: %s" % rec.lock_reasons)
             self.assertEqual([r for r in rec.radii if r > 0], [self.floor_r, self.rail_r, self.floor_r])
