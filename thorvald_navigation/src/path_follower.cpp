@@ -13,6 +13,7 @@ std::string FollowerParams::validate() const {
   if (!(rotate_in_place_rad > 0.0 && rotate_in_place_rad <= kPi)) return "rotate_in_place must be in (0, pi]";
   if (!(position_gain > 0.0) || !(yaw_gain > 0.0)) return "gains must be > 0";
   if (!(min_speed_mps >= 0.0 && min_speed_mps <= max_speed_mps)) return "min_speed must be in [0, max_speed]";
+  if (!(arrive_fraction > 0.0 && arrive_fraction <= 1.0)) return "arrive_fraction must be in (0, 1]";
   return {};
 }
 
@@ -81,7 +82,19 @@ Twist2D PathFollower::step(const Pose2D& pose, double dt) {
   auto toBody = [&](const Eigen::Vector2d& w) {
     return Eigen::Vector2d(c * w.x() + s * w.y(), -s * w.x() + c * w.y());
   };
-  if (state_ == FollowState::kFollowing && dist < params_.xy_tolerance_m) state_ = FollowState::kFinalTurn;
+  const double near_m = params_.arrive_fraction * params_.xy_tolerance_m;
+  if (state_ == FollowState::kFollowing && dist < params_.xy_tolerance_m) {
+    // Inside the tolerance: an omnidirectional robot closes in to near_m; a differential one creeps straight on
+    // (no turn on the spot for a sideways offset it cannot remove) until the goal is less than near_m ahead.
+    const double ahead = toBody(goal - p).x();
+    if (dist < near_m || (!params_.omnidirectional && ahead < near_m)) {
+      state_ = FollowState::kFinalTurn;
+    } else if (!params_.omnidirectional) {
+      Twist2D t;
+      t.vx = std::max(params_.min_speed_mps, params_.position_gain * ahead);
+      return limit(t, dt);
+    }
+  }
   if (state_ == FollowState::kFinalTurn) {
     if (std::abs(yaw_err) < params_.yaw_tolerance_rad) {
       state_ = FollowState::kArrived;

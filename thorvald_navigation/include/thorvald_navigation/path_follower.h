@@ -22,6 +22,10 @@ struct FollowerParams {
   double position_gain = 1.0;        ///< speed per metre of remaining distance near the goal [1/s]
   double yaw_gain = 1.5;             ///< yaw rate per radian of heading error [1/s]
   double min_speed_mps = 0.02;       ///< creep speed for the last centimetres [m/s]
+  /// The position is latched when base_link is within this fraction of xy_tolerance_m of the goal, or within the
+  /// tolerance once the goal is no longer ahead (a differential robot cannot close a sideways offset by driving on):
+  /// stopping at the first point inside the tolerance would leave every goal about xy_tolerance_m short [0..1].
+  double arrive_fraction = 0.4;
   std::string validate() const;
 };
 
