@@ -125,6 +125,7 @@ control::HarvestMetrics experiment(const char* title, bool field, int runs, unsi
     const sim::HarvestRunReport r = runHarvest(config);
     if (!r.error.empty()) std::printf("run %d failed: %s\n", i + 1, r.error.c_str());
     if (verbose) {
+      std::fprintf(stderr, "run %d: encoder travel minus true travel at the end %.3f m\n", i + 1, r.odometry_error_m);
       for (size_t b = 0; b < r.miss_causes.size() && b < r.bolls.size(); ++b) {
         if (r.miss_causes[b] == sim::MissCause::kCaptured) continue;
         const sim::BollRecord& rec = r.boll_records[b];

@@ -166,6 +166,7 @@ HarvestRunReport runHarvest(const HarvestRunConfig& config) {
       }
     });
     report.rover_start = sim.roverPosition();
+    const double encoder_start_m = plant.roverPositionM();
     report.bolls_reachable = static_cast<int>(std::count(reachable.begin(), reachable.end(), true));
     report.outcome = machine.run();
     if (!state_now.empty()) report.state_time_s[state_now] += sim.time() - state_since;
@@ -183,6 +184,8 @@ HarvestRunReport runHarvest(const HarvestRunConfig& config) {
     report.rover_track = plant.track();
     report.bolls = sim.bolls();
     report.rover_end = sim.roverPosition();
+    const Eigen::Vector3d travel = report.rover_end - report.rover_start;
+    report.odometry_error_m = (plant.roverPositionM() - encoder_start_m) - std::copysign(travel.norm(), travel.x());
     report.divergences = sim.divergences();
     const std::vector<control::TrackedBoll> tracks = machine.tracks();
     for (size_t i = 0; i < report.bolls.size(); ++i) {

@@ -42,6 +42,9 @@ struct HarvestRunReport {
   std::vector<std::pair<double, double>> rover_track;  ///< (time [s], encoder position [m])
   std::vector<BollTruth> bolls;                        ///< truth at the end: positions, captured or not
   Eigen::Vector3d rover_start = Eigen::Vector3d::Zero(), rover_end = Eigen::Vector3d::Zero();
+  /// The encoder's travel minus the true travel along the row at the end [m] (wheel slip): the tracker's row
+  /// coordinates, and so a boll aimed at from memory, are off by about this much late in a run.
+  double odometry_error_m = 0.0;
   int divergences = 0;
   /// Per boll (the order of `bolls`): what the scorer saw of it, and why it was missed (kCaptured when taken).
   std::vector<BollRecord> boll_records;
