@@ -3,8 +3,10 @@
 // moves the rover (deadband-aware position control of the hydrostatic drive) and the arm, and the vacuum takes the
 // bolls it really reaches. Potted: six defoliated plants 30 cm apart with three bolls each on a 0.2513 deg slope;
 // field: 5.3 m of row on a 2.7668 deg slope. Each run has other plants (seed). Prints a Table 2/3 row per run and
-// the averages, and ends with
-//   RESULT {"potted_ct_s": .., "potted_asr_pct": .., "field_ct_s": .., "field_asr_pct": .., "rtf": ..}
+// the averages, why each missed boll was missed (from the simulation's truth), the time per state and the
+// end-effector frames, and ends with
+//   RESULT {"potted_ct_s": .., "potted_asr_pct": .., "field_ct_s": .., "field_asr_pct": .., "rtf": ..,
+//           "ee_fallback_frames": .., "frames": .., "failed_runs": ..}
 //   rosrun cotton_harvester harvest_bench [--potted-runs 5] [--field-runs 2] [--seed 1] [--png FILE]
 //                                          [--debug-image FILE]
 #include <algorithm>
