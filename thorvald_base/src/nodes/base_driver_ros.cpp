@@ -66,9 +66,6 @@ BaseDriverRos::BaseDriverRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh),
   readLimitsAndBatteryPolicy(params, options);
   const RelayIdList relay_ids = readRelayIds(params, config);
   params.alsoRead("diagnostic_period");  // read by diagnostic_updater
-  // Read by thorvald_sim's SimHardware plugin.
-  params.alsoRead("sim_joint_timeout");
-  params.alsoRead("sim_startup_timeout");
   if (!simple_sim_) {
     hardware_loader_ =
         std::make_unique<pluginlib::ClassLoader<BaseHardware>>("thorvald_base", "thorvald_base::BaseHardware");

@@ -51,22 +51,24 @@ class SimJointDrive : public PhysicsDrive {
 
 class SimHardware : public thorvald_base::BaseHardware {
  public:
+  void readParameters(thorvald_base::ParamReader& params) override {
+    timeout_s_ = params.number("sim_joint_timeout", 0.5, thorvald_base::ParamRange::aboveUpTo(0.0, 10.0), "s");
+    startup_s_ = params.number("sim_startup_timeout", 60.0, thorvald_base::ParamRange::closed(0.0, 600.0), "s");
+  }
+
   void initialize(const thorvald_base::RobotConfig& config, const std::string&, const std::string&) override {
     ros::NodeHandle pnh("~");
     nh_.setCallbackQueue(&queue_);
-    // base_driver's private parameters, read strictly (base_driver has already refused unknown ones).
-    thorvald_base::ParamReader params(pnh, "base_driver (thorvald_sim/SimHardware)");
-    std::string prefix = params.text("tf_prefix", "");
+    // The joint names carry the robot's tf prefix, found as base_driver finds it (its reader has checked the type).
+    std::string prefix;
+    pnh.getParam("tf_prefix", prefix);
     if (prefix.empty()) {
       std::string key;
       if (nh_.searchParam("tf_prefix", key)) nh_.getParam(key, prefix);
     }
     while (!prefix.empty() && prefix.front() == '/') prefix.erase(0, 1);
     const std::string p = prefix.empty() ? "" : prefix + "/";
-    const double timeout =
-        params.number("sim_joint_timeout", 0.5, thorvald_base::ParamRange::aboveUpTo(0.0, 10.0), "s");
-    const double startup =
-        params.number("sim_startup_timeout", 60.0, thorvald_base::ParamRange::closed(0.0, 600.0), "s");
+    const double timeout = timeout_s_, startup = startup_s_;
     pub_ = nh_.advertise<sensor_msgs::JointState>("sim/joint_commands", 20);
     for (const auto& d : config.drives) {
       const std::string steering = p + "steering" + std::to_string(d.index),
@@ -111,6 +113,7 @@ class SimHardware : public thorvald_base::BaseHardware {
   }
 
  private:
+  double timeout_s_ = 0.5, startup_s_ = 60.0;
   struct JointOf {
     size_t drive;
     bool wheel;
