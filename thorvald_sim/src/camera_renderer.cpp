@@ -325,7 +325,7 @@ void depthFromView(const RenderedView& view, const RayCaster& caster, const Sens
   std::vector<PixelNoise> noises;
   for (int b = 0; b < kBlocks; ++b) noises.emplace_back(rng);
   auto block = [&](int b) {
-    PixelNoise& noise = noises[b];
+    PixelNoise noise = noises[b];  // a copy on this thread's stack: the streams share cache lines in the vector
     const int v0 = s.height * b / kBlocks, v1 = s.height * (b + 1) / kBlocks;
     for (int v = v0; v < v1; ++v) {
       const double y = (v - k.cy) / k.fy;
