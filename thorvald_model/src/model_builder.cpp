@@ -1,7 +1,10 @@
 #include "thorvald_model/model_builder.h"
 
+#include <tinyxml2.h>
+
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "module_dimensions.h"
 
@@ -342,6 +345,23 @@ std::vector<std::string> passiveJointNames(const RobotConfig& config, const std:
   }
   for (size_t i = 0; i < config.passive_wheels.size(); ++i)
     names.push_back(prefixed(tf_prefix, "passive_wheel" + std::to_string(i)));
+  return names;
+}
+
+std::vector<std::string> movableJointNames(const std::string& urdf_xml) {
+  tinyxml2::XMLDocument doc;
+  if (doc.Parse(urdf_xml.c_str(), urdf_xml.size()) != tinyxml2::XML_SUCCESS)
+    throw std::runtime_error(std::string("robot_description is not XML: ") + doc.ErrorStr());
+  const tinyxml2::XMLElement* robot = doc.FirstChildElement("robot");
+  if (!robot) throw std::runtime_error("robot_description has no <robot> element");
+  std::vector<std::string> names;
+  for (const auto* j = robot->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint")) {
+    const char* name = j->Attribute("name");
+    const char* type = j->Attribute("type");
+    if (!name || !type) continue;
+    const std::string t = type;
+    if (t == "revolute" || t == "continuous" || t == "prismatic") names.emplace_back(name);
+  }
   return names;
 }
 

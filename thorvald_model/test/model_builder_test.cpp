@@ -117,6 +117,18 @@ TEST(ModelBuilder, CastersAndPassiveWheelsSortedByName) {
                                              "passive_wheel0"}));
 }
 
+TEST(ModelBuilder, MovableJointsOfARobotDescription) {
+  const std::string urdf =
+      "<robot name='r'><link name='a'/><link name='b'/><link name='c'/><link name='d'/>"
+      "<joint name='fix' type='fixed'><parent link='a'/><child link='b'/></joint>"
+      "<joint name='spin' type='continuous'><parent link='a'/><child link='c'/></joint>"
+      "<joint name='lift' type='prismatic'><parent link='a'/><child link='d'/></joint>"
+      "<joint name='float' type='floating'><parent link='c'/><child link='d'/></joint></robot>";
+  EXPECT_EQ(thorvald_model::movableJointNames(urdf), (std::vector<std::string>{"spin", "lift"}));
+  EXPECT_THROW(thorvald_model::movableJointNames("<robot"), std::runtime_error);
+  EXPECT_THROW(thorvald_model::movableJointNames("<model/>"), std::runtime_error);
+}
+
 TEST(ModelBuilder, PrefixReachesEveryName) {
   ModelOptions options;
   options.tf_prefix = "r7";

@@ -32,4 +32,8 @@ std::vector<std::string> baseDriverJointNames(const thorvald_base::RobotConfig& 
 /// that robot_state_publisher can be given them by the passive_joint_states node.
 std::vector<std::string> passiveJointNames(const thorvald_base::RobotConfig& config, const std::string& tf_prefix);
 
+/// The joints of a URDF document that take one position (revolute, continuous, prismatic), in document order.
+/// Throws std::runtime_error when the text is not a URDF robot.
+std::vector<std::string> movableJointNames(const std::string& urdf_xml);
+
 }  // namespace thorvald_model

@@ -1,8 +1,12 @@
-// passive_joint_states: publishes the joints of casters and passive wheels (which nothing drives or measures)
-// at a fixed position on joint_states, so robot_state_publisher has a complete tree next to base_driver's joints.
+// passive_joint_states: publishes the joints of casters and passive wheels (which nothing drives or measures), and
+// every other movable joint of the robot's robot_description that base_driver does not publish (e.g. free-turning
+// wheels of a URDF extras fragment), at a fixed position on joint_states, so robot_state_publisher has a complete
+// tree next to base_driver's joints.
 
 #include <ros/ros.h>
 #include <sensor_msgs/JointState.h>
+
+#include <algorithm>
 
 #include "thorvald_base/robot_config.h"
 #include "thorvald_model/model_builder.h"
@@ -27,6 +31,18 @@ int main(int argc, char** argv) {
     }
     while (!tf_prefix.empty() && tf_prefix.front() == '/') tf_prefix.erase(0, 1);
     names = thorvald_model::passiveJointNames(config, tf_prefix);
+    // The extras' movable joints, from the robot_description of this namespace when there is one.
+    std::string description;
+    if (nh.getParam("robot_description", description)) {
+      std::vector<std::string> known = thorvald_model::baseDriverJointNames(config, tf_prefix);
+      known.insert(known.end(), names.begin(), names.end());
+      for (const auto& j : thorvald_model::movableJointNames(description)) {
+        if (std::find(known.begin(), known.end(), j) != known.end()) continue;
+        ROS_INFO("passive_joint_states: %s (robot_description) is published at 0: nothing measures it", j.c_str());
+        names.push_back(j);
+        known.push_back(j);
+      }
+    }
   } catch (const std::exception& e) {
     ROS_FATAL("passive_joint_states cannot start: %s", e.what());
     return 1;
