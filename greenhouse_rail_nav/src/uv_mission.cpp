@@ -24,6 +24,8 @@ std::string UvMissionParams::validate() const {
   if (!(enter_line_frequency_rps >= 0.0 && enter_line_frequency_rps <= 3.0))
     e << "enter_line_frequency must be in [0, 3] [rad/s]; ";
   if (!(surface_timeout_s > 0.0)) e << "surface_timeout must be > 0 [s]; ";
+  if (!(on_rails_margin_m >= 0.0 && on_rails_margin_m < enter_max_distance_m))
+    e << "on_rails_margin must be in [0, enter_max_distance) [m]; ";
   return e.str();
 }
 
@@ -311,6 +313,7 @@ std::string UvMission::Impl::enter(tsm::ExecutionContext& ctx) {
   // The rail frame as seen by the last detection, carried on by odometry: rail <- odom.
   const Pose2D rail_from_odom = last_obs_.robot_in_rail.compose(entry_odom_.inverse());
   const double w0 = p_.enter_line_frequency_rps;
+  double rail_seen_at_m = -1.0;  // entered_m_ when the range finders first read rail under front and wheels
   while (io_.ok()) {
     if (ctx.preemptRequested()) {
       stop();
@@ -331,10 +334,17 @@ std::string UvMission::Impl::enter(tsm::ExecutionContext& ctx) {
       log(o.str());
       return "edge";
     }
+    // The wheel sensors' cones see a pipe a few centimetres before the rail wheels are carried by it: drive on
+    // on_rails_margin with rail read throughout before calling it on the rails.
     if (s.front == Surface::kRail && s.wheels == Surface::kRail) {
+      if (rail_seen_at_m < 0.0) rail_seen_at_m = entered_m_;
+    } else {
+      rail_seen_at_m = -1.0;
+    }
+    if (rail_seen_at_m >= 0.0 && entered_m_ - rail_seen_at_m >= p_.on_rails_margin_m) {
       stop();
       std::ostringstream o;
-      o << "on the rails after " << entered_m_ << " m";
+      o << "on the rails after " << entered_m_ << " m (rail read from " << rail_seen_at_m << " m)";
       log(o.str());
       return "on_rails";
     }

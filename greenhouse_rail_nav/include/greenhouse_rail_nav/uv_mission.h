@@ -83,6 +83,9 @@ struct UvMissionParams {
   /// by odometry) with this natural frequency [rad/s]; 0 drives straight on as the paper's robot does.
   double enter_line_frequency_rps = 0.8;
   double surface_timeout_s = 0.5;  ///< surface readings older than this stop the robot [s]
+  /// Entering, the range finders must read rail under the front and the wheels over this distance before the
+  /// robot counts as on the rails (their cones see a pipe before the rail wheels are carried by it) [m].
+  double on_rails_margin_m = 0.1;
 
   std::string validate() const;
 };

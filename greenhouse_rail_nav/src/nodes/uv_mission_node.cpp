@@ -2,11 +2,13 @@
 // move_base action (this workspace's headland navigator or a real move_base), reads the rail detector, the
 // surface monitor, odometry, the lidar and the bumper's lock, and drives through nav_vel (the mux).
 #include <actionlib/client/simple_action_client.h>
+#include <geometry_msgs/PoseArray.h>
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <geometry_msgs/Twist.h>
 #include <move_base_msgs/MoveBaseAction.h>
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
+#include <ros/topic.h>
 #include <sensor_msgs/LaserScan.h>
 #include <std_msgs/Bool.h>
 #include <std_msgs/String.h>
@@ -264,6 +266,7 @@ int main(int argc, char** argv) {
     const std::string progress_file = params.text("progress_file", "");
     const bool autostart = params.flag("autostart", true);
     const bool exit_when_done = params.flag("exit_when_done", false);
+    const double wait_for_rail_sets_s = params.number("wait_for_rail_sets", 0.0, R::closed(0.0, 3600.0), "s");
     grn::RosMissionIO::Config io_cfg;
     io_cfg.map_frame = params.text("map_frame", io_cfg.map_frame);
     io_cfg.base_frame = params.text("base_frame", io_cfg.base_frame);
@@ -290,6 +293,7 @@ int main(int argc, char** argv) {
     p.max_align_attempts = params.integer("max_align_attempts", p.max_align_attempts, 1, 50);
     p.enter_speed_mps = params.number("enter_speed", p.enter_speed_mps, R::aboveUpTo(0.0, 0.3), "m/s");
     p.enter_max_distance_m = params.number("enter_max_distance", p.enter_max_distance_m, R::above(0.0), "m");
+    p.on_rails_margin_m = params.number("on_rails_margin", p.on_rails_margin_m, R::closed(0.0, 1.0), "m");
     p.enter_line_frequency_rps =
         params.number("enter_line_frequency", p.enter_line_frequency_rps, R::closed(0.0, 3.0), "rad/s");
     params.finish();
@@ -297,6 +301,28 @@ int main(int argc, char** argv) {
     if (!problems.empty()) throw thorvald_base::ParamError("uv_mission: " + problems);
     if (file.empty())
       throw thorvald_base::ParamError("uv_mission: ~rail_sets_file is required (map_analyzer's output)");
+    if (wait_for_rail_sets_s > 0.0) {
+      // map_analyzer, started together with the mission, writes the file before it publishes rail_targets
+      // (latched): the file is read once that message has come, so a file left by an earlier run is not taken.
+      ROS_INFO("uv_mission: waiting up to %.0f s for map_analyzer's rail_targets", wait_for_rail_sets_s);
+      const auto good =
+          ros::topic::waitForMessage<geometry_msgs::PoseArray>("rail_targets", nh, ros::Duration(wait_for_rail_sets_s));
+      if (!good) {
+        ROS_FATAL("uv_mission: no rail_targets from map_analyzer within %.0f s (wait_for_rail_sets)",
+                  wait_for_rail_sets_s);
+        return 1;
+      }
+      if (good->poses.empty()) {
+        // No good set: either all are uncertain (the file lists them) or nothing was found (no file is written,
+        // and one left by an earlier run must not be read).
+        const auto uncertain =
+            ros::topic::waitForMessage<geometry_msgs::PoseArray>("rail_targets_uncertain", nh, ros::Duration(5.0));
+        if (!uncertain || uncertain->poses.empty()) {
+          ROS_FATAL("uv_mission: map_analyzer found no rail sets in the map (see its status)");
+          return 1;
+        }
+      }
+    }
     grn::RailSetFile sets;
     std::string error;
     if (!grn::loadRailSetFile(file, &sets, &error)) {

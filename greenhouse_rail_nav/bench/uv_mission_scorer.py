@@ -1,0 +1,263 @@
+#!/usr/bin/python3
+"""Scores the UV mission in the simulated greenhouse against the simulator's truth (the only node that reads it):
+thorvald_sim's truth file (rail sets, rail length) and ground_truth/odom (base_link in the world), with the
+mission's own outputs (uv_lights, nav_vel, mission/status, mission/report, safety/lock, bumper/lock).
+
+- on rails: the drive wheels (base_link) beyond a set's pipe start, before its end, within `lateral_tol` of the
+  set's centre line. `lights_off_rails_s`: simulated time with the lights on while not on rails.
+- wheel past an edge: base_link more than `drop` below its height on the floor at the start, or rolled or pitched
+  by more than `tilt` (a rear rail wheel leaving its pipe pitches base_link, which is on the drive axle).
+- a set counts as treated (truth) when the lights were on while on its rails from within `start_margin` of its
+  start to within `end_margin` of its end.
+- safety events: engagements of safety/lock and bumper/lock after the mission started; surface_monitor's reason
+  for each (an edge under a wheel, or a range finder silent for its timeout, e.g. on a machine too loaded to
+  deliver the readings in time).
+- rail speed: truth speed while the lights are on and the mission commands its treatment speed (from
+  `settle` s after it first does).
+Ends when the mission has finished (mission/status not running after it ran) or after `timeout` s of simulated
+time, and prints `RESULT {json}`. Run as a node (sim_uv_mission.launch scorer:=true) or imported by the rostest."""
+import json
+import math
+import sys
+import time
+
+import rospy
+import yaml
+from geometry_msgs.msg import Twist
+from nav_msgs.msg import Odometry
+from std_msgs.msg import Bool, String
+
+from greenhouse_rail_nav.msg import SurfaceState
+from thorvald_state_machine.msg import MachineStatus
+
+
+def rpy(q):
+    roll = math.atan2(2 * (q.w * q.x + q.y * q.z), 1 - 2 * (q.x * q.x + q.y * q.y))
+    pitch = math.asin(max(-1.0, min(1.0, 2 * (q.w * q.y - q.z * q.x))))
+    yaw = math.atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z))
+    return roll, pitch, yaw
+
+
+def parse_report(text):
+    rows = []
+    lines = [l for l in text.strip().splitlines() if l.strip()]
+    if not lines:
+        return rows
+    header = lines[0].split(",")
+    for line in lines[1:]:
+        # the result column is quoted and may hold commas
+        first, rest = line.split(",\"", 1) if ",\"" in line else (line, "")
+        result, tail = rest.rsplit("\",", 1) if rest else ("", "")
+        cells = first.split(",") + [result] + (tail.split(",") if tail else [])
+        rows.append(dict(zip(header, cells)))
+    return rows
+
+
+class UvMissionScorer:
+    def __init__(self, truth_file, treat_speed=0.5, lateral_tol=0.04, drop=0.01, tilt=0.02, start_margin=1.0,
+                 end_margin=1.5, settle=0.5):
+        with open(truth_file) as f:
+            self.truth = yaml.safe_load(f)
+        self.sets = self.truth["rail_sets"]
+        self.rail_length = float(self.truth["rail_length"])
+        self.treat_speed, self.lateral_tol, self.drop, self.tilt = treat_speed, lateral_tol, drop, tilt
+        self.start_margin, self.end_margin, self.settle = start_margin, end_margin, settle
+        self.lights = False
+        self.cmd_v = 0.0
+        self.cruise_since = None
+        self.last = None  # (t, x, y)
+        self.z0 = None
+        self.t_first = None
+        self.lights_on_s = 0.0
+        self.lights_off_rails_s = 0.0
+        self.lights_off_rails_where = None
+        self.wheel_past_edge = 0
+        self.edge_where = None
+        self.max_tilt = 0.0
+        self.max_drop = 0.0
+        self.on_set_span = {}  # set index -> [min x, max x] of base_link with the lights on, on its rails
+        self.speeds = []
+        self.safety_events = 0
+        self.lock_reasons = []  # surface_monitor's reason for each engagement of its lock
+        self.surface_locked = False
+        self.locks = {}
+        self.status = None
+        self.ran = False
+        self.t_start = None
+        self.t_end = None
+        self.report = []
+        self.path = []
+
+    def on_rails(self, x, y):
+        for s in self.sets:
+            dx, dy = x - float(s["x"]), y - float(s["y"])
+            c, si = math.cos(float(s["yaw"])), math.sin(float(s["yaw"]))
+            along, across = c * dx + si * dy, -si * dx + c * dy
+            if 0.0 <= along <= self.rail_length and abs(across) <= self.lateral_tol:
+                return s["index"], along
+        return None, None
+
+    # callbacks
+    def on_truth(self, m):
+        t = m.header.stamp.to_sec()
+        p = m.pose.pose.position
+        roll, pitch, yaw = rpy(m.pose.pose.orientation)
+        if self.z0 is None:
+            self.z0 = p.z
+            self.t_first = t
+        if len(self.path) == 0 or math.hypot(p.x - self.path[-1][0], p.y - self.path[-1][1]) > 0.05:
+            self.path.append((p.x, p.y))
+        self.max_tilt = max(self.max_tilt, abs(roll), abs(pitch))
+        self.max_drop = max(self.max_drop, self.z0 - p.z)
+        past = p.z < self.z0 - self.drop or abs(roll) > self.tilt or abs(pitch) > self.tilt
+        if past and self.edge_where is None:
+            self.edge_where = (round(p.x, 3), round(p.y, 3), round(p.z - self.z0, 4), round(roll, 4),
+                               round(pitch, 4))
+        if past and not getattr(self, "_past", False):
+            self.wheel_past_edge += 1
+        self._past = past
+        if self.last is not None:
+            dt = t - self.last[0]
+            if dt > 0.0 and self.lights:
+                self.lights_on_s += dt
+                idx, along = self.on_rails(p.x, p.y)
+                if idx is None:
+                    self.lights_off_rails_s += dt
+                    if self.lights_off_rails_where is None:
+                        self.lights_off_rails_where = (round(p.x, 3), round(p.y, 3))
+                else:
+                    span = self.on_set_span.setdefault(idx, [along, along])
+                    span[0], span[1] = min(span[0], along), max(span[1], along)
+                if (self.cruise_since is not None and t - self.cruise_since >= self.settle):
+                    self.speeds.append(math.hypot(p.x - self.last[1], p.y - self.last[2]) / dt)
+        self.last = (t, p.x, p.y)
+
+    def on_lights(self, m):
+        self.lights = m.data
+
+    def on_cmd(self, m):
+        self.cmd_v = m.linear.x
+        cruise = self.lights and abs(m.linear.x - self.treat_speed) < 1e-6
+        if cruise and self.cruise_since is None:
+            self.cruise_since = rospy.Time.now().to_sec()
+        elif not cruise:
+            self.cruise_since = None
+
+    def on_lock(self, name, m):
+        if m.data and not self.locks.get(name, False) and self.ran:
+            self.safety_events += 1
+            rospy.logwarn("uv_mission_scorer: %s engaged at %.1f s" % (name, rospy.Time.now().to_sec()))
+        self.locks[name] = m.data
+
+    def on_surface(self, m):
+        if m.locked and not self.surface_locked and self.ran:
+            self.lock_reasons.append(m.reason)
+        self.surface_locked = m.locked
+
+    def on_status(self, m):
+        self.status = m
+        if m.running and not self.ran:
+            self.ran = True
+            self.t_start = rospy.Time.now().to_sec()
+        if self.ran and not m.running and self.t_end is None:
+            self.t_end = rospy.Time.now().to_sec()
+
+    def on_report(self, m):
+        self.report = parse_report(m.data)
+
+    def subscribe(self):
+        rospy.Subscriber("ground_truth/odom", Odometry, self.on_truth, queue_size=50)
+        rospy.Subscriber("uv_lights", Bool, self.on_lights)
+        rospy.Subscriber("nav_vel", Twist, self.on_cmd)
+        rospy.Subscriber("safety/lock", Bool, lambda m: self.on_lock("safety/lock", m))
+        rospy.Subscriber("bumper/lock", Bool, lambda m: self.on_lock("bumper/lock", m))
+        rospy.Subscriber("surface_monitor/state", SurfaceState, self.on_surface)
+        rospy.Subscriber("mission/status", MachineStatus, self.on_status)
+        rospy.Subscriber("mission/report", String, self.on_report)
+
+    def finished(self):
+        return self.t_end is not None and len(self.report) > 0
+
+    def wait(self, timeout_sim_s, wall_timeout_s=None):
+        wall_deadline = None if wall_timeout_s is None else time.monotonic() + wall_timeout_s
+        while not rospy.is_shutdown():
+            now = rospy.Time.now().to_sec()
+            if self.finished():
+                return True
+            if self.t_first is not None and now - self.t_first > timeout_sim_s:
+                return False
+            if wall_deadline is not None and time.monotonic() > wall_deadline:
+                return False
+            time.sleep(0.2)
+        return False
+
+    def result(self):
+        good_sets = [int(r["rail_set"]) for r in self.report]
+        treated_report = [int(r["rail_set"]) for r in self.report if r.get("treated") == "1"]
+        treated_truth = []
+        for idx, (lo, hi) in sorted(self.on_set_span.items()):
+            if lo <= self.start_margin and hi >= self.rail_length - self.end_margin:
+                treated_truth.append(idx)
+        n_sets = len(self.sets)
+        aligns = [float(r["align_attempts"]) for r in self.report if r.get("treated") == "1"]
+        mean = sum(self.speeds) / len(self.speeds) if self.speeds else float("nan")
+        std = (math.sqrt(max(0.0, sum(v * v for v in self.speeds) / len(self.speeds) - mean * mean))
+               if self.speeds else float("nan"))
+        total_s = (self.t_end - self.t_start) if (self.t_end and self.t_start) else float("nan")
+        both = sorted(set(treated_report) & set(treated_truth))
+        return {
+            "rail_sets": n_sets,
+            "rail_length_m": self.rail_length,
+            "rail_sets_in_report": len(good_sets),
+            "rail_sets_treated": len(both),
+            "rail_sets_treated_pct": round(100.0 * len(both) / n_sets, 1) if n_sets else 0.0,
+            "treated_by_report": treated_report,
+            "treated_by_truth": treated_truth,
+            "lights_spans_m": {str(k): [round(v[0], 2), round(v[1], 2)] for k, v in self.on_set_span.items()},
+            "mission_outcome": self.status.last_outcome if self.status else "",
+            "mission_finished": self.finished(),
+            "safety_events": self.safety_events,
+            "safety_events_edge": sum(1 for r in self.lock_reasons if "edge" in r),
+            "safety_events_silent_sensor": sum(1 for r in self.lock_reasons if "silent" in r and "edge" not in r),
+            "safety_lock_reasons": self.lock_reasons,
+            "wheel_past_edge": self.wheel_past_edge,
+            "wheel_past_edge_first": self.edge_where,
+            "max_tilt_rad": round(self.max_tilt, 4),
+            "max_drop_m": round(self.max_drop, 4),
+            "lights_on_s": round(self.lights_on_s, 2),
+            "lights_off_rails_s": round(self.lights_off_rails_s, 3),
+            "lights_off_rails_first": self.lights_off_rails_where,
+            "rail_speed_mean_mps": round(mean, 4),
+            "rail_speed_std_mps": round(std, 4),
+            "rail_speed_samples": len(self.speeds),
+            "align_attempts_mean": round(sum(aligns) / len(aligns), 2) if aligns else float("nan"),
+            "cycle_min_per_rail_set": round(total_s / 60.0 / len(both), 2) if both else float("nan"),
+            "total_min": round(total_s / 60.0, 2),
+        }
+
+
+def make_scorer(truth_file, wait_s=120.0, **kwargs):
+    """The scorer once the simulator runs: thorvald_sim writes its truth file before it publishes ground truth, so a
+    file left by an earlier run is not read."""
+    rospy.wait_for_message("ground_truth/odom", Odometry, timeout=wait_s)
+    return UvMissionScorer(truth_file, **kwargs)
+
+
+def main():
+    rospy.init_node("uv_mission_scorer")
+    s = make_scorer(rospy.get_param("~truth_file"), treat_speed=rospy.get_param("~treat_speed", 0.5))
+    timeout = float(rospy.get_param("~timeout", 900.0))
+    s.subscribe()
+    s.wait(timeout)
+    out = s.result()
+    if rospy.get_param("~path_file", ""):
+        with open(rospy.get_param("~path_file"), "w") as f:
+            json.dump(s.path, f)
+    for r in s.report:
+        print("rail set %s: %s" % (r.get("rail_set"), ", ".join("%s=%s" % kv for kv in r.items())), flush=True)
+    print("RESULT " + json.dumps(out), flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
