@@ -16,6 +16,11 @@ std::string LocalizerParams::validate() const {
     return "need 0 <= lost_inlier_fraction <= uncertain_inlier_fraction <= 1";
   if (lost_after_scans < 1 || confirm_scans < 0) return "lost_after_scans must be >= 1, confirm_scans >= 0";
   if (!(max_jump_m > 0.0)) return "max_jump must be > 0";
+  if (!(recheck_xy_m >= 0.0) || !(recheck_yaw_rad > 0.0 && recheck_yaw_rad <= kPi))
+    return "recheck_xy must be >= 0 m and recheck_yaw in (0, pi] rad";
+  if (recheck_every_scans < 1) return "recheck_every_scans must be >= 1";
+  if (!(recheck_inlier_fraction >= 0.0 && recheck_inlier_fraction <= 1.0))
+    return "recheck_inlier_fraction must be in [0, 1]";
   const std::string m = matcher.validate();
   return m.empty() ? global.validate() : m;
 }
@@ -49,6 +54,7 @@ void MapLocalizer::setPose(const Pose2D& map_pose, const Pose2D& odom) {
   last_odom_ = odom;
   have_last_odom_ = true;
   bad_scans_ = 0;
+  weak_scans_ = 0;
   confirm_left_ = 0;
   global_requested_ = false;
   window_xy_m_ = 0.0;
@@ -90,27 +96,16 @@ LocalizationUpdate MapLocalizer::update(const Pose2D& odom, const std::vector<Ei
       u.message = "global localisation found no candidate pose";
       return u;
     }
-    setPose(g.best.pose, odom);
-    confirm_left_ = params_.confirm_scans;
-    status_ = (g.ambiguous || g.best.inlier_fraction < params_.uncertain_inlier_fraction)
-                  ? LocalizationStatus::kUncertain
-                  : LocalizationStatus::kLocalized;
-    if (confirm_left_ > 0) status_ = LocalizationStatus::kUncertain;
-    std::ostringstream msg;
-    msg << "global localisation: " << g.candidates << " poses scored, best (" << g.best.pose.x << ", " << g.best.pose.y
-        << ", " << g.best.pose.yaw << ") with " << g.best.inlier_fraction << " of beams matched"
-        << (g.ambiguous ? ", ambiguous" : "");
-    u.message = msg.str();
-    u.used = true;
-    u.pose = g.best.pose;
-    u.covariance = g.best.covariance;
-    u.inlier_fraction = g.best.inlier_fraction;
-    u.status = status_;
+    adopt(g, odom, "global localisation", &u);
     return u;
   }
   if (status_ == LocalizationStatus::kNoPose) {
     u.message = "no initial pose: set one (initialpose) or call global_localization";
     return u;
+  }
+  if (status_ == LocalizationStatus::kLost && params_.recheck_xy_m > 0.0 && --scans_to_recheck_ <= 0) {
+    scans_to_recheck_ = params_.recheck_every_scans;
+    if (recheck(odom, points_base, &u)) return u;
   }
   const Pose2D delta = have_last_odom_ ? last_odom_.inverse() * odom : Pose2D{};
   const double moved = std::hypot(delta.x, delta.y), turned = std::abs(delta.yaw);
@@ -129,16 +124,38 @@ LocalizationUpdate MapLocalizer::update(const Pose2D& odom, const std::vector<Ei
   const double jump = std::hypot(m.pose.x - predicted.x, m.pose.y - predicted.y);
   if (m.inlier_fraction < params_.lost_inlier_fraction || jump > params_.max_jump_m || !m.pose.finite()) {
     ++bad_scans_;
+    // A match that fits the map well but lies farther than max_jump from the odometry: the pose is known wrong.
+    const bool known_wrong =
+        m.pose.finite() && jump > params_.max_jump_m && m.inlier_fraction >= params_.uncertain_inlier_fraction;
     std::ostringstream msg;
-    msg << "scan not used: " << m.inlier_fraction << " of beams matched, correction " << jump << " m";
+    msg << "scan not used: " << m.inlier_fraction << " of beams matched, correction " << jump << " m"
+        << (known_wrong ? " (more than max_jump: odometry and map disagree)" : "");
     u.message = msg.str();
-    if (bad_scans_ >= params_.lost_after_scans) status_ = LocalizationStatus::kLost;
+    if ((known_wrong || bad_scans_ >= params_.lost_after_scans) && status_ != LocalizationStatus::kLost) {
+      status_ = LocalizationStatus::kLost;
+      scans_to_recheck_ = 1;  // re-check on the next scan
+    }
     u.status = status_;
     u.pose = predicted;
     return u;
   }
   bad_scans_ = 0;
+  // Weak matches are used for a moment (a passer-by hiding walls), not for long: a run of them, or any while lost,
+  // means the pose is doubtful, and the odometry prediction alone is kept while the re-check looks for the robot.
+  const bool weak = m.inlier_fraction < params_.uncertain_inlier_fraction;
+  weak_scans_ = weak ? weak_scans_ + 1 : 0;
+  if (weak && (status_ == LocalizationStatus::kLost || weak_scans_ >= params_.lost_after_scans)) {
+    if (status_ != LocalizationStatus::kLost) scans_to_recheck_ = 1;
+    status_ = LocalizationStatus::kLost;
+    std::ostringstream msg;
+    msg << "scan not used: only " << m.inlier_fraction << " of beams matched for " << weak_scans_ << " scans";
+    u.message = msg.str();
+    u.status = status_;
+    u.pose = predicted;
+    return u;
+  }
   map_to_odom_ = m.pose * odom.inverse();
+  if (status_ == LocalizationStatus::kLost) confirm_left_ = params_.confirm_scans;  // found again by tracking
   if (m.inlier_fraction < params_.uncertain_inlier_fraction) {
     status_ = LocalizationStatus::kUncertain;
   } else if (confirm_left_ > 0) {
@@ -152,6 +169,45 @@ LocalizationUpdate MapLocalizer::update(const Pose2D& odom, const std::vector<Ei
   u.covariance = m.covariance;
   u.status = status_;
   return u;
+}
+
+void MapLocalizer::adopt(const GlobalResult& g, const Pose2D& odom, const std::string& what, LocalizationUpdate* u) {
+  setPose(g.best.pose, odom);
+  confirm_left_ = params_.confirm_scans;
+  status_ = (g.ambiguous || g.best.inlier_fraction < params_.uncertain_inlier_fraction || confirm_left_ > 0)
+                ? LocalizationStatus::kUncertain
+                : LocalizationStatus::kLocalized;
+  std::ostringstream msg;
+  msg << what << ": " << g.candidates << " poses scored, best (" << g.best.pose.x << ", " << g.best.pose.y << ", "
+      << g.best.pose.yaw << ") with " << g.best.inlier_fraction << " of beams matched"
+      << (g.ambiguous ? ", ambiguous" : "");
+  u->message = msg.str();
+  u->used = true;
+  u->pose = g.best.pose;
+  u->covariance = g.best.covariance;
+  u->inlier_fraction = g.best.inlier_fraction;
+  u->status = status_;
+}
+
+bool MapLocalizer::recheck(const Pose2D& odom, const std::vector<Eigen::Vector2d>& points_base, LocalizationUpdate* u) {
+  GlobalSearchParams gp = params_.global;
+  gp.window_xy_m = params_.recheck_xy_m;
+  gp.window_yaw_rad = params_.recheck_yaw_rad;
+  gp.center = map_to_odom_ * odom;
+  gp.step_xy_m = std::min(gp.step_xy_m, 0.1);
+  gp.step_yaw_rad = std::min(gp.step_yaw_rad, 0.05);
+  gp.min_clearance_m = 0.0;
+  const GlobalResult g = globalSearch(field_, map_, points_base, gp, params_.matcher);
+  if (g.found && !g.ambiguous && g.best.inlier_fraction >= params_.recheck_inlier_fraction) {
+    adopt(g, odom, "relocalised by the re-check around odometry", u);
+    return true;
+  }
+  std::ostringstream msg;
+  msg << "lost; the re-check within " << params_.recheck_xy_m << " m found "
+      << (!g.found ? "no candidate" : (g.ambiguous ? "two poses matching alike" : "no pose matching well enough"))
+      << (g.found ? " (best " + std::to_string(g.best.inlier_fraction) + " of beams)" : std::string());
+  u->message = msg.str();
+  return false;
 }
 
 }  // namespace thorvald_navigation

@@ -9,6 +9,7 @@
 #include <move_base_msgs/MoveBaseAction.h>
 #include <nav_msgs/Path.h>
 #include <ros/ros.h>
+#include <std_msgs/String.h>
 
 #include "fake_headland_robot.h"
 
@@ -31,6 +32,8 @@ class NavigatorTest : public ::testing::Test {
     robot_ = std::make_unique<tn::testing::FakeHeadlandRobot>(nh_, headland(), tn::Pose2D{2.0, 2.5, 0.0}, "map");
     map_pub_ = nh_.advertise<nav_msgs::OccupancyGrid>("map", 1, true);
     keep_out_pub_ = nh_.advertise<nav_msgs::OccupancyGrid>("keep_out_map", 1, true);
+    status_pub_ = nh_.advertise<std_msgs::String>("map_localizer/status", 1, true);
+    setStatus("localized");  // each test starts localised (the status is latched across tests)
     plan_sub_ = nh_.subscribe<nav_msgs::Path>("headland_navigator/plan", 10,
                                               [this](const nav_msgs::Path::ConstPtr&) { ++plans_; });
     const tn::Grid2D map = robot_->world().truthMap(0.05);
@@ -72,10 +75,24 @@ class NavigatorTest : public ::testing::Test {
 
   bool finished() { return client_->getState().isDone(); }
 
+  void setStatus(const std::string& status) {
+    std_msgs::String m;
+    m.data = status;
+    status_pub_.publish(m);
+  }
+
+  // Steps the robot for `seconds` and returns how far base_link moved [m].
+  double movedDuring(double seconds) {
+    const tn::Pose2D a = robot_->truth();
+    runUntil([] { return false; }, seconds);
+    const tn::Pose2D b = robot_->truth();
+    return std::hypot(b.x - a.x, b.y - a.y) + std::abs(tn::normalizeAngle(b.yaw - a.yaw));
+  }
+
   ros::NodeHandle nh_;
   std::unique_ptr<tn::testing::FakeHeadlandRobot> robot_;
   std::unique_ptr<Client> client_;
-  ros::Publisher map_pub_, keep_out_pub_;
+  ros::Publisher map_pub_, keep_out_pub_, status_pub_;
   ros::Subscriber plan_sub_;
   std::atomic<int> plans_{0};
 };
@@ -131,6 +148,52 @@ TEST_F(NavigatorTest, CancelStopsTheRobot) {
   const double x = robot_->truth().x;
   runUntil([] { return false; }, 1.0);
   EXPECT_NEAR(robot_->truth().x, x, 1e-9);  // no command after the cancel
+}
+
+// The localiser reports lost on the way (headland_navigator.test: localization_lost_wait 4 s): the robot stops where
+// it is, stays stopped, and the goal is aborted with the reason when no relocalisation comes.
+TEST_F(NavigatorTest, LostLocaliserStopsTheRobotAndTheGoalIsAbortedWithTheReason) {
+  client_->sendGoal(goal(11.0, 2.5, 0.0));
+  ASSERT_TRUE(runUntil([this] { return robot_->truth().x > 3.0; }, 30.0));
+  setStatus("lost");
+  const ros::WallTime lost_at = ros::WallTime::now();
+  runUntil([] { return false; }, 0.5);  // the status arrives, the zero command is executed
+  EXPECT_LT(movedDuring(2.0), 1e-6) << "drove on a pose the localiser called lost";
+  EXPECT_FALSE(finished()) << "aborted before the wait: " << client_->getState().getText();
+  ASSERT_TRUE(runUntil([this] { return finished(); }, 15.0));
+  EXPECT_GE((ros::WallTime::now() - lost_at).toSec(), 3.5);
+  EXPECT_EQ(client_->getState(), actionlib::SimpleClientGoalState::ABORTED);
+  EXPECT_NE(client_->getState().getText().find("localiser lost"), std::string::npos) << client_->getState().getText();
+  EXPECT_LT(movedDuring(0.5), 1e-6);
+}
+
+// Lost, then localised again before the wait is over: the robot replans from its pose and reaches the goal.
+TEST_F(NavigatorTest, RelocalisedRobotGoesOnToTheGoal) {
+  client_->sendGoal(goal(8.0, 3.0, 0.5));
+  ASSERT_TRUE(runUntil([this] { return robot_->truth().x > 3.0; }, 30.0));
+  const int plans_before = plans_.load();
+  setStatus("lost");
+  runUntil([] { return false; }, 0.5);
+  EXPECT_LT(movedDuring(1.5), 1e-6);
+  setStatus("uncertain");  // the re-check found it; the pose is used while the next scans confirm it
+  ASSERT_TRUE(runUntil([this] { return robot_->truth().x > 4.0; }, 20.0)) << "did not drive on";
+  EXPECT_GT(plans_.load(), plans_before);  // planned again from where the localiser put it
+  // Arrived while still uncertain: the goal waits for a certain pose before it is judged.
+  ASSERT_TRUE(runUntil([this] { return std::hypot(robot_->truth().x - 8.0, robot_->truth().y - 3.0) < 0.03; }, 60.0));
+  runUntil([] { return false; }, 1.5);
+  EXPECT_FALSE(finished()) << client_->getState().getText();
+  setStatus("localized");
+  ASSERT_TRUE(runUntil([this] { return finished(); }, 20.0));
+  EXPECT_EQ(client_->getState(), actionlib::SimpleClientGoalState::SUCCEEDED) << client_->getState().getText();
+}
+
+// Unknown status texts are ignored (counted in the diagnostics), never taken for a loss or a fix.
+TEST_F(NavigatorTest, UnknownStatusTextDoesNotStopTheRobot) {
+  client_->sendGoal(goal(7.0, 2.5, 0.0));
+  ASSERT_TRUE(runUntil([this] { return robot_->truth().x > 2.8; }, 30.0));
+  setStatus("LOST!!");
+  ASSERT_TRUE(runUntil([this] { return finished(); }, 60.0));
+  EXPECT_EQ(client_->getState(), actionlib::SimpleClientGoalState::SUCCEEDED) << client_->getState().getText();
 }
 
 }  // namespace

@@ -94,6 +94,70 @@ TEST(MapLocalizer, KidnappedRobotRecoversByGlobalLocalization) {
   EXPECT_EQ(loc.status(), tn::LocalizationStatus::kLocalized);
 }
 
+// An odometry jump (the drive starved of CPU: the wheel odometry leaps while the robot does not move): the match
+// that fits the map lies farther than max_jump from the prediction. The localiser must say lost at once, not drive on
+// the prediction, and find the robot again with its re-check around the odometry.
+struct JumpRun {
+  int scans_to_lost = -1, scans_to_relocalised = -1, scans_to_localized = -1;
+  double final_error_m = 1e9;
+  tn::LocalizationStatus final_status = tn::LocalizationStatus::kNoPose;
+};
+
+JumpRun odometryJump(std::uint32_t seed, double jump_m, double jump_dir_rad, const tn::LocalizerParams& params) {
+  HeadlandOptions o;
+  o.seed = seed;
+  o.length_m = 12.0 + seed;
+  const SyntheticHeadland world(o);
+  tn::MapLocalizer loc{params};
+  EXPECT_EQ(loc.setMap(world.truthMap(0.05)), "");
+  std::mt19937 rng(seed);
+  const tn::Pose2D truth{4.0 + 0.5 * seed, o.depth_m - 1.0, 0.2 * seed};
+  tn::Pose2D odom{1.0, -2.0, 0.3};
+  loc.setPose(truth, odom);
+  for (int i = 0; i < 10; ++i) loc.update(odom, world.scan(truth, kSensor, 1081, -2.356, 2.356, 30.0, 0.01, &rng));
+  EXPECT_EQ(loc.status(), tn::LocalizationStatus::kLocalized);
+  odom = odom * tn::Pose2D{jump_m * std::cos(jump_dir_rad), jump_m * std::sin(jump_dir_rad), 0.0};
+  JumpRun r;
+  for (int i = 1; i <= 60; ++i) {
+    const auto u = loc.update(odom, world.scan(truth, kSensor, 1081, -2.356, 2.356, 30.0, 0.01, &rng));
+    if (r.scans_to_lost < 0 && u.status == tn::LocalizationStatus::kLost) {
+      r.scans_to_lost = i;
+      EXPECT_FALSE(u.used) << u.message;
+    }
+    if (r.scans_to_lost > 0 && r.scans_to_relocalised < 0 && u.used) r.scans_to_relocalised = i;
+    if (r.scans_to_relocalised > 0 && r.scans_to_localized < 0 && u.status == tn::LocalizationStatus::kLocalized)
+      r.scans_to_localized = i;
+    r.final_error_m = std::hypot(u.pose.x - truth.x, u.pose.y - truth.y);
+  }
+  r.final_status = loc.status();
+  return r;
+}
+
+TEST(MapLocalizer, OdometryJumpIsReportedLostAtOnceAndRecheckedBack) {
+  for (std::uint32_t seed = 1; seed <= 4; ++seed) {
+    // 0.55 to 0.85 m in varied directions: beyond max_jump (0.5 m), within the re-check's 1 m.
+    const JumpRun r = odometryJump(seed, 0.45 + 0.1 * seed, 1.3 * seed, tn::LocalizerParams{});
+    // At once when the match fits the map well beyond max_jump; after lost_after_scans (10) weak matches when the
+    // prior holds the match near the wrong prediction. Never a wrong pose taken for a good one meanwhile.
+    EXPECT_GE(r.scans_to_lost, 1) << "seed " << seed;
+    EXPECT_LE(r.scans_to_lost, 11) << "seed " << seed;
+    EXPECT_EQ(r.scans_to_relocalised, r.scans_to_lost + 1) << "seed " << seed;   // the re-check on the next scan
+    EXPECT_GT(r.scans_to_localized, r.scans_to_relocalised) << "seed " << seed;  // confirmed by later scans
+    EXPECT_EQ(r.final_status, tn::LocalizationStatus::kLocalized) << "seed " << seed;
+    EXPECT_LT(r.final_error_m, 0.05) << "seed " << seed;
+  }
+}
+
+TEST(MapLocalizer, WithoutTheRecheckAJumpStaysLost) {
+  tn::LocalizerParams p;
+  p.recheck_xy_m = 0.0;
+  const JumpRun r = odometryJump(2, 0.7, 0.5, p);
+  EXPECT_GE(r.scans_to_lost, 1);
+  EXPECT_LE(r.scans_to_lost, 11);
+  EXPECT_EQ(r.final_status, tn::LocalizationStatus::kLost);
+  EXPECT_NEAR(r.final_error_m, 0.7, 0.05);  // the prediction, never taken for the truth
+}
+
 TEST(MapLocalizer, NoPoseNoMapAndBadInput) {
   tn::MapLocalizer loc{tn::LocalizerParams{}};
   EXPECT_EQ(loc.update({}, {{1, 0}}).message, "no map");
@@ -112,6 +176,12 @@ TEST(MapLocalizer, NoPoseNoMapAndBadInput) {
   tn::LocalizerParams bad;
   bad.lost_inlier_fraction = 0.9;
   EXPECT_NE(bad.validate(), "");
+  tn::LocalizerParams bad_recheck;
+  bad_recheck.recheck_xy_m = -1.0;
+  EXPECT_NE(bad_recheck.validate(), "");
+  bad_recheck.recheck_xy_m = 1.0;
+  bad_recheck.recheck_every_scans = 0;
+  EXPECT_NE(bad_recheck.validate(), "");
 }
 
 }  // namespace

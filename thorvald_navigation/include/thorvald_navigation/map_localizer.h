@@ -20,11 +20,21 @@ struct LocalizerParams {
   double odom_sigma_per_m = 0.05;          ///< ...this fraction of the distance moved since the last update
   double odom_sigma_yaw_rad = 0.01;        ///< prior on heading per update, plus...
   double odom_sigma_yaw_per_rad = 0.05;    ///< ...this fraction of the rotation since the last update
-  double uncertain_inlier_fraction = 0.6;  ///< below: the match is used but reported uncertain
+  double uncertain_inlier_fraction = 0.6;  ///< below: the match is used but reported uncertain, for at most
+                                           ///< lost_after_scans scans in a row (then lost)
   double lost_inlier_fraction = 0.35;      ///< below: the match is not used (odometry only)
   int lost_after_scans = 10;               ///< consecutive unusable scans before reporting lost
   int confirm_scans = 5;                   ///< good scans needed after a global localisation to be certain
   double max_jump_m = 0.5;                 ///< a correction larger than this is refused as a wrong match [m]
+  /// While lost, every `recheck_every_scans` scans a search within `recheck_xy_m` / `recheck_yaw_rad` of the
+  /// odometry prediction looks for the robot (an odometry jump, wheels slipping, the drive starved of CPU); its best
+  /// pose is taken only when no other pose in the window matches nearly as well and at least
+  /// `recheck_inlier_fraction` of the beams match. recheck_xy_m 0: no re-check (global_localization or initialpose
+  /// only).
+  double recheck_xy_m = 1.0;
+  double recheck_yaw_rad = 0.35;
+  int recheck_every_scans = 10;
+  double recheck_inlier_fraction = 0.8;
   ScanMatcherParams matcher;
   GlobalSearchParams global;
   std::string validate() const;
@@ -69,6 +79,8 @@ class MapLocalizer {
     window_yaw_rad_ = yaw_rad;
   }
   /// One scan: `odom` is base_link in the odometry frame at the scan's time, `points_base` its hits in base_link.
+  /// A scan whose match would move the pose by more than max_jump although it fits the map well means the pose is
+  /// known to be wrong: the status turns lost at once (not after lost_after_scans) and the re-check starts.
   LocalizationUpdate update(const Pose2D& odom, const std::vector<Eigen::Vector2d>& points_base);
 
   /// Pose of the odometry frame in the map frame (what map -> odom on tf carries).
@@ -77,6 +89,11 @@ class MapLocalizer {
   bool hasPose() const { return status_ != LocalizationStatus::kNoPose; }
 
  private:
+  /// Takes a search's best pose (status uncertain until confirm_scans good scans agree), fills `u`.
+  void adopt(const GlobalResult& g, const Pose2D& odom, const std::string& what, LocalizationUpdate* u);
+  /// The lost robot's windowed search around the odometry prediction; true when it relocalised.
+  bool recheck(const Pose2D& odom, const std::vector<Eigen::Vector2d>& points_base, LocalizationUpdate* u);
+
   LocalizerParams params_;
   Grid2D map_;
   DistanceField field_;
@@ -87,7 +104,9 @@ class MapLocalizer {
   Pose2D window_center_;
   double window_xy_m_ = 0.0, window_yaw_rad_ = kPi;
   int bad_scans_ = 0;
+  int weak_scans_ = 0;  // consecutive matches below uncertain_inlier_fraction
   int confirm_left_ = 0;
+  int scans_to_recheck_ = 0;
   LocalizationStatus status_ = LocalizationStatus::kNoPose;
 };
 

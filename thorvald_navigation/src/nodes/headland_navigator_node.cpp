@@ -17,6 +17,7 @@
 #include <nav_msgs/Path.h>
 #include <ros/ros.h>
 #include <sensor_msgs/LaserScan.h>
+#include <std_msgs/String.h>
 #include <tf2_ros/transform_listener.h>
 #include <thorvald_base/ros/param_reader.h>
 
@@ -25,6 +26,7 @@
 #include "thorvald_base/ros/robot_config_params.h"
 #include "thorvald_navigation/costmap.h"
 #include "thorvald_navigation/grid_planner.h"
+#include "thorvald_navigation/localization_gate.h"
 #include "thorvald_navigation/path_follower.h"
 
 namespace thorvald_navigation {
@@ -33,6 +35,7 @@ namespace {
 struct Settings {
   std::string global_frame = "map", base_frame = "base_link";
   std::string keep_out_topic = "keep_out_map";
+  std::string localization_status_topic = "map_localizer/status";  // empty: no status read (amcl)
   double controller_frequency = 20.0;
   double footprint_padding = 0.05;
   std::vector<double> footprint;       // flat x0 y0 x1 y1 ...; empty: from the robot file
@@ -49,6 +52,7 @@ struct Settings {
   CostmapParams costmap;
   PlannerParams planner;
   FollowerParams follower;
+  LocalizationGateParams gate;
 };
 
 Footprint makeFootprint(const std::vector<double>& flat, double padding) {
@@ -73,6 +77,10 @@ bool loadSettings(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, Setting
     s->global_frame = r.text("global_frame", s->global_frame);
     s->base_frame = r.text("robot_base_frame", s->base_frame);
     s->keep_out_topic = r.text("keep_out_topic", s->keep_out_topic);
+    s->localization_status_topic = r.text("localization_status_topic", s->localization_status_topic);
+    s->gate.lost_wait_s = r.number("localization_lost_wait", s->gate.lost_wait_s, R::aboveUpTo(0.0, 3600.0), "s");
+    s->gate.uncertain_wait_s =
+        r.number("localization_uncertain_wait", s->gate.uncertain_wait_s, R::aboveUpTo(0.0, 3600.0), "s");
     s->controller_frequency = r.number("controller_frequency", s->controller_frequency, R::aboveUpTo(0.0, 200.0), "Hz");
     s->footprint_padding = r.number("footprint_padding", s->footprint_padding, R::closed(0.0, 1.0), "m");
     s->footprint = r.numbers("footprint", s->footprint, R::closed(-20.0, 20.0), "m", 0, 200);
@@ -141,6 +149,7 @@ bool loadSettings(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, Setting
     check(s->costmap.validate());
     check(s->planner.validate());
     check(f.validate());
+    check(s->gate.validate());
   } catch (const thorvald_base::ParamError& e) {
     *error = e.what();
     return false;
@@ -156,6 +165,7 @@ class HeadlandNavigatorNode {
       : s_(s),
         footprint_(makeFootprint(s.footprint, s.footprint_padding)),
         follower_(s.follower),
+        gate_(s.gate),
         tf_listener_(tf_buffer_),
         frames_(tf_buffer_),
         updater_(nh, pnh),
@@ -167,6 +177,8 @@ class HeadlandNavigatorNode {
     keep_out_sub_ = nh.subscribe(s_.keep_out_topic, 1, &HeadlandNavigatorNode::onKeepOut, this);
     scan_sub_ = nh.subscribe("scan", 1, &HeadlandNavigatorNode::onScan, this);
     simple_goal_sub_ = nh.subscribe("move_base_simple/goal", 1, &HeadlandNavigatorNode::onSimpleGoal, this);
+    if (!s_.localization_status_topic.empty())
+      status_sub_ = nh.subscribe(s_.localization_status_topic, 5, &HeadlandNavigatorNode::onLocalizerStatus, this);
     simple_client_pub_ = nh.advertise<move_base_msgs::MoveBaseActionGoal>("move_base/goal", 1);
     server_.registerGoalCallback([this] { onGoal(); });
     server_.registerPreemptCallback([this] { onPreempt(); });
@@ -239,6 +251,34 @@ class HeadlandNavigatorNode {
     }
   }
 
+  // The localiser's status (map_localizer's ~status, latched, sent on every change).
+  void onLocalizerStatus(const std_msgs::String::ConstPtr& msg) {
+    LocalizerState state;
+    if (!parseLocalizerState(msg->data, &state)) {
+      ++bad_statuses_;
+      ROS_WARN_STREAM_THROTTLE(5.0, "headland_navigator: localiser status '" << msg->data << "' not understood");
+      return;
+    }
+    if (state != gate_.state()) ROS_INFO_STREAM("headland_navigator: localiser " << localizerStateName(state));
+    gate_.setStatus(state, ros::Time::now().toSec());
+  }
+
+  // Holds the robot while the localiser is lost, aborts the goal when it stays lost. True when it may drive.
+  bool localizationAllows(const GateVerdict& v) {
+    if (v.action == GateAction::kAbort) {
+      abort(v.reason);
+      return false;
+    }
+    if (v.action == GateAction::kHold) {
+      stopRobot();
+      if (!holding_) ROS_WARN_STREAM("headland_navigator: " << v.reason);
+      holding_ = true;
+      hold_reason_ = v.reason;
+      return false;
+    }
+    return true;
+  }
+
   void onSimpleGoal(const geometry_msgs::PoseStamped::ConstPtr& msg) {
     // As move_base does: republish as an action goal so that one path handles both.
     move_base_msgs::MoveBaseActionGoal g;
@@ -273,6 +313,7 @@ class HeadlandNavigatorNode {
     arrived_at_ = ros::Time();
     corrections_ = 0;
     to_pre_goal_ = false;
+    holding_ = false;
     started_ = ros::Time::now();
     ROS_INFO("headland_navigator: new goal (%.2f, %.2f, %.2f)", g.x, g.y, g.yaw);
   }
@@ -384,6 +425,16 @@ class HeadlandNavigatorNode {
         abort(costmap_ ? "no robot pose in " + s_.global_frame + ": " + error : "no map received on 'map'");
       return;
     }
+    const bool arriving = follower_.state() == FollowState::kArrived && !to_pre_goal_ && !arrived_at_.isZero();
+    if (!arriving) {
+      if (!localizationAllows(gate_.whileDriving(now.toSec(), started_.toSec()))) return;
+      if (holding_) {  // relocalised: the pose may have moved, plan again from it
+        holding_ = false;
+        need_plan_ = true;
+        ++relocalisation_waits_;
+        ROS_INFO("headland_navigator: localiser %s again: replanning", localizerStateName(gate_.state()));
+      }
+    }
     if (need_plan_) {
       if (!plan(pose, &error)) {
         // A goal blocked by the map or keep-out is refused at once; one blocked by lidar obstacles waits.
@@ -426,6 +477,14 @@ class HeadlandNavigatorNode {
       stopRobot();
       if (arrived_at_.isZero()) arrived_at_ = now;
       if ((now - arrived_at_).toSec() < s_.settle_time) return;
+      // Judged only on a pose the localiser stands by: wait while it is uncertain or lost, abort when that lasts.
+      if (!localizationAllows(gate_.atGoal(now.toSec(), started_.toSec(), arrived_at_.toSec() + s_.settle_time)))
+        return;
+      if (holding_) {
+        holding_ = false;
+        ++relocalisation_waits_;
+        ROS_INFO("headland_navigator: localiser %s again at the goal", localizerStateName(gate_.state()));
+      }
       arrived_at_ = ros::Time();
       const double err = std::hypot(pose.x - goal_.x, pose.y - goal_.y);
       const double err_yaw = normalizeAngle(pose.yaw - goal_.yaw);
@@ -475,6 +534,8 @@ class HeadlandNavigatorNode {
     using D = diagnostic_msgs::DiagnosticStatus;
     if (!costmap_) {
       st.summary(D::WARN, "no map yet");
+    } else if (active_ && holding_) {
+      st.summary(D::WARN, hold_reason_);
     } else if (active_ && !blocked_since_.isZero()) {
       st.summary(D::WARN, "blocked by an obstacle");
     } else {
@@ -485,19 +546,23 @@ class HeadlandNavigatorNode {
     st.add("plans", plans_);
     st.add("goals reached", reached_);
     st.add("obstacle stops (cycles)", obstacle_stops_);
+    st.add("localiser status", localizerStateName(gate_.state()));
+    st.add("waits for relocalisation", relocalisation_waits_);
+    st.add("localiser statuses not understood", bad_statuses_);
     st.add("last failure", last_failure_);
   }
 
   Settings s_;
   Footprint footprint_;
   PathFollower follower_;
+  LocalizationGate gate_;
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
   FrameLookup frames_;
   diagnostic_updater::Updater updater_;
   ActionServer server_;
   ros::Publisher cmd_pub_, plan_pub_, costmap_pub_, simple_client_pub_;
-  ros::Subscriber map_sub_, keep_out_sub_, scan_sub_, simple_goal_sub_;
+  ros::Subscriber map_sub_, keep_out_sub_, scan_sub_, simple_goal_sub_, status_sub_;
   ros::Timer timer_;
   Grid2D map_, keep_out_;
   std::unique_ptr<Costmap> costmap_;
@@ -508,8 +573,9 @@ class HeadlandNavigatorNode {
   int corrections_ = 0;
   bool to_pre_goal_ = false;  // a correction is on its way to the start of the final approach
   Eigen::Vector2d pre_goal_{0.0, 0.0};
-  long plans_ = 0, reached_ = 0, obstacle_stops_ = 0;
-  std::string last_failure_;
+  long plans_ = 0, reached_ = 0, obstacle_stops_ = 0, relocalisation_waits_ = 0, bad_statuses_ = 0;
+  bool holding_ = false;  // stopped for the localiser
+  std::string last_failure_, hold_reason_;
 };
 
 }  // namespace

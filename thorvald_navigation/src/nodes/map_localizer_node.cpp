@@ -71,6 +71,10 @@ bool loadSettings(const ros::NodeHandle& pnh, Settings* s, std::string* error) {
     l.lost_inlier_fraction = r.number("lost_inlier_fraction", l.lost_inlier_fraction, R::closed(0.0, 1.0));
     l.lost_after_scans = r.integer("lost_after_scans", l.lost_after_scans, 1, 100000);
     l.max_jump_m = r.number("max_jump", l.max_jump_m, R::above(0.0), "m");
+    l.recheck_xy_m = r.number("recheck_xy", l.recheck_xy_m, R::closed(0.0, 20.0), "m");
+    l.recheck_yaw_rad = r.number("recheck_yaw", l.recheck_yaw_rad, R::aboveUpTo(0.0, 3.1416), "rad");
+    l.recheck_every_scans = r.integer("recheck_every_scans", l.recheck_every_scans, 1, 100000);
+    l.recheck_inlier_fraction = r.number("recheck_inlier_fraction", l.recheck_inlier_fraction, R::closed(0.0, 1.0));
     l.global.step_xy_m = r.number("global_step_xy", l.global.step_xy_m, R::above(0.0), "m");
     l.global.step_yaw_rad = r.number("global_step_yaw", l.global.step_yaw_rad, R::aboveUpTo(0.0, 1.0), "rad");
     // AMCL's particle-filter tuning: accepted, no meaning for scan matching with an odometry prior.
