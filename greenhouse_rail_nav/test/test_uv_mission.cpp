@@ -36,6 +36,7 @@ class SimulatedGreenhouse : public grn::MissionIO {
   bool lights_on = false;
   bool lights_on_off_rails = false;
   double lights_on_time = 0.0;
+  double first_lights_on_x = std::numeric_limits<double>::quiet_NaN();  ///< base_link's x when the lights first went on
   int nav_goals = 0;
   int localisation_resets = 0;
   std::vector<std::string> lines;
@@ -88,7 +89,10 @@ class SimulatedGreenhouse : public grn::MissionIO {
     v_cmd_ = v;
     w_cmd_ = w;
   }
-  void setLights(bool on) override { lights_on = on; }
+  void setLights(bool on) override {
+    if (on && !lights_on && std::isnan(first_lights_on_x)) first_lights_on_x = pose_.x;
+    lights_on = on;
+  }
   void resetLocalisation(const grn::Pose2D&) override { ++localisation_resets; }
   void log(const std::string& line) override { lines.push_back(line); }
 
@@ -271,4 +275,26 @@ TEST(UvMission, RefusesBadParameters) {
   grn::UvMissionParams p;
   p.enter_speed_mps = 2.0;
   EXPECT_THROW(grn::UvMission(world, p, {}), std::invalid_argument);
+  grn::UvMissionParams q;
+  q.on_rails_margin_m = q.enter_max_distance_m;
+  EXPECT_THROW(grn::UvMission(world, q, {}), std::invalid_argument);
+  q.on_rails_margin_m = -0.01;
+  EXPECT_THROW(grn::UvMission(world, q, {}), std::invalid_argument);
+}
+
+// The range finders here read rail as soon as they are over the pipes' start (x = 0): the lights go on only after
+// on_rails_margin more of rail under them.
+TEST(UvMission, LightsGoOnOnlyAfterTheOnRailsMargin) {
+  for (const double margin : {0.0, 0.1, 0.25}) {
+    const std::vector<RailSetTruth> sets = {{0.0}};
+    SimulatedGreenhouse world(sets, 3);
+    grn::UvMissionParams p;
+    p.on_rails_margin_m = margin;
+    grn::UvMission mission(world, p, targetsFor(sets, -1.2));
+    EXPECT_EQ(mission.run(), "done") << "margin " << margin;
+    ASSERT_FALSE(std::isnan(world.first_lights_on_x)) << "margin " << margin;
+    EXPECT_GE(world.first_lights_on_x, margin - 0.005) << "margin " << margin;
+    EXPECT_LT(world.first_lights_on_x, margin + 0.05) << "margin " << margin;
+    EXPECT_TRUE(mission.reports()[0].treated);
+  }
 }
