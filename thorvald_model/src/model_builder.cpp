@@ -365,4 +365,18 @@ std::vector<std::string> movableJointNames(const std::string& urdf_xml) {
   return names;
 }
 
+std::vector<std::string> unpublishedJointNames(const RobotConfig& config, const std::string& tf_prefix,
+                                               const std::string& urdf_xml) {
+  std::vector<std::string> names = passiveJointNames(config, tf_prefix);
+  if (urdf_xml.empty()) return names;
+  std::vector<std::string> known = baseDriverJointNames(config, tf_prefix);
+  known.insert(known.end(), names.begin(), names.end());
+  for (const auto& j : movableJointNames(urdf_xml)) {
+    if (std::find(known.begin(), known.end(), j) != known.end()) continue;
+    names.push_back(j);
+    known.push_back(j);
+  }
+  return names;
+}
+
 }  // namespace thorvald_model

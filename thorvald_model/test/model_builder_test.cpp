@@ -129,6 +129,26 @@ TEST(ModelBuilder, MovableJointsOfARobotDescription) {
   EXPECT_THROW(thorvald_model::movableJointNames("<model/>"), std::runtime_error);
 }
 
+TEST(ModelBuilder, UnpublishedJointsAreThePassiveOnesAndTheDescriptionsOthers) {
+  const RobotConfig config = parse(kRobot);
+  const std::vector<std::string> passive = thorvald_model::passiveJointNames(config, "r1");
+  EXPECT_EQ(thorvald_model::unpublishedJointNames(config, "r1", ""), passive) << "no robot_description";
+  // A description with base_driver's joints, one passive joint, an extra joint (twice) and a fixed one: only the
+  // extra joint is added, once, after the passive list.
+  const std::string urdf =
+      "<robot name='r'><link name='a'/><link name='b'/>"
+      "<joint name='r1/wheel0' type='continuous'><parent link='a'/><child link='b'/></joint>"
+      "<joint name='r1/steering1' type='revolute'><parent link='a'/><child link='b'/></joint>"
+      "<joint name='r1/caster0_wheel' type='continuous'><parent link='a'/><child link='b'/></joint>"
+      "<joint name='r1/rail_wheel' type='continuous'><parent link='a'/><child link='b'/></joint>"
+      "<joint name='r1/rail_wheel' type='continuous'><parent link='a'/><child link='b'/></joint>"
+      "<joint name='r1/mount' type='fixed'><parent link='a'/><child link='b'/></joint></robot>";
+  std::vector<std::string> expected = passive;
+  expected.push_back("r1/rail_wheel");
+  EXPECT_EQ(thorvald_model::unpublishedJointNames(config, "r1", urdf), expected);
+  EXPECT_THROW(thorvald_model::unpublishedJointNames(config, "r1", "<robot"), std::runtime_error);
+}
+
 TEST(ModelBuilder, PrefixReachesEveryName) {
   ModelOptions options;
   options.tf_prefix = "r7";

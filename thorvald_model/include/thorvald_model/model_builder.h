@@ -36,4 +36,10 @@ std::vector<std::string> passiveJointNames(const thorvald_base::RobotConfig& con
 /// Throws std::runtime_error when the text is not a URDF robot.
 std::vector<std::string> movableJointNames(const std::string& urdf_xml);
 
+/// What the passive_joint_states node publishes: passiveJointNames, then every movable joint of `urdf_xml` (the
+/// namespace's robot_description; empty: none) that neither base_driver (baseDriverJointNames) nor that list
+/// publishes, each once, in document order. Throws std::runtime_error when `urdf_xml` is given and not a URDF robot.
+std::vector<std::string> unpublishedJointNames(const thorvald_base::RobotConfig& config, const std::string& tf_prefix,
+                                               const std::string& urdf_xml);
+
 }  // namespace thorvald_model

@@ -6,8 +6,6 @@
 #include <ros/ros.h>
 #include <sensor_msgs/JointState.h>
 
-#include <algorithm>
-
 #include "thorvald_base/robot_config.h"
 #include "thorvald_model/model_builder.h"
 #include "thorvald_base/ros/param_reader.h"
@@ -30,19 +28,13 @@ int main(int argc, char** argv) {
       if (nh.searchParam("tf_prefix", key)) nh.getParam(key, tf_prefix);
     }
     while (!tf_prefix.empty() && tf_prefix.front() == '/') tf_prefix.erase(0, 1);
-    names = thorvald_model::passiveJointNames(config, tf_prefix);
-    // The extras' movable joints, from the robot_description of this namespace when there is one.
+    // The extras' movable joints come from the robot_description of this namespace when there is one.
     std::string description;
-    if (nh.getParam("robot_description", description)) {
-      std::vector<std::string> known = thorvald_model::baseDriverJointNames(config, tf_prefix);
-      known.insert(known.end(), names.begin(), names.end());
-      for (const auto& j : thorvald_model::movableJointNames(description)) {
-        if (std::find(known.begin(), known.end(), j) != known.end()) continue;
-        ROS_INFO("passive_joint_states: %s (robot_description) is published at 0: nothing measures it", j.c_str());
-        names.push_back(j);
-        known.push_back(j);
-      }
-    }
+    nh.getParam("robot_description", description);
+    const size_t passive = thorvald_model::passiveJointNames(config, tf_prefix).size();
+    names = thorvald_model::unpublishedJointNames(config, tf_prefix, description);
+    for (size_t i = passive; i < names.size(); ++i)
+      ROS_INFO("passive_joint_states: %s (robot_description) is published at 0: nothing measures it", names[i].c_str());
   } catch (const std::exception& e) {
     ROS_FATAL("passive_joint_states cannot start: %s", e.what());
     return 1;
