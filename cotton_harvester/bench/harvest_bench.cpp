@@ -8,7 +8,8 @@
 //   RESULT {"potted_ct_s": .., "potted_asr_pct": .., "field_ct_s": .., "field_asr_pct": .., "rtf": ..,
 //           "ee_fallback_frames": .., "frames": .., "failed_runs": ..}
 //   rosrun cotton_harvester harvest_bench [--potted-runs 5] [--field-runs 2] [--seed 1] [--png FILE]
-//                                          [--debug-image FILE]
+//                                          [--debug-image FILE] [--verbose] [--no-leaf-clearing] [--ee-whole-image]
+//                                          [--no-leaf-push] [--no-partial-bolls]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -52,6 +53,7 @@ struct Totals {
   std::map<std::string, double> state_time_s;
   std::map<std::string, int> state_entries;
   int frames = 0, ee_found = 0, ee_rejected = 0, ee_fallback = 0;
+  int picks_cleared = 0, picks_redetected = 0, leaves_pushed = 0;
   void add(const sim::HarvestRunReport& r) {
     ++runs;
     misses.add(r.misses);
@@ -67,6 +69,9 @@ struct Totals {
     ee_found += r.frames_with_effector;
     ee_rejected += r.effector_rejected;
     ee_fallback += r.effector_from_calibration;
+    picks_cleared += r.picks_cleared;
+    picks_redetected += r.picks_redetected;
+    leaves_pushed += r.leaves_pushed;
     counts.bolls_present += r.bolls_present;
     counts.detected += r.counts.detected;
     counts.reached += r.counts.reached;
@@ -103,6 +108,9 @@ void printTimes(const Totals& t) {
   }
   std::printf("\nend-effector: %d frames, found %d, rejected %d, calibrated position used %d\n", t.frames, t.ee_found,
               t.ee_rejected, t.ee_fallback);
+  std::printf(
+      "leaves: picks that swept leaves aside first %d, of them re-located by a new frame %d; leaves pushed %d\n",
+      t.picks_cleared, t.picks_redetected, t.leaves_pushed);
   std::fflush(stdout);
 }
 
@@ -110,6 +118,10 @@ void printTimes(const Totals& t) {
 bool verbose = false;
 int potted_plants = 6;
 std::string frames_dir;
+bool clear_leaves = true;
+bool ee_near_arm = true;
+bool leaf_push = true;
+bool partial_bolls = true;
 
 control::HarvestMetrics experiment(const char* title, bool field, int runs, unsigned seed, Totals* totals,
                                    const std::string& png, const std::string& debug_image) {
@@ -123,6 +135,10 @@ control::HarvestMetrics experiment(const char* title, bool field, int runs, unsi
     }
     if (i == 0) config.debug_image_path = debug_image;
     config.verbose = verbose;
+    config.clear_leaves_before_pick = clear_leaves;
+    config.effector_search_near_arm = ee_near_arm;
+    config.partial_bolls = partial_bolls;
+    if (!leaf_push) config.sim.leaf_push_max_m = 0.0;
     if (i == 0 && !field) config.frames_dir = frames_dir;
     const sim::HarvestRunReport r = runHarvest(config);
     if (!r.error.empty()) std::printf("run %d failed: %s\n", i + 1, r.error.c_str());
@@ -178,7 +194,16 @@ int main(int argc, char** argv) {
   app.add_option("--potted-plants", potted_plants, "plants of the potted row (the paper: 6)")->check(CLI::Range(1, 60));
   app.add_option("--frames-dir", frames_dir, "write every frame of the first potted run with its detections here");
   app.add_flag("--verbose", verbose, "print the state machine's transitions");
+  bool no_clear = false, ee_whole = false, no_push = false, no_partial = false;
+  app.add_flag("--no-partial-bolls", no_partial, "the colour detector drops bolls seen only in part");
+  app.add_flag("--no-leaf-clearing", no_clear, "pick without sweeping leaves over the boll aside first");
+  app.add_flag("--ee-whole-image", ee_whole, "take the largest orange region of the image as the end-effector");
+  app.add_flag("--no-leaf-push", no_push, "simulated leaves do not give way to the housing");
   CLI11_PARSE(app, argc, argv);
+  clear_leaves = !no_clear;
+  ee_near_arm = !ee_whole;
+  leaf_push = !no_push;
+  partial_bolls = !no_partial;
 
   Totals totals;
   control::HarvestMetrics potted, field;

@@ -29,7 +29,12 @@ target_include_directories(mujoco_harvest PRIVATE ${thorvald_base_INCLUDE_DIRS})
 target_link_libraries(mujoco_harvest cotton_harvester_sim ${thorvald_base_LIBRARIES} ${catkin_LIBRARIES})
 add_dependencies(mujoco_harvest ${catkin_EXPORTED_TARGETS})
 
-install(TARGETS cotton_harvester_sim harvest_bench mujoco_harvest
+# Waits for the metrics of several rovers in their namespaces (launch/harvest_two_rows.launch) and ends the launch.
+add_executable(harvest_fleet_report src/sim/harvest_fleet_report_node.cpp)
+target_include_directories(harvest_fleet_report PRIVATE ${thorvald_base_INCLUDE_DIRS})
+target_link_libraries(harvest_fleet_report ${thorvald_base_LIBRARIES} ${catkin_LIBRARIES})
+
+install(TARGETS cotton_harvester_sim harvest_bench mujoco_harvest harvest_fleet_report
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})

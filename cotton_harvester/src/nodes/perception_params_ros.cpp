@@ -114,6 +114,7 @@ static bool loadPerceptionNodeConfigOrThrow(const ros::NodeHandle& pnh, Percepti
   r.read("colour/min_circularity", &c.min_circularity, "a number in [0, 1]");
   r.read("colour/min_solidity", &c.min_solidity, "a number in [0, 1]");
   r.read("colour/max_aspect_ratio", &c.max_aspect_ratio, "a number >= 1");
+  r.read("colour/partial_min_fraction", &c.partial_min_fraction, "a number in [0, 1] (0: no partial bolls)");
 
   DarknetParams& d = config->darknet;
   r.read("darknet/cfg", &d.cfg_path, "a path to a Darknet .cfg file");

@@ -73,6 +73,8 @@ std::string validate(const ColourBollParams& p) {
     error << "opening_fraction must be in [0, 2] (got " << p.opening_fraction << "); ";
   if (!(p.closing_fraction >= 0.0 && p.closing_fraction <= 2.0))
     error << "closing_fraction must be in [0, 2] (got " << p.closing_fraction << "); ";
+  if (!(p.partial_min_fraction >= 0.0 && p.partial_min_fraction <= 1.0))
+    error << "partial_min_fraction must be in [0, 1] (got " << p.partial_min_fraction << "); ";
   if (!(p.min_visible_fraction > 0.0 && p.min_visible_fraction <= 1.0))
     error << "min_visible_fraction must be in (0, 1] (got " << p.min_visible_fraction << "); ";
   if (p.max_cluster_bolls < 1 || p.max_cluster_bolls > 100)
@@ -102,6 +104,7 @@ void ColourBollDetector::setGeometry(const CameraIntrinsics& intrinsics, const B
   const double smallest_disc = CV_PI * radius.min_px * radius.min_px;
   const double largest_disc = CV_PI * radius.max_px * radius.max_px;
   scale_.min_area_px = std::max(4.0, params_.min_visible_fraction * smallest_disc);
+  scale_.partial_min_area_px = std::max(scale_.min_area_px, params_.partial_min_fraction * smallest_disc);
   scale_.max_single_area_px = 1.3 * largest_disc;
   scale_.max_area_px = params_.max_cluster_bolls * largest_disc;
   // Odd sides, so that the structuring elements are centred and do not move the regions.
@@ -138,22 +141,30 @@ void ColourBollDetector::detectRegion(const std::vector<cv::Point>& contour, con
     if (area > scale_.max_single_area_px) return;
     const double perimeter = cv::arcLength(contour, true);
     const double circularity = perimeter > 0.0 ? std::min(1.0, 4.0 * CV_PI * area / (perimeter * perimeter)) : 0.0;
-    if (circularity < params_.min_circularity) return;
     std::vector<cv::Point> hull;
     cv::convexHull(contour, hull);
     const double hull_area = cv::contourArea(hull);
     const double solidity = hull_area > 0.0 ? area / hull_area : 0.0;
-    if (solidity < params_.min_solidity) return;
     // Aspect of the smallest rotated rectangle: a thin glint at 45 degrees has a square bounding box.
     const cv::Size2f rotated = cv::minAreaRect(contour).size;
     const double aspect =
         std::max(rotated.width, rotated.height) / std::max(1.0f, std::min(rotated.width, rotated.height));
-    if (aspect > params_.max_aspect_ratio) return;
+    const bool whole = circularity >= params_.min_circularity && solidity >= params_.min_solidity &&
+                       aspect <= params_.max_aspect_ratio;
+    bool partial = !whole && params_.partial_min_fraction > 0.0 && area >= scale_.partial_min_area_px;
+    if (partial) {  // a part of one boll fits inside the largest boll's disc
+      cv::Point2f centre;
+      float radius = 0.0f;
+      cv::minEnclosingCircle(contour, centre, radius);
+      partial = radius <= scale_.radius_max_px;
+    }
+    if (!whole && !partial) return;
     const cv::Moments m = cv::moments(contour);
     BollDetection boll;
     boll.box = box;
     boll.centroid = {m.m10 / m.m00, m.m01 / m.m00};
-    boll.confidence = std::clamp(circularity * solidity * brightness, 0.0, 1.0);
+    boll.confidence = std::clamp(circularity * solidity * brightness * (partial ? 0.3 : 1.0), 0.0, 1.0);
+    boll.partial = partial;
     bolls->push_back(boll);
     return;
   }

@@ -194,44 +194,77 @@ std::optional<EndEffectorObservation> EndEffectorDetector::detect(const cv::Mat&
     contours.clear();
   }
 
-  cv::Mat mask = colourMask(bgr(roi));
-  if (params_.opening_px > 1) {
-    const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_RECT, {params_.opening_px, params_.opening_px});
-    cv::morphologyEx(mask, mask, cv::MORPH_OPEN, kernel);
-  }
-  cv::findContours(mask, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE, roi.tl());
+  contours = regions(bgr, roi);
   const int best = largestContour(contours, min_area_px_, &best_area);
   if (best < 0) return std::nullopt;
-
-  const std::vector<cv::Point>& contour = contours[best];
-  EndEffectorObservation observation;
-  observation.area_px = best_area;
-  observation.box = cv::boundingRect(contour);
-  if (params_.point == EndEffectorPoint::kCentroid) {
-    const cv::Moments m = cv::moments(contour);
-    observation.pixel = {m.m10 / m.m00, m.m01 / m.m00};
-  } else {
-    const double norm = std::hypot(params_.tip_direction.x, params_.tip_direction.y);
-    const cv::Point2d direction = params_.tip_direction / norm;
-    // The tip is the mean of the contour points within one pixel of the extreme projection, so that a flat
-    // front edge gives its middle rather than a corner.
-    double extreme = -std::numeric_limits<double>::infinity();
-    for (const cv::Point& p : contour) extreme = std::max(extreme, direction.x * p.x + direction.y * p.y);
-    cv::Point2d sum(0.0, 0.0);
-    int count = 0;
-    for (const cv::Point& p : contour) {
-      if (direction.x * p.x + direction.y * p.y >= extreme - 1.0) {
-        sum += cv::Point2d(p.x, p.y);
-        ++count;
-      }
-    }
-    observation.pixel = sum / count;
-  }
+  const EndEffectorObservation observation = observationOf(contours[best], best_area);
   if (mask_out) {
     *mask_out = cv::Mat::zeros(bgr.size(), CV_8U);
     cv::drawContours(*mask_out, contours, best, cv::Scalar(255), cv::FILLED);
   }
   return observation;
+}
+
+std::vector<std::vector<cv::Point>> EndEffectorDetector::regions(const cv::Mat& bgr, const cv::Rect& roi) const {
+  cv::Mat mask = colourMask(bgr(roi));
+  if (params_.opening_px > 1) {
+    const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_RECT, {params_.opening_px, params_.opening_px});
+    cv::morphologyEx(mask, mask, cv::MORPH_OPEN, kernel);
+  }
+  std::vector<std::vector<cv::Point>> contours;
+  cv::findContours(mask, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE, roi.tl());
+  return contours;
+}
+
+EndEffectorObservation EndEffectorDetector::observationOf(const std::vector<cv::Point>& contour, double area_px) const {
+  EndEffectorObservation observation;
+  observation.area_px = area_px;
+  observation.box = cv::boundingRect(contour);
+  if (params_.point == EndEffectorPoint::kCentroid) {
+    const cv::Moments m = cv::moments(contour);
+    observation.pixel = {m.m10 / m.m00, m.m01 / m.m00};
+    return observation;
+  }
+  const double norm = std::hypot(params_.tip_direction.x, params_.tip_direction.y);
+  const cv::Point2d direction = params_.tip_direction / norm;
+  // The tip is the mean of the contour points within one pixel of the extreme projection, so that a flat
+  // front edge gives its middle rather than a corner.
+  double extreme = -std::numeric_limits<double>::infinity();
+  for (const cv::Point& p : contour) extreme = std::max(extreme, direction.x * p.x + direction.y * p.y);
+  cv::Point2d sum(0.0, 0.0);
+  int count = 0;
+  for (const cv::Point& p : contour) {
+    if (direction.x * p.x + direction.y * p.y >= extreme - 1.0) {
+      sum += cv::Point2d(p.x, p.y);
+      ++count;
+    }
+  }
+  observation.pixel = sum / count;
+  return observation;
+}
+
+std::vector<EndEffectorObservation> EndEffectorDetector::candidates(const cv::Mat& bgr, const cv::Rect& roi,
+                                                                    std::vector<cv::Mat>* masks_out) const {
+  if (masks_out) masks_out->clear();
+  std::vector<EndEffectorObservation> found;
+  if (bgr.empty() || bgr.type() != CV_8UC3) return found;
+  const cv::Rect clipped = roi & cv::Rect(0, 0, bgr.cols, bgr.rows);
+  if (clipped.area() == 0) return found;
+  const std::vector<std::vector<cv::Point>> contours = regions(bgr, clipped);
+  std::vector<std::pair<double, size_t>> by_area;
+  for (size_t i = 0; i < contours.size(); ++i) {
+    const double area = cv::contourArea(contours[i]);
+    if (area >= min_area_px_) by_area.emplace_back(area, i);
+  }
+  std::sort(by_area.begin(), by_area.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  for (const auto& [area, i] : by_area) {
+    found.push_back(observationOf(contours[i], area));
+    if (masks_out) {
+      masks_out->push_back(cv::Mat::zeros(bgr.size(), CV_8U));
+      cv::drawContours(masks_out->back(), contours, static_cast<int>(i), cv::Scalar(255), cv::FILLED);
+    }
+  }
+  return found;
 }
 
 }  // namespace perception

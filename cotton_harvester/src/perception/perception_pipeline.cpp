@@ -98,7 +98,59 @@ bool PerceptionPipeline::plausible(const BollDetection& detection, const cv::Poi
   return extent_m >= 0.4 * g.boll_radius_min_m && extent_m <= 1.5 * g.boll_radius_max_m;
 }
 
+std::string validate(const EndEffectorPrior& prior) {
+  const cv::Point3d& p = prior.position;
+  if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z) || !(p.z > 0.0))
+    return "position must be finite with z > 0";
+  if (!(prior.radius_m > 0.0) || !std::isfinite(prior.radius_m)) return "radius_m must be > 0";
+  if (!(prior.housing_half_m > 0.0) || !std::isfinite(prior.housing_half_m)) return "housing_half_m must be > 0";
+  return "";
+}
+
+void PerceptionPipeline::findEndEffectorNear(const cv::Mat& bgr, const cv::Mat& cloud, const EndEffectorPrior& prior,
+                                             FrameResult* result) const {
+  const CameraIntrinsics& k = params_.intrinsics;
+  // The image box the housing can cover: its top face grown by the prior's radius, at the nearest depth it may have.
+  const double reach = prior.housing_half_m + prior.radius_m;
+  const double z_near = std::max(0.05, prior.position.z - prior.radius_m);
+  const auto u = [&](double x) { return k.cx + k.fx * x / z_near; };
+  const auto v = [&](double y) { return k.cy + k.fy * y / z_near; };
+  const cv::Point top_left(static_cast<int>(std::floor(u(prior.position.x - reach))),
+                           static_cast<int>(std::floor(v(prior.position.y - reach))));
+  const cv::Point bottom_right(static_cast<int>(std::ceil(u(prior.position.x + reach))) + 1,
+                               static_cast<int>(std::ceil(v(prior.position.y + reach))) + 1);
+  std::vector<cv::Mat> masks;
+  const std::vector<EndEffectorObservation> found =
+      end_effector_detector_.candidates(bgr, cv::Rect(top_left, bottom_right), &masks);
+  result->end_effector_candidates = static_cast<int>(found.size());
+  const double focal = 0.5 * (k.fx + k.fy);
+  double best = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < found.size(); ++i) {
+    const std::optional<LocatedPoint> located = locateRegion(cloud, masks[i], found[i].pixel, k, params_.locator);
+    bool accepted = false;
+    if (located) {
+      const cv::Point3d d = located->position - prior.position;
+      const double distance = std::sqrt(d.dot(d));
+      // A leaf may hide part of the housing, nothing makes it look larger: at most twice its top face's area.
+      const double side_px = 2.0 * prior.housing_half_m * focal / located->position.z;
+      accepted = distance <= prior.radius_m && found[i].area_px <= 2.0 * side_px * side_px;
+      if (accepted && distance < best) {
+        best = distance;
+        result->end_effector_image = found[i];
+        result->end_effector = located;
+        result->end_effector_mask = masks[i];
+      }
+    }
+    if (!accepted) ++result->end_effector_candidates_refused;
+  }
+}
+
 FrameResult PerceptionPipeline::process(const cv::Mat& bgr, const cv::Mat& cloud) {
+  return process(bgr, cloud, std::nullopt);
+}
+
+FrameResult PerceptionPipeline::process(const cv::Mat& bgr, const cv::Mat& cloud,
+                                        const std::optional<EndEffectorPrior>& prior) {
   FrameResult result;
   if (bgr.empty()) {
     result.status = FrameStatus::kEmptyImage;
@@ -115,9 +167,13 @@ FrameResult PerceptionPipeline::process(const cv::Mat& bgr, const cv::Mat& cloud
   const bool has_depth = !cloud.empty() && cloud.type() == CV_32FC3 && cloud.size() == bgr.size();
 
   // Steps 1-3: end-effector, then bolls outside its region and the arm's.
-  result.end_effector_image = end_effector_detector_.detect(bgr, &result.end_effector_mask);
+  const bool use_prior = prior && has_depth && validate(*prior).empty();
+  if (use_prior)
+    findEndEffectorNear(bgr, cloud, *prior, &result);
+  else
+    result.end_effector_image = end_effector_detector_.detect(bgr, &result.end_effector_mask);
   if (result.end_effector_image) {
-    if (has_depth)
+    if (has_depth && !use_prior)
       result.end_effector = locateRegion(cloud, result.end_effector_mask, result.end_effector_image->pixel,
                                          params_.intrinsics, params_.locator);
     result.boll_exclusion = result.end_effector
@@ -125,6 +181,18 @@ FrameResult PerceptionPipeline::process(const cv::Mat& bgr, const cv::Mat& cloud
                                           params_.intrinsics, cloud, params_.end_effector)
                                 : armBandMask(bgr.size(), *result.end_effector_image, params_.end_effector);
     result.boll_exclusion |= result.end_effector_mask;
+  } else if (use_prior) {
+    // The housing is hidden (a leaf) or not where the arm is: the arm is still masked where its sensing puts it.
+    const CameraIntrinsics& k = params_.intrinsics;
+    const cv::Point3d& p = prior->position;
+    const double e = prior->housing_half_m;
+    EndEffectorObservation projected;
+    projected.pixel = {k.cx + k.fx * p.x / p.z, k.cy + k.fy * p.y / p.z};
+    projected.box = cv::Rect(
+        cv::Point(static_cast<int>(k.cx + k.fx * (p.x - e) / p.z), static_cast<int>(k.cy + k.fy * (p.y - e) / p.z)),
+        cv::Point(static_cast<int>(k.cx + k.fx * (p.x + e) / p.z) + 1,
+                  static_cast<int>(k.cy + k.fy * (p.y + e) / p.z) + 1));
+    result.boll_exclusion = armMask(bgr.size(), projected, p, k, cloud, params_.end_effector);
   }
   const std::vector<BollDetection> detections = detector_->detect(bgr, result.boll_exclusion);
   result.bolls_detected = static_cast<int>(detections.size());

@@ -116,8 +116,12 @@ HarvestRunReport runHarvest(const HarvestRunConfig& config) {
     RoverSim sim(config.sim);
     perception::PerceptionParams pp = simPerceptionParams(config.sim);
     auto pipeline = std::make_unique<perception::PerceptionPipeline>(
-        pp, std::make_unique<perception::ColourBollDetector>(perception::ColourBollParams()));
-    SimHarvestPlant plant(sim, simStackParams(config.sim), std::move(pipeline));
+        pp, std::make_unique<perception::ColourBollDetector>(config.partial_bolls ? simColourBollParams()
+                                                                                  : perception::ColourBollParams()));
+    StackParams stack = simStackParams(config.sim);
+    stack.clear_leaves_before_pick = config.clear_leaves_before_pick;
+    stack.effector_search_near_arm = config.effector_search_near_arm;
+    SimHarvestPlant plant(sim, stack, std::move(pipeline));
     control::HarvestParams mp = config.machine;
     mp.bolls_present = static_cast<int>(sim.bolls().size());
     control::HarvestMachine machine(plant, mp);
@@ -152,6 +156,11 @@ HarvestRunReport runHarvest(const HarvestRunConfig& config) {
     const std::vector<bool> reachable = reachableBolls(sim, mp.row_length_m);
     report.boll_records.resize(sim.bolls().size());
     for (size_t i = 0; i < reachable.size(); ++i) report.boll_records[i].reachable = reachable[i];
+    // Could any camera position on the row see each boll past the leaves as they grew (every 5 cm of the drive)?
+    std::vector<double> offsets;
+    for (double s = 0.0; s <= mp.row_length_m + 0.3; s += 0.05) offsets.push_back(s);
+    for (size_t i = 0; i < reachable.size(); ++i)
+      if (reachable[i]) report.boll_records[i].row_best_visible_fraction = sim.bestVisibleFractionAlongRow(i, offsets);
     plant.setFrameHook([&](const cv::Mat& bgr, const perception::FrameResult& result) {
       if (sim.time() - t0 > config.time_limit_s) machine.machine().requestPreempt();
       scoreFrame(sim, result, plant.roverPositionM(), mp.decision.y_forward_sign, mp.tracker.match_radius_m,
@@ -180,6 +189,9 @@ HarvestRunReport runHarvest(const HarvestRunConfig& config) {
     report.frames_with_effector = plant.framesWithEffector();
     report.effector_rejected = plant.effectorRejected();
     report.effector_from_calibration = plant.effectorFromCalibration();
+    report.picks_cleared = plant.picksCleared();
+    report.picks_redetected = plant.picksRedetected();
+    report.leaves_pushed = sim.leavesPushed();
     report.sim_time_s = sim.time() - t0;
     report.rover_track = plant.track();
     report.bolls = sim.bolls();

@@ -13,6 +13,8 @@ const char* toString(MissCause cause) {
       return "out_of_workspace";
     case MissCause::kNeverInView:
       return "never_in_view";
+    case MissCause::kHiddenFromRow:
+      return "hidden_from_row";
     case MissCause::kOccluded:
       return "occluded";
     case MissCause::kNotDetected:
@@ -40,6 +42,7 @@ MissCause classifyMiss(const BollRecord& boll, const std::vector<control::Tracke
   if (boll.captured) return MissCause::kCaptured;
   if (!boll.reachable) return MissCause::kOutOfWorkspace;
   if (boll.frames_in_view == 0) return MissCause::kNeverInView;
+  if (boll.frames_detected == 0 && boll.row_best_visible_fraction < 0.5) return MissCause::kHiddenFromRow;
   if (boll.frames_detected == 0)
     return boll.max_visible_fraction < 0.5 ? MissCause::kOccluded : MissCause::kNotDetected;
   if (boll.frames_detected_reachable == 0 || !boll.sighted) return MissCause::kJudgedUnreachable;

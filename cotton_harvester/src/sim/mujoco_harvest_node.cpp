@@ -70,6 +70,10 @@ diagnostic_msgs::DiagnosticStatus metricsMsg(const HarvestRunReport& report, con
   add("dp_pct", m.detection_performance_pct.value_or(0.0));
   add("mrr_pct", m.reaching_ratio_pct.value_or(0.0));
   add("rtf", report.wall_time_s > 0.0 ? report.sim_time_s / report.wall_time_s : 0.0);
+  add("frames", report.frames);
+  add("ee_fallback_frames", report.effector_from_calibration);
+  add("picks_cleared", report.picks_cleared);
+  add("hidden_from_row", report.misses.count[static_cast<int>(cotton_harvester::sim::MissCause::kHiddenFromRow)]);
   return s;
 }
 

@@ -69,6 +69,7 @@ std::string RoverSimParams::check() const {
   if (camera_width < 16 || camera_height < 16 || camera_width > 4096 || camera_height > 4096)
     return "camera_width/height: expected 16..4096";
   if (!std::isfinite(start_x_m)) return "start_x_m: expected finite";
+  if (!(leaf_push_max_m >= 0.0) || !std::isfinite(leaf_push_max_m)) return "leaf_push_max_m: expected >= 0";
   if (!(depth_noise_coeff >= 0.0) || !(depth_dropout >= 0.0 && depth_dropout < 1.0))
     return "depth_noise_coeff/depth_dropout: expected >= 0 (dropout < 1)";
   return "";
@@ -113,6 +114,21 @@ RoverSim::RoverSim(const RoverSimParams& params) : params_(params), drive_(param
   data_->qpos[m->jnt_qposadr[id(mjOBJ_JOINT, "horizontal")]] = horizontal_now_;
   data_->qpos[m->jnt_qposadr[id(mjOBJ_JOINT, "vertical")]] = vertical_now_ - g.min_depth_m;
   mj_forward(m, data_.get());
+  if (params_.leaf_push_max_m > 0.0) {
+    for (int g = 0; g < m->ngeom; ++g) {
+      const char* name = mj_id2name(m, mjOBJ_GEOM, g);
+      if (!name || m->geom_type[g] != mjGEOM_ELLIPSOID || m->geom_bodyid[g] != 0) continue;
+      const std::string n(name);
+      if (n.size() < 5 || n.find("_leaf") == std::string::npos) continue;
+      Leaf leaf;
+      leaf.geom = g;
+      leaf.grown_at = Eigen::Vector3d(m->geom_pos[3 * g], m->geom_pos[3 * g + 1], m->geom_pos[3 * g + 2]);
+      leaf.half = Eigen::Vector3d(m->geom_size[3 * g], m->geom_size[3 * g + 1], m->geom_size[3 * g + 2]);
+      leaf.rotation = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(data_->geom_xmat + 9 * g);
+      leaves_.push_back(leaf);
+    }
+  }
+  last_housing_ = nozzlePosition();
   renderer_ = std::make_unique<thorvald_sim::CameraRenderer>(m);
   // Let the rover settle on its wheels before anyone looks.
   advance(1.0);
@@ -266,6 +282,8 @@ void RoverSim::stepOnce() {
   }
   // The vacuum: a boll that stays close enough to the nozzle is sucked in and leaves the world.
   const Eigen::Vector3d nozzle = nozzlePosition();
+  if (!leaves_.empty()) pushLeaves(nozzle - last_housing_);
+  last_housing_ = nozzle;
   for (BollTruth& b : bolls_) {
     if (b.captured) continue;
     const double dist = (b.centre - nozzle).norm();
@@ -350,6 +368,56 @@ void RoverSim::renderCamera(cv::Mat* bgr, cv::Mat* cloud) {
   }
 }
 
+void RoverSim::pushLeaves(const Eigen::Vector3d& motion) {
+  // Only sideways motion pushes: a leaf the housing moves down or up onto bends and springs back (not modelled).
+  const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> rm(data_->xmat + 9 * effector_body_);
+  const Eigen::Matrix3d housing_rotation = rm;
+  const Eigen::Vector3d up = housing_rotation.col(2);
+  const Eigen::Vector3d sideways = motion - motion.dot(up) * up;
+  const double moved = sideways.norm();
+  if (!(moved > 1e-7)) return;
+  const Eigen::Vector3d d = sideways / moved;
+  const Eigen::Vector3d centre = last_housing_ + motion;  // the housing's centre now
+  const double e = params_.geometry.effector_half_m, h = 0.5 * params_.geometry.effector_height_m;
+  const Eigen::Vector3d box_half(e, e, h);
+  mjModel* m = model_.get();
+  for (Leaf& leaf : leaves_) {
+    double* pos = m->geom_pos + 3 * leaf.geom;
+    const Eigen::Vector3d at(pos[0], pos[1], pos[2]);
+    if ((at - centre).norm() > box_half.norm() + leaf.half.maxCoeff()) continue;
+    // The leaf as its centre and eight points of its rim (0.9 of the semi-axes); each point inside the housing's
+    // box grown by the leaf's thickness is pushed out through the face the housing moves towards.
+    double push = 0.0;
+    for (int k = -1; k < 8; ++k) {
+      const double phi = M_PI * k / 4.0;
+      const Eigen::Vector3d local =
+          k < 0 ? Eigen::Vector3d::Zero()
+                : Eigen::Vector3d(0.9 * leaf.half.x() * std::cos(phi), 0.9 * leaf.half.y() * std::sin(phi), 0.0);
+      const Eigen::Vector3d q = housing_rotation.transpose() * (at + leaf.rotation * local - centre);
+      const Eigen::Vector3d grown = box_half + Eigen::Vector3d::Constant(leaf.half.z());
+      if ((q.cwiseAbs() - grown).maxCoeff() > 0.0) continue;
+      const Eigen::Vector3d dl = housing_rotation.transpose() * d;
+      const double front = grown.cwiseProduct(dl.cwiseAbs()).sum();  // the leading face's distance along d
+      push = std::max(push, front - q.dot(dl));
+    }
+    if (!(push > 0.0)) continue;
+    const Eigen::Vector3d next = at + push * d;
+    if ((next - leaf.grown_at).norm() > params_.leaf_push_max_m) continue;  // held by its stalk: slips past
+    pos[0] = next.x();
+    pos[1] = next.y();
+    pos[2] = next.z();
+  }
+}
+
+int RoverSim::leavesPushed() const {
+  int n = 0;
+  for (const Leaf& leaf : leaves_) {
+    const double* pos = model_->geom_pos + 3 * leaf.geom;
+    n += (Eigen::Vector3d(pos[0], pos[1], pos[2]) - leaf.grown_at).norm() > 1e-4 ? 1 : 0;
+  }
+  return n;
+}
+
 int RoverSim::bollsCaptured() const {
   return static_cast<int>(std::count_if(bolls_.begin(), bolls_.end(), [](const BollTruth& b) { return b.captured; }));
 }
@@ -364,10 +432,32 @@ bool RoverSim::bollInView(size_t index) const {
 
 double RoverSim::bollVisibleFraction(size_t index) const {
   if (index >= bolls_.size()) return 0.0;
-  const BollTruth& b = bolls_[index];
   Eigen::Vector3d origin;
   Eigen::Matrix3d rotation;
   cameraPose(&origin, &rotation);
+  return visibleFractionFrom(index, origin);
+}
+
+double RoverSim::bestVisibleFractionAlongRow(size_t index, const std::vector<double>& offsets_m) const {
+  if (index >= bolls_.size()) return 0.0;
+  Eigen::Vector3d origin;
+  Eigen::Matrix3d rotation;
+  cameraPose(&origin, &rotation);
+  const Eigen::Vector3d forward = rotation.col(1);  // the optical frame's y is forward along the row
+  double best = 0.0;
+  for (double offset : offsets_m) {
+    const Eigen::Vector3d o = origin + offset * forward;
+    const Eigen::Vector3d c = rotation.transpose() * (bolls_[index].centre - o);
+    if (!(c.z() > 0.0)) continue;
+    const double u = params_.cx + params_.fx * c.x() / c.z(), v = params_.cy + params_.fx * c.y() / c.z();
+    if (u < 0.0 || v < 0.0 || u >= params_.camera_width || v >= params_.camera_height) continue;
+    best = std::max(best, visibleFractionFrom(index, o));
+  }
+  return best;
+}
+
+double RoverSim::visibleFractionFrom(size_t index, const Eigen::Vector3d& origin) const {
+  const BollTruth& b = bolls_[index];
   const Eigen::Vector3d view = (b.centre - origin).normalized();
   // Two directions across the line of sight span the disc the camera sees.
   const Eigen::Vector3d a = view.unitOrthogonal(), c = view.cross(a);

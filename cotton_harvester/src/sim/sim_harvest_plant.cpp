@@ -23,6 +23,13 @@ std::string StackParams::check() const {
   for (const auto& [key, v] : values)
     if (!positive(v)) return std::string(key) + ": expected > 0";
   if (!(effector_prior_m > 0.0)) return "effector_prior_m: expected > 0";
+  const std::pair<const char*, double> clearing[] = {{"leaf_clearance_m", leaf_clearance_m},
+                                                     {"clear_overshoot_m", clear_overshoot_m},
+                                                     {"clear_standoff_m", clear_standoff_m},
+                                                     {"redetect_radius_m", redetect_radius_m}};
+  for (const auto& [key, v] : clearing)
+    if (!(v >= 0.0) || !std::isfinite(v)) return std::string(key) + ": expected >= 0";
+  if (leaf_points_min < 1) return "leaf_points_min: expected >= 1";
   if (!(settle_s >= 0.0) || !(rover_timeout_per_m_s >= 0.0)) return "settle_s: expected >= 0";
   if (!(arm_min_depth_m >= 0.0 && arm_min_depth_m < arm_max_depth_m))
     return "arm_min_depth_m: expected 0 <= min < arm_max_depth_m";
@@ -47,6 +54,15 @@ perception::PerceptionParams simPerceptionParams(const RoverSimParams& sim) {
   p.reach.arm_origin_x_m = -sim.geometry.arm_base_offset_m + 0.5 * sim.geometry.horizontal_travel_m;
   p.reach.horizontal_arm_length_m = 0.5 * sim.geometry.horizontal_travel_m + sim.geometry.effector_half_m;
   return p;
+}
+
+perception::ColourBollParams simColourBollParams() {
+  perception::ColourBollParams c;
+  // The picker pushes leaves aside and looks again (StackParams::clear_leaves_before_pick), so a boll seen only
+  // partly past a leaf is worth approaching: regions of at least 0.6 of the smallest boll's disc that fail the
+  // whole-boll shape tests are reported as partial bolls.
+  c.partial_min_fraction = 0.6;
+  return c;
 }
 
 StackParams simStackParams(const RoverSimParams& sim) {
@@ -87,8 +103,10 @@ std::optional<control::HarvestObservation> SimHarvestPlant::observe(const Preemp
   control::HarvestObservation obs;
   obs.stamp_s = sim_.time();
   obs.rover_position_m = roverPositionM();
+  // Where the arm's calibration puts the housing's top face, from the stepper counters.
+  const control::Point3 expected{sim_.horizontalPosition() - params_.arm_base_offset_m, 0.0, sim_.verticalPosition()};
   sim_.renderCamera(&bgr_, &cloud_);
-  const perception::FrameResult result = pipeline_->process(bgr_, cloud_);
+  const perception::FrameResult result = pipeline_->process(bgr_, cloud_, effectorPrior());
   ++frames_;
   if (hook_) hook_(bgr_, result);
   if (result.status != perception::FrameStatus::kOk) return std::nullopt;
@@ -99,8 +117,6 @@ std::optional<control::HarvestObservation> SimHarvestPlant::observe(const Preemp
     s.reachable = b.reachable;
     obs.bolls.push_back(s);
   }
-  // Where the arm's calibration puts the housing's top face, from the stepper counters.
-  const control::Point3 expected{sim_.horizontalPosition() - params_.arm_base_offset_m, 0.0, sim_.verticalPosition()};
   if (result.end_effector) {
     const cv::Point3d& p = result.end_effector->position;
     const double off = std::hypot(p.x - expected.x, p.y - expected.y, p.z - expected.z);
@@ -110,6 +126,8 @@ std::optional<control::HarvestObservation> SimHarvestPlant::observe(const Preemp
       return obs;
     }
     ++effector_rejected_;  // an orange-like region elsewhere (a terracotta pot) was taken for the housing
+  } else if (result.end_effector_candidates_refused > 0) {
+    ++effector_rejected_;  // orange regions where the arm can be, none of them the housing
   }
   if (params_.effector_from_calibration) {
     ++effector_from_calibration_;
@@ -162,11 +180,93 @@ control::MoveResult SimHarvestPlant::moveArmToDepth(double depth_m, const Preemp
   return control::MoveResult::kDone;
 }
 
+std::optional<perception::EndEffectorPrior> SimHarvestPlant::effectorPrior() const {
+  if (!params_.effector_search_near_arm) return std::nullopt;
+  perception::EndEffectorPrior p;
+  p.position = cv::Point3d(sim_.horizontalPosition() - params_.arm_base_offset_m, 0.0, sim_.verticalPosition());
+  p.radius_m = params_.effector_prior_m;
+  p.housing_half_m = params_.effector_half_m;
+  return p;
+}
+
+int SimHarvestPlant::pointsOverApproach(double target_x, double depth_m) const {
+  if (cloud_.empty()) return 0;
+  const double from = sim_.horizontalPosition() - params_.arm_base_offset_m;
+  const double x_low = std::min(from, target_x) - params_.effector_half_m;
+  const double x_high = std::max(from, target_x) + params_.effector_half_m;
+  // Above the boll's top by more than the stereo noise; the housing's own top face is left out by its footprint.
+  const double z_low = depth_m - params_.leaf_clearance_m, z_high = depth_m - 0.012;
+  int n = 0;
+  for (int v = 0; v < cloud_.rows; v += 2) {
+    const cv::Vec3f* row = cloud_.ptr<cv::Vec3f>(v);
+    for (int u = 0; u < cloud_.cols; u += 2) {
+      const cv::Vec3f& q = row[u];
+      if (!(q[2] > z_low && q[2] < z_high)) continue;  // also false for NaN
+      if (std::abs(q[1]) > params_.effector_half_m || q[0] < x_low || q[0] > x_high) continue;
+      if (std::abs(q[0] - from) <= params_.effector_half_m) continue;
+      ++n;
+    }
+  }
+  return n;
+}
+
+double SimHarvestPlant::clearAndRelocate(double target_x, const Preempted& preempted, bool* ok) {
+  *ok = true;
+  const double depth = sim_.verticalPosition();
+  const double from = sim_.horizontalPosition();
+  const double target_ext = target_x + params_.arm_base_offset_m;
+  const double dir = target_ext >= from ? 1.0 : -1.0;
+  const auto ext = [this](double e) { return std::clamp(e, 0.0, params_.horizontal_travel_m); };
+  ++picks_cleared_;
+  // Up to the leaf's level, through it past the boll, back off, down to the boll's top again.
+  sim_.commandVertical(std::clamp(depth - params_.leaf_clearance_m, params_.arm_min_depth_m, params_.arm_max_depth_m));
+  if (!(*ok = waitArm(preempted))) return target_x;
+  sim_.commandHorizontal(ext(target_ext + dir * params_.clear_overshoot_m));
+  if (!(*ok = waitArm(preempted))) return target_x;
+  sim_.commandHorizontal(ext(target_ext - dir * params_.clear_standoff_m));
+  if (!(*ok = waitArm(preempted))) return target_x;
+  sim_.commandVertical(depth);
+  if (!(*ok = waitArm(preempted))) return target_x;
+  // Look again: the boll is now in full view, located on its whole top rather than on the part past the leaf.
+  run(params_.settle_s);
+  sim_.renderCamera(&bgr_, &cloud_);
+  const perception::FrameResult result = pipeline_->process(bgr_, cloud_, effectorPrior());
+  ++frames_;
+  if (hook_) hook_(bgr_, result);
+  double best = params_.redetect_radius_m;
+  double corrected = target_x, corrected_depth = depth;
+  for (const auto& b : result.bolls) {
+    const double d = std::hypot(b.position.x - target_x, b.position.y, b.position.z - depth);
+    if (d < best) {
+      best = d;
+      corrected = b.position.x;
+      corrected_depth = b.position.z;
+    }
+  }
+  if (best < params_.redetect_radius_m) {
+    ++picks_redetected_;
+    // A boll seen only at its side past the leaf was located deeper than its top: the housing goes to the top.
+    if (std::abs(corrected_depth - depth) > 0.015) {
+      sim_.commandVertical(std::clamp(corrected_depth, params_.arm_min_depth_m, params_.arm_max_depth_m));
+      *ok = waitArm(preempted);
+    }
+  }
+  return corrected;
+}
+
 control::MoveResult SimHarvestPlant::pick(double offset_m, const Preempted& preempted) {
   if (!std::isfinite(offset_m)) return control::MoveResult::kFailed;
-  const double target = std::clamp(sim_.horizontalPosition() + offset_m, 0.0, params_.horizontal_travel_m);
+  const auto failed = [&] { return preempted() ? control::MoveResult::kPreempted : control::MoveResult::kFailed; };
+  double target_x = sim_.horizontalPosition() - params_.arm_base_offset_m + offset_m;
+  if (params_.clear_leaves_before_pick &&
+      pointsOverApproach(target_x, sim_.verticalPosition()) >= params_.leaf_points_min) {
+    bool ok = true;
+    target_x = clearAndRelocate(target_x, preempted, &ok);
+    if (!ok) return failed();
+  }
+  const double target = std::clamp(target_x + params_.arm_base_offset_m, 0.0, params_.horizontal_travel_m);
   sim_.commandHorizontal(target);
-  if (!waitArm(preempted)) return preempted() ? control::MoveResult::kPreempted : control::MoveResult::kFailed;
+  if (!waitArm(preempted)) return failed();
   sim_.setVacuum(true);
   run(params_.pick_dwell_s);
   sim_.commandHorizontal(params_.rest_extension_m);
@@ -174,7 +274,7 @@ control::MoveResult SimHarvestPlant::pick(double offset_m, const Preempted& pree
   sim_.setVacuum(false);
   if (params_.raise_after_pick) {
     sim_.commandVertical(params_.rest_depth_m);
-    if (!waitArm(preempted)) return preempted() ? control::MoveResult::kPreempted : control::MoveResult::kFailed;
+    if (!waitArm(preempted)) return failed();
   }
   if (preempted()) return control::MoveResult::kPreempted;
   return back ? control::MoveResult::kDone : control::MoveResult::kFailed;

@@ -124,3 +124,32 @@ TEST(ColourBollDetector, DarkerExposureLowersTheValueThreshold) {
   ColourBollDetector detector{ColourBollParams{}};
   EXPECT_EQ(detector.detect(image, cv::Mat()).size(), 1u);
 }
+
+TEST(ColourBollDetector, ACrescentPastALeafIsAPartialBollOnlyWhenAsked) {
+  cv::Mat image(720, 1280, CV_8UC3, cv::Scalar(40, 120, 50));
+  cv::circle(image, {400, 300}, 24, kWhite, cv::FILLED);                                     // a boll ...
+  cv::ellipse(image, {412, 300}, {30, 40}, 0, 0, 360, cv::Scalar(40, 150, 50), cv::FILLED);  // ... a leaf over it
+  cv::circle(image, {900, 300}, 24, kWhite, cv::FILLED);                                     // a whole boll
+  cv::rectangle(image, cv::Rect(100, 600, 300, 20), kWhite, cv::FILLED);                     // aluminium bar
+  ColourBollDetector plain{ColourBollParams{}};
+  const std::vector<BollDetection> whole_only = plain.detect(image, cv::Mat());
+  ASSERT_EQ(whole_only.size(), 1u);
+  EXPECT_FALSE(whole_only[0].partial);
+  EXPECT_TRUE(hasDetectionNear(whole_only, {900, 300}, 0.5));
+
+  ColourBollParams params;
+  params.partial_min_fraction = 0.6;
+  ColourBollDetector with_partial{params};
+  const std::vector<BollDetection> bolls = with_partial.detect(image, cv::Mat());
+  const auto crescent = std::find_if(bolls.begin(), bolls.end(), [](const BollDetection& b) { return b.partial; });
+  ASSERT_NE(crescent, bolls.end());
+  // The crescent's centroid lies on the visible side, inside the boll's disc, left of its centre.
+  EXPECT_LT(crescent->centroid.x, 400.0 - 5.0);
+  EXPECT_LT(std::hypot(crescent->centroid.x - 400.0, crescent->centroid.y - 300.0), 24.0);
+  EXPECT_LT(crescent->confidence, 0.31);
+  EXPECT_TRUE(hasDetectionNear(bolls, {900, 300}, 0.5));
+  // The bar is larger than any boll: neither whole nor partial.
+  EXPECT_FALSE(hasDetectionNear(bolls, {250, 610}, 40.0));
+  params.partial_min_fraction = 1.5;
+  EXPECT_THROW(ColourBollDetector{params}, std::invalid_argument);
+}

@@ -169,3 +169,85 @@ TEST(PerceptionPipeline, RejectsBadParametersAndIntrinsics) {
   pipeline.setIntrinsics(half);
   EXPECT_EQ(pipeline.params().intrinsics.width, 640);
 }
+
+namespace {
+
+/// The pixel box of a square housing top face of half side `half_m` centred at camera point (x, y, z).
+cv::Rect housingBox(double x, double y, double z, double half_m) {
+  const CameraIntrinsics k;
+  const auto u = [&](double xm) { return static_cast<int>(std::lround(k.cx + k.fx * xm / z)); };
+  const auto v = [&](double ym) { return static_cast<int>(std::lround(k.cy + k.fy * ym / z)); };
+  return cv::Rect(cv::Point(u(x - half_m), v(y - half_m)), cv::Point(u(x + half_m), v(y + half_m)));
+}
+
+/// A frame with the housing (10 cm square, 1.50 m down, x = -0.20 m) and a terracotta pot: a larger orange-brown disc
+/// on the ground, 2.00 m down, where the whole-image search finds it as the largest orange region.
+HandMadeFrame housingAndPot() {
+  HandMadeFrame frame;
+  frame.addEndEffector(housingBox(-0.20, 0.0, 1.50, 0.05), 1.50);
+  cv::circle(frame.image, {900, 250}, 36, cv::Scalar(31, 64, 180), cv::FILLED);  // hue ~ 10, saturated
+  cv::circle(frame.depth, {900, 250}, 36, cv::Scalar(2.0), cv::FILLED);
+  return frame;
+}
+
+}  // namespace
+
+TEST(PerceptionPipeline, TheWholeImageSearchTakesTheLargestOrangeRegion) {
+  const HandMadeFrame frame = housingAndPot();
+  PerceptionPipeline pipeline = makePipeline();
+  const FrameResult r = pipeline.process(frame.image, frame.cloud());
+  ASSERT_TRUE(r.end_effector.has_value());
+  EXPECT_NEAR(r.end_effector->position.z, 2.0, 0.02);  // the pot: why the search is restricted when it can be
+}
+
+TEST(PerceptionPipeline, WithTheArmsPriorTheHousingIsFoundAndThePotRefused) {
+  const HandMadeFrame frame = housingAndPot();
+  PerceptionPipeline pipeline = makePipeline();
+  EndEffectorPrior prior;
+  prior.position = {-0.17, 0.02, 1.53};  // the stepper counters: 3 to 4 cm off in each axis
+  prior.radius_m = 0.08;
+  const FrameResult r = pipeline.process(frame.image, frame.cloud(), prior);
+  ASSERT_TRUE(r.end_effector.has_value());
+  // Independent expectation: the housing's centre as drawn, within a pixel's rounding at 1.5 m (about 2 mm).
+  EXPECT_NEAR(r.end_effector->position.x, -0.20, 0.005);
+  EXPECT_NEAR(r.end_effector->position.y, 0.0, 0.005);
+  EXPECT_NEAR(r.end_effector->position.z, 1.50, 0.005);
+  EXPECT_EQ(r.end_effector_candidates, 1);  // the pot lies outside the box the arm can cover
+  EXPECT_EQ(r.end_effector_candidates_refused, 0);
+}
+
+TEST(PerceptionPipeline, APotWhereTheArmCouldBeIsRefusedByDepthAndSize) {
+  HandMadeFrame frame;
+  // The arm is low over a pot: both in the search box; the housing is hidden (a leaf), only the pot shows.
+  const cv::Rect pot = housingBox(0.0, 0.0, 2.0, 0.10);
+  cv::ellipse(frame.image, (pot.tl() + pot.br()) / 2, pot.size() / 2, 0, 0, 360, cv::Scalar(31, 64, 180), cv::FILLED);
+  cv::ellipse(frame.depth, (pot.tl() + pot.br()) / 2, pot.size() / 2, 0, 0, 360, cv::Scalar(2.0), cv::FILLED);
+  PerceptionPipeline pipeline = makePipeline();
+  EndEffectorPrior prior;
+  prior.position = {0.02, 0.0, 1.90};
+  prior.radius_m = 0.08;  // the pot's top is 10 cm deeper than the arm: refused
+  const FrameResult r = pipeline.process(frame.image, frame.cloud(), prior);
+  EXPECT_FALSE(r.end_effector.has_value());
+  EXPECT_FALSE(r.end_effector_image.has_value());
+  EXPECT_EQ(r.end_effector_candidates, 1);
+  EXPECT_EQ(r.end_effector_candidates_refused, 1);
+  // A generous radius lets its depth pass; its size (four times the housing's top face) still refuses it.
+  prior.radius_m = 0.15;
+  const FrameResult wide = pipeline.process(frame.image, frame.cloud(), prior);
+  EXPECT_FALSE(wide.end_effector.has_value());
+  EXPECT_EQ(wide.end_effector_candidates_refused, 1);
+}
+
+TEST(PerceptionPipeline, AnInvalidPriorFallsBackToTheWholeImage) {
+  const HandMadeFrame frame = housingAndPot();
+  PerceptionPipeline pipeline = makePipeline();
+  EndEffectorPrior prior;
+  prior.position = {std::numeric_limits<double>::quiet_NaN(), 0.0, 1.5};
+  EXPECT_FALSE(validate(prior).empty());
+  const FrameResult r = pipeline.process(frame.image, frame.cloud(), prior);
+  ASSERT_TRUE(r.end_effector.has_value());
+  EXPECT_EQ(r.end_effector_candidates, 0);
+  prior.position = {-0.2, 0.0, 1.5};
+  prior.radius_m = 0.0;
+  EXPECT_FALSE(validate(prior).empty());
+}

@@ -51,6 +51,17 @@ TEST(MissCauses, TruthAndPerceptionCauses) {
   EXPECT_EQ(sim::classifyMiss(r, {}, tp), MissCause::kOccluded);
   r.max_visible_fraction = 0.6;
   EXPECT_EQ(sim::classifyMiss(r, {}, tp), MissCause::kNotDetected);
+  // No camera position along the row sees half of it: hidden from the row, whatever the frames taken showed.
+  r.row_best_visible_fraction = 0.2;
+  EXPECT_EQ(sim::classifyMiss(r, {}, tp), MissCause::kHiddenFromRow);
+  r.max_visible_fraction = 0.0;
+  EXPECT_EQ(sim::classifyMiss(r, {}, tp), MissCause::kHiddenFromRow);
+  // Seen from some position the camera never took: occluded in the frames taken, not hidden from the row.
+  r.row_best_visible_fraction = 0.7;
+  EXPECT_EQ(sim::classifyMiss(r, {}, tp), MissCause::kOccluded);
+  r = seenBoll();
+  r.row_best_visible_fraction = 0.1;  // detected all the same (e.g. after a leaf was pushed): not hidden
+  EXPECT_NE(sim::classifyMiss(r, {}, tp), MissCause::kHiddenFromRow);
   r = seenBoll();
   r.frames_detected_reachable = 0;
   EXPECT_EQ(sim::classifyMiss(r, {}, tp), MissCause::kJudgedUnreachable);

@@ -157,3 +157,81 @@ int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();
 }
+
+namespace {
+
+/// A row whose bolls all have a leaf just above them.
+sim::RoverSimParams leafyRow(double leaf_push_max_m) {
+  sim::RoverSimParams p = shortRow(11);
+  p.row.leaves_per_plant = 0;
+  p.row.leaf_over_boll_fraction = 1.0;
+  p.leaf_push_max_m = leaf_push_max_m;
+  return p;
+}
+
+/// Sweeps the end-effector across its whole travel with its housing at the level of the leaf over `boll`.
+void sweepOverBoll(sim::RoverSim& s, size_t boll) {
+  const Eigen::Vector3d c = s.toCamera(s.bolls()[boll].centre);
+  const double leaf_depth = c.z() - s.params().row.boll_radius_m - 0.02;
+  s.commandVertical(leaf_depth - 0.5 * s.params().geometry.effector_height_m);
+  s.advance(4.0);
+  s.commandHorizontal(0.0);
+  s.advance(2.0);
+  s.commandHorizontal(s.params().geometry.horizontal_travel_m);
+  s.advance(3.0);
+  s.commandHorizontal(0.0);  // back, so the housing itself does not hide the boll
+  s.advance(3.0);
+  s.commandVertical(s.params().geometry.min_depth_m);
+  s.advance(4.0);
+}
+
+/// The rover's start that puts the arm's plane (camera y = 0) over the boll of the first start.
+sim::RoverSimParams overBoll(sim::RoverSimParams p, size_t* boll) {
+  sim::RoverSim probe(p);
+  *boll = probe.bolls().size();
+  // Drive the arm's plane to each boll in turn until one is in reach and hidden.
+  for (size_t i = 0; i < probe.bolls().size(); ++i) {
+    const Eigen::Vector3d c = probe.toCamera(probe.bolls()[i].centre);
+    if (c.x() < -0.45 || c.x() > 0.0) continue;
+    sim::RoverSimParams q = p;
+    q.start_x_m = p.start_x_m + c.y();
+    sim::RoverSim moved(q);
+    const Eigen::Vector3d m = moved.toCamera(moved.bolls()[i].centre);
+    if (std::abs(m.y()) < 0.01 && moved.bollVisibleFraction(i) < 0.5) {
+      *boll = i;
+      return q;
+    }
+  }
+  return p;
+}
+
+}  // namespace
+
+TEST(RoverSim, TheHousingPushesALeafOverABollAsideAndTheCameraThenSeesIt) {
+  size_t boll = 0;
+  const sim::RoverSimParams p = overBoll(leafyRow(0.15), &boll);
+  sim::RoverSim s(p);
+  ASSERT_LT(boll, s.bolls().size()) << "no hidden boll in reach on this row";
+  cv::Mat bgr, cloud;
+  s.renderCamera(&bgr, &cloud);
+  const double before = s.bollVisibleFraction(boll);
+  ASSERT_LT(before, 0.5);
+  EXPECT_EQ(s.leavesPushed(), 0);
+  sweepOverBoll(s, boll);
+  s.renderCamera(&bgr, &cloud);
+  EXPECT_GE(s.leavesPushed(), 1);
+  EXPECT_GE(s.bollVisibleFraction(boll), 0.5) << "before: " << before;
+  EXPECT_EQ(s.bollsCaptured(), 0);  // no vacuum: pushing takes nothing
+  EXPECT_EQ(s.divergences(), 0);
+
+  // Leaves that do not give way: the same sweep changes nothing.
+  sim::RoverSimParams rigid = p;
+  rigid.leaf_push_max_m = 0.0;
+  sim::RoverSim r(rigid);
+  r.renderCamera(&bgr, &cloud);
+  const double rigid_before = r.bollVisibleFraction(boll);
+  sweepOverBoll(r, boll);
+  r.renderCamera(&bgr, &cloud);
+  EXPECT_EQ(r.leavesPushed(), 0);
+  EXPECT_DOUBLE_EQ(r.bollVisibleFraction(boll), rigid_before);
+}

@@ -15,6 +15,9 @@ struct BollDetection {
   cv::Rect2d box;           ///< bounding box [px]
   cv::Point2d centroid;     ///< image centroid [px]
   double confidence = 0.0;  ///< detector score [0, 1]
+  /// Only part of a boll: a white region that fails the whole-boll shape tests (a leaf over it leaves a crescent);
+  /// its centroid lies off the boll's centre towards the visible part.
+  bool partial = false;
 };
 
 /// Where bolls can be and how large they are: the size thresholds of the detectors follow from these and the focal

@@ -29,6 +29,11 @@ struct ColourBollParams {
   /// Touching bolls are split where the region narrows: two maxima of the distance transform are two bolls when
   /// the region's half width between them drops below this share of the smaller one's inscribed radius [0, 1].
   double split_neck_ratio = 0.75;
+  /// A single region that fails the shape tests but covers at least partial_min_fraction of the smallest boll's
+  /// disc and fits inside the largest boll's disc is reported as a partial detection (BollDetection::partial,
+  /// confidence scaled by 0.3) instead of dropped: a boll seen past a leaf, for a picker that can push the leaf aside
+  /// and look again. 0: off (the default; in an open field a pale crescent is as likely to be glare on a leaf).
+  double partial_min_fraction = 0.0;
 };
 
 /// Returns an empty string when valid, otherwise the bad field and what was expected.
@@ -36,13 +41,14 @@ std::string validate(const ColourBollParams& params);
 
 /// The pixel thresholds the detector derives from its parameters, the geometry and the focal length.
 struct ColourBollScale {
-  double radius_min_px = 0.0;       ///< smallest boll [px]
-  double radius_max_px = 0.0;       ///< largest boll [px]
-  double min_area_px = 0.0;         ///< smallest region kept [px^2]
-  double max_single_area_px = 0.0;  ///< largest region taken as one boll without a split [px^2]
-  double max_area_px = 0.0;         ///< largest region considered at all [px^2]
-  int opening_px = 0;               ///< side of the opening [px]
-  int closing_px = 0;               ///< side of the closing [px]
+  double radius_min_px = 0.0;        ///< smallest boll [px]
+  double radius_max_px = 0.0;        ///< largest boll [px]
+  double min_area_px = 0.0;          ///< smallest region kept [px^2]
+  double partial_min_area_px = 0.0;  ///< smallest region reported as a partial boll [px^2]
+  double max_single_area_px = 0.0;   ///< largest region taken as one boll without a split [px^2]
+  double max_area_px = 0.0;          ///< largest region considered at all [px^2]
+  int opening_px = 0;                ///< side of the opening [px]
+  int closing_px = 0;                ///< side of the closing [px]
 };
 
 /// The default detector: HSV threshold for white and bright, opening, external contours; each region's distance

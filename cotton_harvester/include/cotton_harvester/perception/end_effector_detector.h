@@ -2,6 +2,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <opencv2/core.hpp>
 
@@ -95,6 +96,13 @@ class EndEffectorDetector {
   /// 255 inside), empty when nothing is found. Returns std::nullopt when no region is large enough.
   std::optional<EndEffectorObservation> detect(const cv::Mat& bgr, cv::Mat* mask_out = nullptr) const;
 
+  /// Every orange region of at least the minimum area inside `roi` (clipped to the image), at full resolution,
+  /// largest first. masks_out (optional): one CV_8U mask of the image's size per region, 255 inside. Used when
+  /// the arm's own position sensing says where the end-effector must be: the caller then chooses among the
+  /// regions by their 3D position instead of taking the largest (a terracotta pot passes the colour test too).
+  std::vector<EndEffectorObservation> candidates(const cv::Mat& bgr, const cv::Rect& roi,
+                                                 std::vector<cv::Mat>* masks_out = nullptr) const;
+
   const EndEffectorParams& params() const { return params_; }
   /// Scales min_area_px to this focal length [px] (> 0).
   void setFocalLength(double focal_px);
@@ -102,6 +110,9 @@ class EndEffectorDetector {
 
  private:
   cv::Mat colourMask(const cv::Mat& bgr) const;  ///< CV_8U, 255 where the colour is the end-effector's
+  /// The segmentation of `roi` (colour, opening) and its outer contours in image coordinates.
+  std::vector<std::vector<cv::Point>> regions(const cv::Mat& bgr, const cv::Rect& roi) const;
+  EndEffectorObservation observationOf(const std::vector<cv::Point>& contour, double area_px) const;
 
   EndEffectorParams params_;
   double min_area_px_;

@@ -48,6 +48,19 @@ struct LocatedBoll {
   bool reachable = false;
 };
 
+/// Where the arm's own position sensing (stepper counters and the arm's calibration) puts the end-effector. With it
+/// the pipeline searches for the housing only where the arm can be and takes, among the orange regions there, the
+/// one whose 3D position agrees with it and whose size fits the housing at its depth, instead of the largest orange
+/// region of the whole image (terracotta pots and other orange-brown things pass the colour test).
+struct EndEffectorPrior {
+  cv::Point3d position;          ///< centre of the housing's top face, camera frame [m] (z > 0)
+  double radius_m = 0.08;        ///< perception's end-effector is taken only this close to it [m] (> 0)
+  double housing_half_m = 0.05;  ///< half side of the housing's top face [m] (> 0): its image size at its depth
+};
+
+/// Empty when the prior can be used, otherwise what is wrong with it.
+std::string validate(const EndEffectorPrior& prior);
+
 /// Why a frame gave no result.
 enum class FrameStatus {
   kOk,
@@ -71,6 +84,10 @@ struct FrameResult {
   std::optional<LocatedPoint> end_effector;                  ///< end-effector in 3D, when its depth is known
   cv::Mat end_effector_mask;  ///< CV_8U, 255 on the segmented end-effector (empty when not found)
   cv::Mat boll_exclusion;     ///< CV_8U, 255 where bolls are not searched: end-effector and arm (empty: none)
+  /// With an EndEffectorPrior: orange regions found where the arm can be, and those of them refused (too far in
+  /// 3D from the prior, no depth, or larger than the housing at their depth).
+  int end_effector_candidates = 0;
+  int end_effector_candidates_refused = 0;
 };
 
 /// Algorithm 1 up to step 7: end-effector by colour (its depth: the median over its segmented region), bolls by
@@ -84,6 +101,9 @@ class PerceptionPipeline {
 
   /// bgr: 8-bit colour image; cloud: CV_32FC3 organised cloud of the same size (camera frame [m], NaN holes).
   FrameResult process(const cv::Mat& bgr, const cv::Mat& cloud);
+  /// As above, with the end-effector searched only near `prior` (see EndEffectorPrior). An invalid prior (NaN,
+  /// z <= 0) is ignored: the whole image is searched.
+  FrameResult process(const cv::Mat& bgr, const cv::Mat& cloud, const std::optional<EndEffectorPrior>& prior);
 
   const PerceptionParams& params() const { return params_; }
 
@@ -93,6 +113,9 @@ class PerceptionPipeline {
  private:
   void applyGeometry();
   bool plausible(const BollDetection& detection, const cv::Point3d& position, double ground_depth_m) const;
+  /// The end-effector near the prior: fills end_effector_image, end_effector, end_effector_mask and the counts.
+  void findEndEffectorNear(const cv::Mat& bgr, const cv::Mat& cloud, const EndEffectorPrior& prior,
+                           FrameResult* result) const;
 
   PerceptionParams params_;
   EndEffectorDetector end_effector_detector_;

@@ -24,6 +24,10 @@ struct HarvestRunConfig {
   /// Called with the machine's status on every change (e.g. to publish it).
   std::function<void(const thorvald_state_machine::StatusSnapshot&)> status_observer;
   bool verbose = false;  ///< print every transition of the machine (simulated time, state, outcome)
+  /// StackParams::clear_leaves_before_pick and StackParams::effector_search_near_arm of the stack on the rover.
+  bool clear_leaves_before_pick = true;
+  bool effector_search_near_arm = true;
+  bool partial_bolls = true;  ///< the colour detector reports partial bolls (simColourBollParams)
 };
 
 /// What came out of a run. `counts.picked` and the metrics are the simulation's (bolls the vacuum really took);
@@ -37,6 +41,8 @@ struct HarvestRunReport {
   int bolls_reachable = 0;  ///< truth: bolls inside the arm's workspace along the driven stretch
   int frames = 0, frames_with_effector = 0;
   int effector_rejected = 0, effector_from_calibration = 0;
+  int picks_cleared = 0, picks_redetected = 0;  ///< picks that swept leaves first; of them, corrected by a new frame
+  int leaves_pushed = 0;                        ///< leaves the housing pushed away from where they grew
   double sim_time_s = 0.0, wall_time_s = 0.0;
   std::set<std::string> states_visited;
   std::vector<std::pair<double, double>> rover_track;  ///< (time [s], encoder position [m])

@@ -15,6 +15,7 @@ enum class MissCause {
   kCaptured = 0,       ///< not a miss
   kOutOfWorkspace,     ///< truth: outside the arm's workspace along the driven stretch
   kNeverInView,        ///< the camera never had it in its image
+  kHiddenFromRow,      ///< never detected, and no camera position along the row sees half of it (leaves as grown)
   kOccluded,           ///< in view, never detected, and never more than half visible from the camera (leaves, arm)
   kNotDetected,        ///< in view and at least half visible in some frame, but never detected
   kJudgedUnreachable,  ///< detected, but perception never flagged it reachable, or no track held it
@@ -35,7 +36,10 @@ struct BollRecord {
   int frames_detected = 0;  ///< frames with a detection within match_radius_m of its visible top
   int frames_detected_reachable = 0;
   double max_visible_fraction = 0.0;  ///< largest share of the rays to it that reached it first
-  bool sighted = false;               ///< its last sighting, in the tracker's row coordinates:
+  /// The same share's largest value over every camera position along the driven row at the start of the run (the
+  /// leaves as they grew), whether or not the camera stood there; 1 when not computed.
+  double row_best_visible_fraction = 1.0;
+  bool sighted = false;  ///< its last sighting, in the tracker's row coordinates:
   double along_row_m = 0.0, across_m = 0.0, depth_m = 0.0;
   /// Closest approach of the nozzle to its centre while the vacuum ran [m]; infinity when never.
   double closest_vacuum_m = std::numeric_limits<double>::infinity();

@@ -50,8 +50,12 @@ struct RoverSimParams {
   double horizontal_speed_mps = 0.30;  ///< stepper: 2000 steps/s on a 20-tooth 3 mm belt
   double capture_radius_m = 0.05;      ///< a boll whose centre is this close to the nozzle is sucked in ...
   double capture_time_s = 0.3;         ///< ... after the vacuum ran this long with it there
-  double start_x_m = -0.6;             ///< articulation joint's start position along the row (world x)
-  thorvald_sim::CottonRowParams row;   ///< the row of plants with bolls
+  /// Leaves give way to the end-effector's housing: a leaf it meets while moving sideways is pushed ahead of it
+  /// and stays bent where it was pushed, up to this far from where it grew [m]; further it slips past the housing.
+  /// 0: leaves do not interact with the arm (the housing passes through them).
+  double leaf_push_max_m = 0.15;
+  double start_x_m = -0.6;            ///< articulation joint's start position along the row (world x)
+  thorvald_sim::CottonRowParams row;  ///< the row of plants with bolls
   int camera_width = 1280, camera_height = 720;
   double fx = 699.936, cx = 685.286, cy = 361.248;  ///< the ZED's calibration (paper eq. 1)
   double depth_noise_coeff = 0.001;                 ///< active-stereo noise coefficient [1/m]
@@ -118,6 +122,10 @@ class RoverSim {
   /// Share of rays from the camera to points spread over the boll's disc (as the camera sees it) that reach the
   /// boll before anything else (a leaf, the arm) [0, 1]. Uses the state of the last renderCamera().
   double bollVisibleFraction(size_t index) const;
+  /// The largest share as above from the camera moved along the row by each of `offsets_m` from where it is now
+  /// (height, pitch and heading kept), counting only positions whose image holds the boll's centre: whether any
+  /// camera position on the row could see the boll in the leaves' present state [0, 1].
+  double bestVisibleFractionAlongRow(size_t index, const std::vector<double>& offsets_m) const;
   /// Whether the boll's centre projects into the camera image.
   bool bollInView(size_t index) const;
   /// World position of the articulation joint and the nozzle [m].
@@ -127,6 +135,8 @@ class RoverSim {
   Eigen::Vector3d toCamera(const Eigen::Vector3d& world) const;
   const thorvald_sim::CottonRowTruth& row() const { return row_truth_; }
   const RoverSimParams& params() const { return params_; }
+  /// Leaves the housing has pushed away from where they grew.
+  int leavesPushed() const;
   /// Physics divergences (NaN) seen; the run is then not trusted.
   int divergences() const { return divergences_; }
   /// The compiled scene as MJCF (for viewing it in MuJoCo's simulate).
@@ -136,6 +146,19 @@ class RoverSim {
   std::string buildXml();
   void stepOnce();
   void cameraPose(Eigen::Vector3d* origin, Eigen::Matrix3d* rotation) const;
+  double visibleFractionFrom(size_t index, const Eigen::Vector3d& origin) const;
+  /// Pushes the leaves the housing meets as it moves by `motion` (world [m]) this step.
+  void pushLeaves(const Eigen::Vector3d& motion);
+
+  /// A leaf of the row: a flat ellipsoid geom of the world body that the housing can push aside.
+  struct Leaf {
+    int geom = -1;
+    Eigen::Vector3d grown_at = Eigen::Vector3d::Zero();  ///< where it grew (world) [m]
+    Eigen::Vector3d half = Eigen::Vector3d::Zero();      ///< semi-axes [m]
+    Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  };
+  std::vector<Leaf> leaves_;
+  Eigen::Vector3d last_housing_ = Eigen::Vector3d::Zero();
 
   RoverSimParams params_;
   thorvald_sim::CottonRowTruth row_truth_;

@@ -9,6 +9,7 @@
 
 #include "cotton_harvester/control/deadband_position_controller.h"
 #include "cotton_harvester/control/harvest_machine.h"
+#include "cotton_harvester/perception/colour_boll_detector.h"
 #include "cotton_harvester/perception/perception_pipeline.h"
 #include "cotton_harvester/sim/rover_sim.h"
 
@@ -42,6 +43,21 @@ struct StackParams {
   double effector_prior_m = 0.08;
   /// ... the calibrated position stands in for it (false: the frame has no end-effector).
   bool effector_from_calibration = true;
+  /// Perception searches for the housing only within effector_prior_m of where the calibration puts it and takes
+  /// the orange region there that agrees with it in 3D (false: the largest orange region of the whole image).
+  bool effector_search_near_arm = true;
+  /// Before a pick, when the last frame's cloud shows something above the boll along the arm's approach (a leaf
+  /// over it: at least leaf_points_min points between leaf_clearance_m above the boll's top and its top, within the
+  /// housing's width of the approach line), the arm first sweeps through it leaf_clearance_m higher, overshooting
+  /// the boll by clear_overshoot_m, so the leaf is pushed aside, and backs off to clear_standoff_m short of it.
+  bool clear_leaves_before_pick = true;
+  double leaf_clearance_m = 0.06;
+  double clear_overshoot_m = 0.04;
+  double clear_standoff_m = 0.12;
+  int leaf_points_min = 40;
+  /// After clearing, a new frame: the boll located nearest the target within redetect_radius_m sets the pick's
+  /// final position (a boll seen only partly past a leaf is located a few centimetres off).
+  double redetect_radius_m = 0.07;
   std::string check() const;  ///< empty when sound
 };
 
@@ -70,6 +86,9 @@ class SimHarvestPlant : public control::HarvestPlant {
   /// Frames whose end-effector was too far from the calibrated position, and frames that used the calibration.
   int effectorRejected() const { return effector_rejected_; }
   int effectorFromCalibration() const { return effector_from_calibration_; }
+  /// Picks that swept leaves aside first, and of them those whose target a new frame corrected.
+  int picksCleared() const { return picks_cleared_; }
+  int picksRedetected() const { return picks_redetected_; }
   /// Rover position samples (time [s], encoder position [m]) at the control rate, for plots.
   const std::vector<std::pair<double, double>>& track() const { return track_; }
 
@@ -77,6 +96,12 @@ class SimHarvestPlant : public control::HarvestPlant {
   /// Steps the simulator for `seconds` with the rover's position controller closing its loop every period.
   void run(double seconds);
   bool waitArm(const Preempted& preempted);
+  /// Cloud points of the last frame above the boll at (target_x, depth) along the approach from the housing.
+  int pointsOverApproach(double target_x, double depth_m) const;
+  /// Sweeps the leaves over the target aside and returns the target's x from a new frame (or target_x).
+  double clearAndRelocate(double target_x, const Preempted& preempted, bool* ok);
+  /// The frame's end-effector prior from the stepper counters (nullopt when the search is not restricted).
+  std::optional<perception::EndEffectorPrior> effectorPrior() const;
 
   RoverSim& sim_;
   StackParams params_;
@@ -85,12 +110,15 @@ class SimHarvestPlant : public control::HarvestPlant {
   double target_m_ = 0.0;
   FrameHook hook_;
   int frames_ = 0, frames_with_effector_ = 0, effector_rejected_ = 0, effector_from_calibration_ = 0;
+  int picks_cleared_ = 0, picks_redetected_ = 0;
   std::vector<std::pair<double, double>> track_;
   cv::Mat bgr_, cloud_;
 };
 
 /// The perception settings for the simulated camera: the paper's pipeline with the rover's arm geometry.
 perception::PerceptionParams simPerceptionParams(const RoverSimParams& sim);
+/// The colour detector's settings for the simulated rover: the defaults, and partial bolls reported.
+perception::ColourBollParams simColourBollParams();
 /// The stack settings that match the simulated rover's build (what a user calibrates on the real one).
 StackParams simStackParams(const RoverSimParams& sim);
 
