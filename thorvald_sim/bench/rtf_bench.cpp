@@ -205,7 +205,8 @@ int main(int argc, char** argv) {
     if (cam_due.due(t)) {
       const double w = cpuNow();
       const SensorPose cam = mount(gh, {0.5, 0, 0.75}, opticalPitched(0.6));
-      gh_renderer.render(gh.sim->data(), cam, cameraView(depth, false), gh.sim->robot(0).root_body, &view);
+      gh_renderer.render(gh.sim->data(), cam, cameraView(depth, false), gh.sim->robot(0).root_body, &view,
+                         image_threads);
       depthFromView(view, caster, cam, depth, rng, &depth_img, image_threads);
       cam_cpu += cpuNow() - w;
       ++depth_frames;
@@ -239,7 +240,8 @@ int main(int argc, char** argv) {
   const Rate rtf_cotton = drive(cotton, sensor_seconds, {0.1, 0.0, 0.0}, [&](double t) {
     if (zed_due.due(t)) {
       const SensorPose cam = mount(cotton, {1.2, 0, 2.2}, opticalPitched(M_PI / 2));
-      cotton_renderer.render(cotton.sim->data(), cam, cameraView(zed, true), cotton.sim->robot(0).root_body, &view);
+      cotton_renderer.render(cotton.sim->data(), cam, cameraView(zed, true), cotton.sim->robot(0).root_body, &view,
+                             image_threads);
       depthFromView(view, cotton_caster, cam, zed, rng, &depth_img, image_threads);
       colorFromView(view, cotton.sim->model(), zed_color, &color_img);
       for (size_t i = 0; i < color_img.rgb.size(); i += 3)
@@ -270,7 +272,8 @@ int main(int argc, char** argv) {
   for (int i = 0; i < frames; ++i) {
     const SensorPose cam = mount(gh, {0.5, 0, 0.75}, opticalPitched(0.6));
     timed(&stage[0][0], [&] {
-      gh_renderer.render(gh.sim->data(), cam, cameraView(depth, false), gh.sim->robot(0).root_body, &view);
+      gh_renderer.render(gh.sim->data(), cam, cameraView(depth, false), gh.sim->robot(0).root_body, &view,
+                         image_threads);
     });
     timed(&stage[0][1], [&] { depthFromView(view, caster, cam, depth, rng, &depth_img, image_threads); });
   }
@@ -279,7 +282,8 @@ int main(int argc, char** argv) {
   for (int i = 0; i < frames; ++i) {
     const SensorPose cam = mount(cotton, {1.2, 0, 2.2}, opticalPitched(M_PI / 2));
     timed(&stage[1][0], [&] {
-      cotton_renderer.render(cotton.sim->data(), cam, cameraView(zed, true), cotton.sim->robot(0).root_body, &view);
+      cotton_renderer.render(cotton.sim->data(), cam, cameraView(zed, true), cotton.sim->robot(0).root_body, &view,
+                             image_threads);
     });
     timed(&stage[1][1], [&] { depthFromView(view, cotton_caster, cam, zed, rng, &depth_img, image_threads); });
     timed(&stage[1][2], [&] { colorFromView(view, cotton.sim->model(), zed_color, &color_img); });

@@ -11,6 +11,27 @@
 
 namespace thorvald_sim {
 
+namespace {
+
+/// Runs body(b) for b = 0 .. blocks - 1, the blocks dealt round-robin to `threads` threads (this one among them
+/// when threads is 1).
+template <class Body>
+void forBlocks(int blocks, int threads, const Body& body) {
+  threads = std::max(1, std::min(threads, blocks));
+  if (threads == 1) {
+    for (int b = 0; b < blocks; ++b) body(b);
+    return;
+  }
+  std::vector<std::thread> workers;
+  for (int t = 0; t < threads; ++t)
+    workers.emplace_back([&, t]() {
+      for (int b = t; b < blocks; b += threads) body(b);
+    });
+  for (auto& w : workers) w.join();
+}
+
+}  // namespace
+
 struct CameraRenderer::Context {
   OSMesaContext gl = nullptr;
   std::vector<unsigned char> window;  ///< the default framebuffer OSMesa needs; MuJoCo draws offscreen
@@ -70,7 +91,7 @@ int CameraRenderer::maxWidth() const { return ctx_->con.offWidth; }
 int CameraRenderer::maxHeight() const { return ctx_->con.offHeight; }
 
 void CameraRenderer::render(const mjData* data, const SensorPose& pose, const CameraView& view, int own_root_body,
-                            RenderedView* out) {
+                            RenderedView* out, int threads) {
   if (view.width < 1 || view.height < 1 || view.width > maxWidth() || view.height > maxHeight())
     throw RenderError("image " + std::to_string(view.width) + "x" + std::to_string(view.height) +
                       " does not fit the model's offscreen buffer " + std::to_string(maxWidth()) + "x" +
@@ -167,39 +188,44 @@ void CameraRenderer::render(const mjData* data, const SensorPose& pose, const Ca
               span = static_cast<float>(view.far_m - view.near_m);
   const float inf = std::numeric_limits<float>::infinity();
   const int segments = static_cast<int>(seg_geom_.size());
-  for (int row = 0; row < view.height; ++row) {
-    const size_t src = static_cast<size_t>(view.height - 1 - row) * view.width;  // OpenGL: bottom row first
-    const size_t dst = static_cast<size_t>(row) * view.width;
-    const unsigned char* c = direct ? &rgba_[4 * src] : &rgb_[3 * src];
-    const float* zb = direct ? nullptr : &zbuf_[src];
-    const uint32_t* zi = direct ? &zbits_[src] : nullptr;
-    float* depth = &out->depth_m[dst];
-    int* geom = &out->geom[dst];
-    for (int u = 0; u < view.width; ++u, c += stride) {
-      const int id = (c[0] | (c[1] << 8) | (c[2] << 16)) - 1;
-      const int g = (id >= 0 && id < segments) ? seg_geom_[id] : -1;
-      // The depth as a fraction of the buffer's range; 1 where nothing was drawn.
-      const float d = direct ? static_cast<float>(zi[u] * (1.0 / 4294967295.0)) : zb[u];
-      if (g < 0 || d >= 1.0f) {
-        geom[u] = -1;
-        depth[u] = inf;
-        continue;
+  // The pixels that see a curved geom cost a ray test each: the rows go in blocks over the threads.
+  constexpr int kBlocks = 8;
+  forBlocks(kBlocks, threads, [&](int b) {
+    for (int row = view.height * b / kBlocks; row < view.height * (b + 1) / kBlocks; ++row) {
+      const size_t src = static_cast<size_t>(view.height - 1 - row) * view.width;  // OpenGL: bottom row first
+      const size_t dst = static_cast<size_t>(row) * view.width;
+      const unsigned char* c = direct ? &rgba_[4 * src] : &rgb_[3 * src];
+      const float* zb = direct ? nullptr : &zbuf_[src];
+      const uint32_t* zi = direct ? &zbits_[src] : nullptr;
+      float* depth = &out->depth_m[dst];
+      int* geom = &out->geom[dst];
+      for (int u = 0; u < view.width; ++u, c += stride) {
+        const int id = (c[0] | (c[1] << 8) | (c[2] << 16)) - 1;
+        const int g = (id >= 0 && id < segments) ? seg_geom_[id] : -1;
+        // The depth as a fraction of the buffer's range; 1 where nothing was drawn.
+        const float d = direct ? static_cast<float>(zi[u] * (1.0 / 4294967295.0)) : zb[u];
+        if (g < 0 || d >= 1.0f) {
+          geom[u] = -1;
+          depth[u] = inf;
+          continue;
+        }
+        geom[u] = g;
+        float z = nf / (fr - d * span);
+        if (curved_[g]) {
+          // Tessellation only decided which geom the pixel sees; its depth comes from the exact surface.
+          const Eigen::Vector3d ray((u - view.k.cx) / view.k.fx, (row - view.k.cy) / view.k.fy, 1.0);
+          const double len = ray.norm();
+          const Eigen::Vector3d dir = pose.rotation * (ray / len);
+          const mjtNum pnt[3] = {pose.origin.x(), pose.origin.y(), pose.origin.z()},
+                       vec[3] = {dir.x(), dir.y(), dir.z()};
+          const double x = mju_rayGeom(data->geom_xpos + 3 * g, data->geom_xmat + 9 * g, m_->geom_size + 3 * g, pnt,
+                                       vec, m_->geom_type[g]);
+          if (x >= 0.0) z = static_cast<float>(x / len);
+        }
+        depth[u] = z;
       }
-      geom[u] = g;
-      float z = nf / (fr - d * span);
-      if (curved_[g]) {
-        // Tessellation only decided which geom the pixel sees; its depth comes from the exact surface.
-        const Eigen::Vector3d ray((u - view.k.cx) / view.k.fx, (row - view.k.cy) / view.k.fy, 1.0);
-        const double len = ray.norm();
-        const Eigen::Vector3d dir = pose.rotation * (ray / len);
-        const mjtNum pnt[3] = {pose.origin.x(), pose.origin.y(), pose.origin.z()}, vec[3] = {dir.x(), dir.y(), dir.z()};
-        const double x = mju_rayGeom(data->geom_xpos + 3 * g, data->geom_xmat + 9 * g, m_->geom_size + 3 * g, pnt, vec,
-                                     m_->geom_type[g]);
-        if (x >= 0.0) z = static_cast<float>(x / len);
-      }
-      depth[u] = z;
     }
-  }
+  });
 }
 
 CameraView cameraView(const DepthCameraSpec& depth, bool color, double color_range_max_m) {
@@ -367,17 +393,7 @@ void depthFromView(const RenderedView& view, const RayCaster& caster, const Sens
       }
     }
   };
-  threads = std::max(1, std::min(threads, kBlocks));
-  if (threads == 1) {
-    for (int b = 0; b < kBlocks; ++b) block(b);
-    return;
-  }
-  std::vector<std::thread> workers;
-  for (int t = 0; t < threads; ++t)
-    workers.emplace_back([&, t]() {
-      for (int b = t; b < kBlocks; b += threads) block(b);
-    });
-  for (auto& w : workers) w.join();
+  forBlocks(kBlocks, threads, block);
 }
 
 DepthImage depthFromView(const RenderedView& view, const RayCaster& caster, const SensorPose& pose,

@@ -323,15 +323,22 @@ TEST(CameraRenderer, NoDepthWhereTheSurfaceIsSeenMoreObliquelyThanTheGrazingLimi
   }
 }
 
-TEST(CameraRenderer, DepthImageDoesNotDependOnTheThreads) {
+TEST(CameraRenderer, RenderAndDepthImageDoNotDependOnTheThreads) {
   StaticWorld w(ts::makeGreenhouseWorld(ts::GreenhouseParams(), nullptr));
   ts::CameraRenderer renderer(w.model.get());
   ts::RayCaster caster(w.model.get(), w.data.get(), -1);
   ts::DepthCameraSpec spec;
   spec.width = 160, spec.height = 120;
   const auto cam = optical({-1.2, 1.6, 0.8}, {1.0, 0.0, -0.6}, {0, 0, -1});
-  ts::RenderedView view;
+  ts::RenderedView view, view3;
   renderer.render(w.data.get(), cam, viewOf(spec), -1, &view);
+  // The render's own read-back on 3 threads gives the same view, pipes (curved, refined per pixel) included.
+  renderer.render(w.data.get(), cam, viewOf(spec), -1, &view3, 3);
+  EXPECT_EQ(view.geom, view3.geom);
+  EXPECT_EQ(view.depth_m, view3.depth_m);
+  int pipe_pixels = 0;
+  for (int g : view.geom) pipe_pixels += g >= 0 && w.model->geom_type[g] == mjGEOM_CAPSULE;
+  EXPECT_GT(pipe_pixels, 50);
   ts::DepthImage one, three;
   std::mt19937 rng1(5), rng3(5);
   ts::depthFromView(view, caster, cam, spec, rng1, &one, 1);

@@ -57,8 +57,10 @@ class CameraRenderer {
 
   /// Renders `view` from the optical frame `pose` (z forward, x right, y down) with the model's geoms as they are
   /// in `data`, leaving out the geoms of the robot whose root body is `own_root_body` (-1: none) and invisible
-  /// geoms (alpha 0). Throws RenderError for an image larger than the model's offscreen buffer.
-  void render(const mjData* data, const SensorPose& pose, const CameraView& view, int own_root_body, RenderedView* out);
+  /// geoms (alpha 0). The read-back pixels are turned into depths and geoms on `threads` threads (llvmpipe's own
+  /// threads are set by LP_NUM_THREADS). Throws RenderError for an image larger than the model's offscreen buffer.
+  void render(const mjData* data, const SensorPose& pose, const CameraView& view, int own_root_body, RenderedView* out,
+              int threads = 1);
 
   int maxWidth() const;
   int maxHeight() const;

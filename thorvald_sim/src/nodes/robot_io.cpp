@@ -278,9 +278,10 @@ void RobotIo::publishCamera(Sensor& s, const SensorPose& pose, const ros::Time& 
   ColorCameraSpec cs;
   cs.width = c.depth.width, cs.height = c.depth.height, cs.hfov_rad = c.depth.hfov_rad;
   cs.focal_px = c.depth.focal_px, cs.cx_px = c.depth.cx_px, cs.cy_px = c.depth.cy_px;
+  const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   try {
     renderer_().render(sim_.data(), optical, cameraView(c.depth, color, cs.range_max_m), sim_.robot(index_).root_body,
-                       &view_);
+                       &view_, threads);
   } catch (const RenderError& e) {
     ++camera_errors_;
     ROS_ERROR_THROTTLE(5.0, "thorvald_sim: camera %s: %s", s.frame.c_str(), e.what());
@@ -289,8 +290,7 @@ void RobotIo::publishCamera(Sensor& s, const SensorPose& pose, const ros::Time& 
   ++camera_frames_;
   if (depth) {
     const RayCaster normals(sim_.model(), sim_.data(), sim_.robot(index_).root_body);
-    depthFromView(view_, normals, optical, c.depth, s.rng, &depth_img_,
-                  static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
+    depthFromView(view_, normals, optical, c.depth, s.rng, &depth_img_, threads);
     const DepthImage& img = depth_img_;
     sensor_msgs::PointCloud2 cloud;
     cloud.header.stamp = now;
