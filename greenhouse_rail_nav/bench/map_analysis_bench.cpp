@@ -52,6 +52,9 @@ GreenhouseLayout drawLayout(std::mt19937* rng, int m) {
   layout.left_wall = walls > 0.025;  // 5 % of the maps lack one side wall
   layout.right_wall = walls < 0.975;
   layout.floor_beyond_missing_wall_m = 0.3 + 2.0 * u();
+  // Half the maps with a missing side wall show the rear wall ending at the corner, half running on over
+  // the floor beyond (taken from the map's number, so the other conditions stay as drawn before).
+  layout.rear_wall_ends_at_corner = m % 2 == 0;
   layout.layout_in_map = Pose2D(10.0 * u(), 10.0 * u(), M_PI * (2.0 * u() - 1.0));
   return layout;
 }
@@ -122,9 +125,8 @@ MapScore score(const GreenhouseLayout& layout, const SyntheticGreenhouseMap& tru
   out.right_as_map_allows = out.fully_right;
   const bool left_wall = layout.side_walls && layout.left_wall, right_wall = layout.side_walls && layout.right_wall;
   if (!out.fully_right && !out.wrong && result.ok && (!left_wall || !right_wall) && !truth.rows_drawn.empty()) {
-    const bool only_walls = std::all_of(result.checks.begin(), result.checks.end(), [](const AnalysisCheck& c) {
-      return c.passed || c.name == "side_walls_found";
-    });
+    const bool only_walls = std::all_of(result.checks.begin(), result.checks.end(),
+                                        [](const AnalysisCheck& c) { return c.passed || c.name == "sides_bounded"; });
     const int first = left_wall ? 0 : truth.rows_drawn.front();
     const int last = right_wall ? layout.rail_sets : truth.rows_drawn.back();
     bool inner_good = true;
@@ -149,8 +151,11 @@ std::string causeOf(const GreenhouseLayout& layout, const MapAnalysis& result, c
   if (failed("spacing_regular")) return "rows and walls not a regular pattern";
   if (failed("spacing_confirmed")) return "spacing from one gap only, not the configured one";
   if (failed("rows_agree_in_heading") || failed("each_row_parallel")) return "rows disagree in heading";
-  if (failed("side_walls_found"))
-    return wall_missing ? "side wall missing from the map (outer sets uncertain, as they should be)"
+  if (failed("sides_bounded"))
+    return wall_missing ? (layout.rear_wall_ends_at_corner
+                               ? "side wall missing from the map, rear wall's end not taken as the bound"
+                               : "side wall missing from the map, rear wall running on (outer sets uncertain, as "
+                                 "they should be)")
                         : "side wall in the map but not found";
   return "sets missing or uncertain with every check passed";
 }

@@ -59,6 +59,121 @@ std::vector<double> rowRunStarts(const OccupancyMap& map, const HeadlandFrame& f
   return starts;
 }
 
+RowProfile measureRowProfile(const OccupancyMap& map, const Eigen::Vector2d& start, const Eigen::Vector2d& along,
+                             double half_width_m, double length_m) {
+  RowProfile out;
+  const Eigen::Vector2d across(along.y(), -along.x());
+  const double res = map.resolution, t_from = -0.05;
+  // Cells of the band, from the grid cells under its bounding box.
+  int c0 = map.width, c1 = -1, r0 = map.height, r1 = -1;
+  for (const double t : {t_from, length_m}) {
+    for (const double d : {-half_width_m, half_width_m}) {
+      const Eigen::Vector2d g = map.origin.inverse().transformPoint(start + t * along + d * across) / res;
+      c0 = std::min(c0, static_cast<int>(std::floor(g.x())) - 1);
+      c1 = std::max(c1, static_cast<int>(std::ceil(g.x())) + 1);
+      r0 = std::min(r0, static_cast<int>(std::floor(g.y())) - 1);
+      r1 = std::max(r1, static_cast<int>(std::ceil(g.y())) + 1);
+    }
+  }
+  c0 = std::max(c0, 0);
+  r0 = std::max(r0, 0);
+  c1 = std::min(c1, map.width - 1);
+  r1 = std::min(r1, map.height - 1);
+  const int stations = std::max(1, static_cast<int>(std::ceil((length_m - t_from) / res)));
+  struct Station {
+    bool any = false;
+    double t = 0.0, lo = 0.0, hi = 0.0;
+    Eigen::Vector2d lo_p, hi_p;
+  };
+  std::vector<Station> at(static_cast<std::size_t>(stations));
+  double sum = 0.0;
+  out.d_min = INFINITY;
+  out.d_max = -INFINITY;
+  for (int r = r0; r <= r1; ++r) {
+    for (int c = c0; c <= c1; ++c) {
+      if (map.at(c, r) < kOccupied) continue;
+      const Eigen::Vector2d p = map.cellCentre(c, r);
+      const double t = along.dot(p - start), d = across.dot(p - start);
+      if (t < t_from || t > length_m || std::abs(d) > half_width_m) continue;
+      ++out.cells;
+      sum += d;
+      out.d_min = std::min(out.d_min, d);
+      out.d_max = std::max(out.d_max, d);
+      auto& s = at[static_cast<std::size_t>(std::clamp(static_cast<int>((t - t_from) / res), 0, stations - 1))];
+      if (!s.any || d < s.lo) {
+        s.lo = d;
+        s.lo_p = p;
+      }
+      if (!s.any || d > s.hi) {
+        s.hi = d;
+        s.hi_p = p;
+      }
+      s.t = s.any ? std::min(s.t, t) : t;
+      s.any = true;
+    }
+  }
+  if (out.cells == 0) {
+    out.d_min = out.d_max = 0.0;
+    return out;
+  }
+  out.mean_m = sum / out.cells;
+  // A face is seen where free floor lies right beyond the outermost cell (within two cells: the laser's
+  // hits blur a face by about one): an unknown cell there is the row's inside or the side no laser saw.
+  auto floor_beyond = [&](const Eigen::Vector2d& p, double dir) {
+    for (int k = 1; k <= 2; ++k) {
+      const std::int8_t v = map.valueAt(p + dir * k * res * across);
+      if (v >= 0 && v < 25) return true;
+      if (v >= kOccupied) return false;
+    }
+    return false;
+  };
+  std::vector<double> lo, hi;
+  std::vector<std::pair<double, double>> lo_pts, hi_pts;
+  for (const auto& s : at) {
+    if (!s.any) continue;
+    ++out.stations;
+    if (floor_beyond(s.lo_p, -1.0)) {
+      lo.push_back(s.lo);
+      lo_pts.emplace_back(s.t, s.lo);
+    }
+    if (floor_beyond(s.hi_p, +1.0)) {
+      hi.push_back(s.hi);
+      hi_pts.emplace_back(s.t, s.hi);
+    }
+  }
+  out.lo_stations = static_cast<int>(lo.size());
+  out.hi_stations = static_cast<int>(hi.size());
+  out.lo_face_m = median(lo);
+  out.hi_face_m = median(hi);
+  // Direction from the faces beyond the row's front (a round or square front is no evidence of it): each
+  // face's offsets about its own median against t, one least-squares slope over both.
+  const double front = (out.bothFaces() ? out.hi_face_m - out.lo_face_m : 0.0) + res;
+  double n = 0, st = 0, sd = 0, stt = 0, std_ = 0;
+  std::vector<std::pair<double, double>> pts;
+  for (const auto& q : lo_pts)
+    if (q.first > front) pts.emplace_back(q.first, q.second - out.lo_face_m);
+  for (const auto& q : hi_pts)
+    if (q.first > front) pts.emplace_back(q.first, q.second - out.hi_face_m);
+  for (const auto& q : pts) {
+    n += 1;
+    st += q.first;
+    sd += q.second;
+    stt += q.first * q.first;
+    std_ += q.first * q.second;
+  }
+  const double den = n * stt - st * st;
+  if (n >= 5 && den > 1e-12) {
+    out.slope = (n * std_ - st * sd) / den;
+    const double b = (sd - out.slope * st) / n;
+    double rss = 0.0;
+    for (const auto& q : pts) rss += std::pow(q.second - b - out.slope * q.first, 2);
+    // Residuals at least a cell's quantisation (res / sqrt(12)).
+    const double var = std::max(rss / (n - 2), res * res / 12.0);
+    out.slope_sigma = std::sqrt(var * n / den);
+  }
+  return out;
+}
+
 SideScan scanToSideWall(const OccupancyMap& map, const HeadlandFrame& frame, double u_start, double edge_v,
                         double direction, double min_support, double max_travel_m) {
   SideScan scan;
@@ -67,6 +182,7 @@ SideScan scanToSideWall(const OccupancyMap& map, const HeadlandFrame& frame, dou
   struct Stop {
     double distance;
     bool occupied;
+    double v = 0.0;
   };
   std::vector<Stop> stops;
   for (int k = 0; k < lines; ++k) {
@@ -93,6 +209,7 @@ SideScan scanToSideWall(const OccupancyMap& map, const HeadlandFrame& frame, dou
       }
     }
     if (blocked && stop.distance >= max_travel_m) stop = {std::max(0.0, last_free + 0.5 * step), blocked_by_occupied};
+    stop.v = v;
     stops.push_back(stop);
   }
   scan.scanlines = lines;
@@ -108,10 +225,12 @@ SideScan scanToSideWall(const OccupancyMap& map, const HeadlandFrame& frame, dou
   const int needed = std::max(3, static_cast<int>(std::ceil(min_support * lines)));
   for (const double h : occupied) {
     std::vector<double> at;
+    std::vector<Eigen::Vector2d> wall_points;  // (v, distance) of the stops at the wall
     int occupied_at = 0, beyond = 0;
     for (const auto& s : stops) {
       if (std::abs(s.distance - h) <= agree) {
         at.push_back(s.distance);
+        if (s.occupied) wall_points.emplace_back(s.v, s.distance);
         occupied_at += s.occupied;
       } else if (s.distance > h) {
         ++beyond;
@@ -123,6 +242,25 @@ SideScan scanToSideWall(const OccupancyMap& map, const HeadlandFrame& frame, dou
     // Floor behind a line that most scanlines stop at: an obstacle, not the greenhouse's wall.
     scan.wall_found = beyond <= std::max(1, lines / 10);
     scan.wall_u = u_start + direction * median(at);
+    // Where the wall is at the edge, which is where it bounds the rail sets: a wall a few milliradians off
+    // square to the rear wall (a greenhouse, or its map, is never exactly rectangular) is centimetres off
+    // its median over the headland there. A line through the stops at the wall, evaluated at the edge.
+    if (wall_points.size() >= 5) {
+      double n = 0, sv = 0, sd = 0, svv = 0, svd = 0;
+      for (const auto& q : wall_points) {
+        n += 1;
+        sv += q.x();
+        sd += q.y();
+        svv += q.x() * q.x();
+        svd += q.x() * q.y();
+      }
+      const double den = n * svv - sv * sv;
+      if (den > 1e-9 * n * n) {
+        const double slope = (n * svd - sv * sd) / den, offset = (sd - slope * sv) / n;
+        // Only a wall close to square: a steeper fit is scanlines stopping at different things.
+        if (std::abs(slope) < 0.05) scan.wall_u = u_start + direction * (offset + slope * edge_v);
+      }
+    }
     break;
   }
   return scan;

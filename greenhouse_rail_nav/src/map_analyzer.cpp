@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 
 #include "greenhouse_rail_nav/cell_clustering.h"
 #include "greenhouse_rail_nav/headland_scan.h"
@@ -21,6 +22,7 @@ bool perpendicular(const LineFit2D& a, const LineFit2D& b, double tolerance) {
 }
 
 double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
   const std::size_t n = v.size();
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
@@ -31,13 +33,22 @@ std::string fmt(double value, int decimals = 2) { return formatMetres(value, dec
 /// Rear wall: the line with the most evidence of a greenhouse on one side of it, i.e. its own length plus
 /// the length of the lines perpendicular to it that lie within its span and entirely on one side (rows
 /// and side walls). A short line on the headland (a hose, a box edge) spans few rows; a side wall has the
-/// rows parallel to it. Returns the index and sets *side to +1 or -1 (the rows' side of its normal).
+/// rows parallel to it. The wall at the rows' far end (seen through the paths) closes the same rows from
+/// the other side and can score as much: of two walls facing each other across the same lines, the rear
+/// wall is the one that evidence lies nearer to, since a headland map is made by driving on the headland
+/// and shows the rows best near it. Returns the index and sets *side to +1 or -1 (the rows' side of its
+/// normal).
 int selectRearWall(const std::vector<LineSegment>& lines, double tolerance, double* side) {
+  struct Candidate {
+    double score = -1.0, side = 1.0, evidence = 0.0, distance = 0.0;
+    std::vector<bool> counted;
+  };
+  std::vector<Candidate> candidates(lines.size());
   int best = -1;
-  double best_score = -1.0;
   for (std::size_t i = 0; i < lines.size(); ++i) {
     const LineFit2D& wall = lines[i].fit;
-    double positive = 0.0, negative = 0.0;
+    double positive = 0.0, negative = 0.0, pos_dist = 0.0, neg_dist = 0.0;
+    std::vector<bool> pos_set(lines.size(), false), neg_set(lines.size(), false);
     for (std::size_t j = 0; j < lines.size(); ++j) {
       if (j == i || !perpendicular(wall, lines[j].fit, tolerance)) continue;
       const LineFit2D& other = lines[j].fit;
@@ -45,17 +56,51 @@ int selectRearWall(const std::vector<LineSegment>& lines, double tolerance, doub
       if (along < wall.s_min - 0.5 || along > wall.s_max + 0.5) continue;
       const double a = wall.signedDistance(other.centroid + other.direction * other.s_min);
       const double b = wall.signedDistance(other.centroid + other.direction * other.s_max);
-      if (std::min(a, b) >= -0.3) positive += other.length();
-      if (std::max(a, b) <= 0.3) negative += other.length();
+      const double centre = std::abs(wall.signedDistance(other.centroid));
+      if (std::min(a, b) >= -0.3) {
+        positive += other.length();
+        pos_dist += other.length() * centre;
+        pos_set[j] = true;
+      }
+      if (std::max(a, b) <= 0.3) {
+        negative += other.length();
+        neg_dist += other.length() * centre;
+        neg_set[j] = true;
+      }
     }
-    const double score = wall.length() + std::max(positive, negative);
-    if (score > best_score) {
-      best_score = score;
-      best = static_cast<int>(i);
-      *side = positive >= negative ? 1.0 : -1.0;
-    }
+    Candidate& c = candidates[i];
+    const bool pos = positive >= negative;
+    c.side = pos ? 1.0 : -1.0;
+    c.evidence = pos ? positive : negative;
+    c.distance = c.evidence > 0.0 ? (pos ? pos_dist : neg_dist) / c.evidence : 0.0;
+    c.counted = pos ? pos_set : neg_set;
+    c.score = wall.length() + c.evidence;
+    if (best < 0 || c.score > candidates[static_cast<std::size_t>(best)].score) best = static_cast<int>(i);
   }
-  return best;
+  if (best < 0) return best;
+  // The other end of the same rows: parallel, facing the best across the lines both count.
+  const auto shared = [&](const Candidate& x, const Candidate& y) {
+    double common = 0.0;
+    for (std::size_t j = 0; j < lines.size(); ++j)
+      if (x.counted[j] && y.counted[j]) common += lines[j].fit.length();
+    return common;
+  };
+  int chosen = best;
+  const Candidate& b = candidates[static_cast<std::size_t>(best)];
+  const LineFit2D& bw = lines[static_cast<std::size_t>(best)].fit;
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    const Candidate& c = candidates[i];
+    if (static_cast<int>(i) == best || c.evidence <= 0.0 || perpendicular(bw, lines[i].fit, tolerance) ||
+        angleBetweenLines(bw.direction, lines[i].fit.direction) > tolerance)
+      continue;
+    const bool facing = b.side * bw.signedDistance(lines[i].fit.centroid) > 0.0 &&
+                        c.side * lines[i].fit.signedDistance(bw.centroid) > 0.0;
+    const double common = shared(b, c);
+    if (!facing || common < 0.8 * b.evidence || common < 0.8 * c.evidence) continue;
+    if (c.distance < candidates[static_cast<std::size_t>(chosen)].distance) chosen = static_cast<int>(i);
+  }
+  *side = candidates[static_cast<std::size_t>(chosen)].side;
+  return chosen;
 }
 
 /// A row found across the headland: where its line crosses the edge, its direction and its run starts.
@@ -109,6 +154,47 @@ bool floorOnBothSides(const OccupancyMap& map, const HeadlandFrame& frame, doubl
   return samples > 0 && 3 * left >= samples && 3 * right >= samples;
 }
 
+/// Standard error of a fitted line's direction [rad]: residuals (at least a cell's quantisation) over
+/// the spread of its points along it.
+double directionSigma(const LineFit2D& fit, double resolution) {
+  const double sigma = std::max(fit.rms_residual, resolution / std::sqrt(12.0));
+  const double n = std::max<double>(2.0, static_cast<double>(fit.count));
+  return sigma * std::sqrt(12.0 / n) / std::max(fit.length(), resolution);
+}
+
+/// Where the rear wall ends beyond u_from, walking outwards (direction -1: left, +1: right) along its cells
+/// (a band of +-0.15 m about its line, gaps up to 0.3 m bridged), and whether floor is mapped in front of
+/// the headland beyond that end (the wall ends there, rather than the map). NaN when the walk reaches
+/// max_travel_m.
+double rearWallEnd(const OccupancyMap& map, const HeadlandFrame& frame, double u_from, double direction,
+                   double max_travel_m, bool* floor_beyond) {
+  const double step = 0.5 * map.resolution;
+  double last = NAN;
+  *floor_beyond = false;
+  for (double travelled = 0.0; travelled <= max_travel_m; travelled += step) {
+    const double u = u_from + direction * travelled;
+    bool wall = false;
+    for (double v = -0.15; v <= 0.15 && !wall; v += step) wall = map.valueAt(frame.toMap(u, v)) >= 65;
+    if (wall) {
+      last = u;
+    } else if (std::isfinite(last) && travelled - direction * (last - u_from) > 0.3) {
+      break;
+    }
+    if (travelled + step > max_travel_m) return NAN;
+  }
+  if (!std::isfinite(last)) return NAN;
+  int samples = 0, free = 0;
+  for (double d = 0.1; d <= 0.3; d += step) {
+    for (double v = 0.3; v <= 1.0; v += 0.1) {
+      const std::int8_t value = map.valueAt(frame.toMap(last + direction * d, v));
+      ++samples;
+      free += value >= 0 && value < 25;
+    }
+  }
+  *floor_beyond = 2 * free >= samples;
+  return last;
+}
+
 std::string joinReasons(const std::vector<std::string>& reasons) {
   std::string out;
   for (const auto& r : reasons) out += (out.empty() ? "" : "; ") + r;
@@ -158,6 +244,8 @@ std::string MapAnalyzerParams::validate() const {
     return "row_heading_tolerance_rad must be in (0, 0.2) [rad]";
   if (!positive(edge_straightness_m)) return "edge_straightness_m must be > 0 [m]";
   if (!(side_wall_min_support > 0.0 && side_wall_min_support <= 1.0)) return "side_wall_min_support must be in (0, 1]";
+  if (!(side_wall_max_thickness_m >= 0.0 && side_wall_max_thickness_m < 0.5 * rail_set_spacing_m))
+    return "side_wall_max_thickness_m must be >= 0 and < half of rail_set_spacing_m [m]";
   return "";
 }
 
@@ -266,6 +354,8 @@ MapAnalysis analyzeMap(const OccupancyMap& input, const MapAnalyzerParams& param
     double start_v;                   ///< NaN: the row's start is not seen at the edge
     double d_min = 0.0, d_max = 0.0;  ///< lateral extent of its cells about u [m]
     bool heading_ok = true;
+    Eigen::Vector2d direction = Eigen::Vector2d::UnitX();  ///< from its faces (its line fit's when too few)
+    double direction_sigma = INFINITY;                     ///< standard error of direction's angle [rad]
   };
   std::vector<Row> rows;
   for (auto& c : candidates) {
@@ -301,13 +391,68 @@ MapAnalysis analyzeMap(const OccupancyMap& input, const MapAnalyzerParams& param
   rows = merged;
   for (const auto& r : rows) result.rows.push_back(r.line);
 
-  // Heading: the rows' directions and the rear wall's normal measure the same axis; weighted by cells.
+  // Each row's place at the edge from its cells within the first metres beyond the edge, measured across
+  // the greenhouse's axis (rows are parallel): a short piece of a row with a gap has a poor direction of
+  // its own, but its cells still say where it is. The place is the middle between the row's two faces: a
+  // row seen from one side only (a tube seen from one path) shows that face alone, and its other face is
+  // then put the width of the rows seen from both sides away (without such a row, the cells' mean is used
+  // and the row's place is off by up to half its width).
   Eigen::Vector2d row_direction = Eigen::Vector2d::Zero();
   for (const auto& r : rows) row_direction += r.fit.direction * static_cast<double>(r.fit.count);
-  const Eigen::Vector2d rows_mean = row_direction.normalized();
   row_direction += frame.v * static_cast<double>(wall.count);
   row_direction.normalize();
-  const double heading = std::atan2(row_direction.y(), row_direction.x());
+  const Eigen::Vector2d across(row_direction.y(), -row_direction.x());
+  std::vector<RowProfile> profiles;
+  std::vector<double> widths;
+  std::vector<double> slopes, slope_sigmas;
+  for (const auto& r : rows) {
+    // Faces on the map as given: the laser's sparse hits on a face seen at a grazing angle are single cells
+    // that the speckle removal takes away. The direction on the cleaned map, which is free of them.
+    const Eigen::Vector2d start = frame.toMap(r.u, edge_v);
+    profiles.push_back(measureRowProfile(input, start, row_direction, 0.2, 3.0));
+    const RowProfile clean = measureRowProfile(map, start, row_direction, 0.2, 3.0);
+    slopes.push_back(clean.slope);
+    slope_sigmas.push_back(clean.slope_sigma);
+    if (profiles.back().bothFaces()) widths.push_back(profiles.back().hi_face_m - profiles.back().lo_face_m);
+  }
+  const bool width_known = !widths.empty();
+  const double row_width = median(widths);
+  int rows_one_face = 0;
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    Row& r = rows[k];
+    const RowProfile& p = profiles[k];
+    r.direction = r.fit.direction;
+    if (p.cells < 3) continue;
+    double centre = p.mean_m;
+    if (p.bothFaces()) {
+      centre = 0.5 * (p.lo_face_m + p.hi_face_m);
+    } else if (width_known && (p.loSeen() || p.hiSeen())) {
+      centre = p.hiSeen() ? p.hi_face_m - 0.5 * row_width : p.lo_face_m + 0.5 * row_width;
+    } else {
+      ++rows_one_face;
+    }
+    r.u += centre / std::max(0.5, across.dot(frame.u));
+    r.d_min = p.d_min - centre - 0.5 * map.resolution;
+    r.d_max = p.d_max - centre + 0.5 * map.resolution;
+    if (std::isfinite(slope_sigmas[k])) {
+      r.direction = (row_direction + slopes[k] * across).normalized();
+      r.direction_sigma = slope_sigmas[k];
+    }
+  }
+  if (rows_one_face > 0)
+    result.warnings.push_back(std::to_string(rows_one_face) +
+                              " rows seen from one side only and no row seen from both: their places may be off by "
+                              "half a row's width");
+
+  // Heading: the rows' directions (each weighted by how well its faces fix it; the line fit's cells when
+  // the faces do not) and the rear wall's normal measure the same axis.
+  Eigen::Vector2d rows_sum = Eigen::Vector2d::Zero();
+  const bool faces_fix_heading =
+      std::all_of(rows.begin(), rows.end(), [](const Row& r) { return std::isfinite(r.direction_sigma); });
+  for (const auto& r : rows)
+    rows_sum += faces_fix_heading ? Eigen::Vector2d(r.direction / (r.direction_sigma * r.direction_sigma))
+                                  : Eigen::Vector2d(r.fit.direction * static_cast<double>(r.fit.count));
+  const Eigen::Vector2d rows_mean = rows_sum.normalized();
   int rows_off_heading = 0;
   for (auto& r : rows) {
     // A short row's direction is known only to about a cell (and the scatter of its pots) over its length.
@@ -317,38 +462,6 @@ MapAnalysis analyzeMap(const OccupancyMap& input, const MapAnalyzerParams& param
     rows_off_heading += !r.heading_ok;
   }
   const double rows_vs_wall = angleBetweenLines(rows_mean, frame.v);
-  // Each row's place at the edge from its cells within the first metres beyond the edge, measured across
-  // the greenhouse's axis (rows are parallel): a short piece of a row with a gap has a poor direction of
-  // its own, but its cells still say where it is.
-  {
-    const Eigen::Vector2d across(row_direction.y(), -row_direction.x());
-    const double step = 0.5 * map.resolution;
-    for (auto& r : rows) {
-      const Eigen::Vector2d at_edge = frame.toMap(r.u, edge_v);
-      std::vector<std::size_t> seen;
-      double sum = 0.0, d_min = 1e9, d_max = -1e9;
-      for (double t = -0.05; t <= 3.0; t += step) {
-        for (double d = -0.2; d <= 0.2; d += step) {
-          int c = 0, q = 0;
-          const Eigen::Vector2d p = at_edge + t * row_direction + d * across;
-          if (!map.worldToCell(p, &c, &q) || map.at(c, q) < 65) continue;
-          const std::size_t index = static_cast<std::size_t>(q) * map.width + c;
-          if (std::find(seen.begin(), seen.end(), index) != seen.end()) continue;
-          seen.push_back(index);
-          const double lateral = across.dot(map.cellCentre(c, q) - at_edge);
-          sum += lateral;
-          d_min = std::min(d_min, lateral);
-          d_max = std::max(d_max, lateral);
-        }
-      }
-      if (seen.size() >= 3) {
-        const double mean = sum / seen.size();
-        r.u += mean / std::max(0.5, across.dot(frame.u));
-        r.d_min = d_min - mean - 0.5 * map.resolution;
-        r.d_max = d_max - mean + 0.5 * map.resolution;
-      }
-    }
-  }
 
   // Side walls by scanlines from the outer rows outwards.
   const double max_travel = (span_hi - span_lo) + 2.0;
@@ -386,6 +499,48 @@ MapAnalysis analyzeMap(const OccupancyMap& input, const MapAnalyzerParams& param
   }
   result.left_wall_found = left.wall_found;
   result.right_wall_found = right.wall_found;
+  // No side wall, but the rear wall ends with floor beyond it: the greenhouse's corner, behind the unseen
+  // side wall's inner face by that wall's thickness. It bounds the sets beyond the outermost row when it
+  // lies a whole number of the rows' spacings from that row plus at most a wall's thickness; those sets
+  // are placed by the rows' pattern. The spacing comes from the gaps measured below.
+  struct EndBound {
+    bool usable = false;
+    double end_u = NAN, distance = 0.0;
+  };
+  auto end_bound = [&](bool wall_found, double outer_u, double direction) {
+    EndBound b;
+    if (wall_found) return b;
+    bool floor_beyond = false;
+    b.end_u = rearWallEnd(map, frame, outer_u, direction, max_travel, &floor_beyond);
+    b.distance = direction * (b.end_u - outer_u);
+    b.usable = std::isfinite(b.end_u) && floor_beyond && b.distance > 0.0;
+    return b;
+  };
+  const EndBound left_end = end_bound(left.wall_found, rows.front().u, -1.0);
+  const EndBound right_end = end_bound(right.wall_found, rows.back().u, +1.0);
+  // The greenhouse's heading: every straight piece along its axis, each weighted by how well it fixes a
+  // direction (inverse variance): the rear wall's normal, the rows' faces and the side walls, which are
+  // the longest lines of a headland map.
+  Eigen::Vector2d axis = frame.v / std::pow(directionSigma(wall, map.resolution), 2);
+  for (const auto& r : rows)
+    if (std::isfinite(r.direction_sigma)) axis += r.direction / (r.direction_sigma * r.direction_sigma);
+  for (const auto& [found, wall_u] :
+       {std::make_pair(left.wall_found, left.wall_u), std::make_pair(right.wall_found, right.wall_u)}) {
+    if (!found) continue;
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+      const LineFit2D& f = lines[i].fit;
+      if (static_cast<int>(i) == result.rear_wall ||
+          angleBetweenLines(f.direction, rows_mean) > params.perpendicular_tolerance_rad)
+        continue;
+      const Eigen::Vector2d c = frame.toLocal(f.centroid);
+      const double dv = f.direction.dot(frame.v);
+      const double u_at_edge = c.x() + f.direction.dot(frame.u) / dv * (edge_v - c.y());
+      if (std::abs(u_at_edge - wall_u) > 0.3) continue;
+      const double sigma = directionSigma(f, map.resolution);
+      axis += (dv > 0 ? 1.0 : -1.0) * f.direction / (sigma * sigma);
+    }
+  }
+  const double heading = std::atan2(axis.y(), axis.x());
 
   // Lines across the headland (walls, rows) and the gaps between them.
   std::vector<HeadlandBoundary> bounds;
@@ -434,8 +589,36 @@ MapAnalysis analyzeMap(const OccupancyMap& input, const MapAnalyzerParams& param
             params.rail_set_spacing_m,
             "spacing measured from " + std::to_string(gaps.size()) +
                 " gaps [m] against the configured one (one gap alone must agree within 5 %)");
-  check("side_walls_found", left.wall_found && right.wall_found, left.wall_found + right.wall_found, 2,
-        "side walls found by scanlines across the headland");
+  // Sets between the outermost row and a rear wall's end: a whole number of spacings, the remainder the
+  // corner's wall (at most side_wall_max_thickness_m), on a regular pattern measured from at least one gap.
+  auto sets_to_end = [&](const EndBound& b) {
+    if (!b.usable || gaps.empty() || !spacing.regular || spacing.hypotheses > 1 || !spacing_confirmed) return -1;
+    const int n = static_cast<int>(std::floor((b.distance + fit_tol) / s));
+    const double remainder = b.distance - n * s;
+    return n >= 1 && remainder <= params.side_wall_max_thickness_m ? n : -1;
+  };
+  const int left_end_sets = sets_to_end(left_end), right_end_sets = sets_to_end(right_end);
+  result.left_by_rear_wall_end = left_end_sets >= 0;
+  result.right_by_rear_wall_end = right_end_sets >= 0;
+  const int sides_bounded = (left.wall_found || left_end_sets >= 0) + (right.wall_found || right_end_sets >= 0);
+  check("sides_bounded", sides_bounded == 2, sides_bounded, 2,
+        std::string("sides bounded by a side wall found by scanlines across the headland, or by the rear wall's "
+                    "end a whole number of spacings beyond the outermost row (left: ") +
+            (left.wall_found      ? "wall"
+             : left_end_sets >= 0 ? "rear wall's end"
+                                  : "open") +
+            ", right: " +
+            (right.wall_found      ? "wall"
+             : right_end_sets >= 0 ? "rear wall's end"
+                                   : "open") +
+            ")");
+  for (const auto& [sets, name, end] : {std::make_tuple(left_end_sets, "left", left_end.end_u),
+                                        std::make_tuple(right_end_sets, "right", right_end.end_u)}) {
+    if (sets >= 0)
+      result.warnings.push_back(std::string("no ") + name + " side wall found: the rear wall's end at " + fmt(end) +
+                                " m bounds the rail sets, " + std::to_string(sets) +
+                                " placed beyond the outermost row by the spacing");
+  }
   if (!gaps.empty() && std::abs(s - params.rail_set_spacing_m) > params.spacing_tolerance * params.rail_set_spacing_m)
     result.warnings.push_back("measured rail-set spacing " + fmt(s) + " m differs from the configured " +
                               fmt(params.rail_set_spacing_m) + " m; the measured one is used");
@@ -447,7 +630,8 @@ MapAnalysis analyzeMap(const OccupancyMap& input, const MapAnalyzerParams& param
 
   // Rail sets: whole numbers of spacings in each gap; on a side without a wall, sets by the spacing as
   // far as the mapped floor goes, all uncertain.
-  const std::vector<RailSetPlan> plans = planRailSets(bounds, spacing, s, left, right, rows.front().u, rows.back().u);
+  const std::vector<RailSetPlan> plans =
+      planRailSets(bounds, spacing, s, left, right, rows.front().u, rows.back().u, left_end_sets, right_end_sets);
   if (!spacing_regular && spacing_unique) global_reasons.push_back("rows and walls are not a regular pattern");
   const double edge_u0 = plans.empty() ? bounds.front().u : std::min(bounds.front().u, plans.front().u - 0.5 * s);
   const double edge_u1 = plans.empty() ? bounds.back().u : std::max(bounds.back().u, plans.back().u + 0.5 * s);
@@ -455,8 +639,10 @@ MapAnalysis analyzeMap(const OccupancyMap& input, const MapAnalyzerParams& param
   result.edge_end = frame.toMap(right.wall_found ? right.wall_u : edge_u1, edge_v);
   result.left_wall = frame.toMap(left.wall_u, edge_v);
   result.right_wall = frame.toMap(right.wall_u, edge_v);
-  result.left_open = !left.wall_found;
-  result.right_open = !right.wall_found;
+  result.left_open = !left.wall_found && left_end_sets < 0;
+  result.right_open = !right.wall_found && right_end_sets < 0;
+  if (left_end_sets >= 0) result.left_wall = frame.toMap(rows.front().u - left_end_sets * s, edge_v);
+  if (right_end_sets >= 0) result.right_wall = frame.toMap(rows.back().u + right_end_sets * s, edge_v);
   int good = 0;
   for (const auto& plan : plans) {
     RailSetEstimate set;
@@ -489,8 +675,8 @@ MapAnalysis analyzeMap(const OccupancyMap& input, const MapAnalyzerParams& param
   std::vector<std::string> uncertain = global_reasons;
   if (rows_off_heading > 0)
     uncertain.push_back(std::to_string(rows_off_heading) + " rows disagree in heading with the others");
-  if (!left.wall_found) uncertain.push_back("no left side wall found: rail sets may go on beyond the leftmost row");
-  if (!right.wall_found) uncertain.push_back("no right side wall found: rail sets may go on beyond the rightmost row");
+  if (result.left_open) uncertain.push_back("no left side wall found: rail sets may go on beyond the leftmost row");
+  if (result.right_open) uncertain.push_back("no right side wall found: rail sets may go on beyond the rightmost row");
   if (!spacing_regular || !spacing_unique) {
     for (std::size_t k = 0; k < gaps.size(); ++k) {
       if (!spacing.gap_fits[k] || spacing.gap_ambiguous[k])

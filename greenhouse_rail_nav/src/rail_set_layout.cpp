@@ -16,19 +16,22 @@ std::string formatMetres(double value, int decimals) {
 
 std::vector<RailSetPlan> planRailSets(const std::vector<HeadlandBoundary>& bounds, const SpacingEstimate& spacing,
                                       double spacing_m, const SideScan& left, const SideScan& right, double first_row_u,
-                                      double last_row_u) {
+                                      double last_row_u, int left_end_sets, int right_end_sets) {
   const double s = spacing_m;
   std::vector<RailSetPlan> plans;
-  auto open_side = [&](const SideScan& scan, double u_out, double dir, const char* name) {
-    const int n = static_cast<int>(std::floor((scan.floor_extent_m + 0.25) / s + 0.25));
+  auto open_side = [&](const SideScan& scan, double u_out, double dir, const char* name, int end_sets) {
+    const bool bounded = end_sets >= 0;
+    const int n = bounded ? end_sets : static_cast<int>(std::floor((scan.floor_extent_m + 0.25) / s + 0.25));
     std::vector<RailSetPlan> extra;
-    for (int k = 0; k < n; ++k)
-      extra.push_back(
-          {u_out + dir * (k + 0.5) * s, {std::string("no ") + name + " side wall found: placed by the spacing"}});
+    for (int k = 0; k < n; ++k) {
+      extra.push_back({u_out + dir * (k + 0.5) * s, {}});
+      if (!bounded)
+        extra.back().reasons.push_back(std::string("no ") + name + " side wall found: placed by the spacing");
+    }
     return extra;
   };
   if (!left.wall_found) {
-    auto extra = open_side(left, first_row_u, -1.0, "left");
+    auto extra = open_side(left, first_row_u, -1.0, "left", left_end_sets);
     std::reverse(extra.begin(), extra.end());
     plans.insert(plans.end(), extra.begin(), extra.end());
   }
@@ -46,7 +49,7 @@ std::vector<RailSetPlan> planRailSets(const std::vector<HeadlandBoundary>& bound
     for (int j = 0; j < n; ++j) plans.push_back({bounds[k].u + (j + 0.5) * gap / n, reasons});
   }
   if (!right.wall_found) {
-    const auto extra = open_side(right, last_row_u, +1.0, "right");
+    const auto extra = open_side(right, last_row_u, +1.0, "right", right_end_sets);
     plans.insert(plans.end(), extra.begin(), extra.end());
   }
   return plans;

@@ -141,6 +141,7 @@ TEST(MapAnalyzerNode, AnalysesMapsOnTheTopicAndNeverInventsPoses) {
   open_left.rail_sets = 7;
   open_left.visible_rows = {2, 3, 5};
   open_left.left_wall = false;
+  open_left.rear_wall_ends_at_corner = false;
   const auto open_truth = makeGreenhouseMap(open_left);
   const int before = targets.count;
   map_pub.publish(toMessage(open_truth.map, "map", ros::Time::now()));

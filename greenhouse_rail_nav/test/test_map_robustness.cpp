@@ -202,6 +202,7 @@ TEST(MapRobustness, MissingSideWallMarksTheOuterSetsUncertain) {
   layout.visible_rows = {2, 3, 5};
   layout.left_wall = false;
   layout.floor_beyond_missing_wall_m = 1.0;
+  layout.rear_wall_ends_at_corner = false;  // nothing in the map says where the greenhouse ends on the left
   const auto truth = makeGreenhouseMap(layout);
   const auto result = analyzeMap(truth.map, MapAnalyzerParams());
   ASSERT_TRUE(result.ok) << result.message;
@@ -239,6 +240,120 @@ TEST(MapRobustness, TwoFarRowsWithoutWallsGiveAmbiguousSets) {
   for (const auto& set : result.rail_sets) EXPECT_FALSE(set.good);
 }
 
+TEST(MapRobustness, MissingSideWallBoundedByTheRearWallsEnd) {
+  // The left side wall is not in the map, but the rear wall ends at the corner with floor beyond: the two
+  // sets left of row 2 lie between that row and the corner, placed by the rows' spacing.
+  for (const double beyond : {0.4, 2.0}) {
+    GreenhouseLayout layout;
+    layout.rail_sets = 7;
+    layout.visible_rows = {2, 3, 5};
+    layout.left_wall = false;
+    layout.floor_beyond_missing_wall_m = beyond;
+    const auto truth = makeGreenhouseMap(layout);
+    const auto result = analyzeMap(truth.map, MapAnalyzerParams());
+    expectAllGoodAndRight(truth, result);
+    EXPECT_FALSE(result.left_wall_found);
+    EXPECT_TRUE(result.left_by_rear_wall_end);
+    EXPECT_FALSE(result.left_open);
+  }
+}
+
+TEST(MapRobustness, MissingSideWallWithTheRearWallEndingOffTheRowsPatternStaysOpen) {
+  // The rear wall ends, with floor beyond, 0.8 m (half a spacing) past where the corner would be: no whole
+  // number of spacings fits, so the sets beyond row 2 stay uncertain rather than guessed.
+  GreenhouseLayout layout;
+  layout.rail_sets = 7;
+  layout.visible_rows = {2, 3, 5};
+  layout.left_wall = false;
+  layout.floor_beyond_missing_wall_m = 2.0;
+  layout.rear_wall_ends_at_corner = false;
+  auto truth = makeGreenhouseMap(layout);
+  // Cut the rear wall 0.8 m beyond the corner (layout frame: x across, the corner at x = 0): floor there.
+  const Pose2D to_layout = layout.layout_in_map.inverse();
+  for (int r = 0; r < truth.map.height; ++r) {
+    for (int c = 0; c < truth.map.width; ++c) {
+      const Eigen::Vector2d p = to_layout.transformPoint(truth.map.cellCentre(c, r));
+      if (p.x() < -0.8 && p.y() < 0.0 && truth.map.at(c, r) == OccupancyMap::kOccupied)
+        truth.map.at(c, r) = OccupancyMap::kUnknown;
+    }
+  }
+  const auto result = analyzeMap(truth.map, MapAnalyzerParams());
+  ASSERT_TRUE(result.ok) << result.message;
+  EXPECT_EQ(result.status, MapStatus::kUncertain);
+  EXPECT_FALSE(result.left_by_rear_wall_end);
+  EXPECT_TRUE(result.left_open);
+}
+
+TEST(MapRobustness, TubeSeenFromOneSideIsPlacedAtItsCentre) {
+  // Ventilation tubes 0.16 m wide; the one under row 3 is seen from its left path only (its right face
+  // unknown but at its front). The cells' mean would put it 8 cm left of its centre: the sets beside it
+  // 4 cm off, and the gaps no longer whole spacings.
+  for (const double resolution : {0.025, 0.05}) {
+    GreenhouseLayout layout;
+    layout.rail_sets = 6;
+    layout.resolution_m = resolution;
+    layout.visible_rows = {1, 3, 4};
+    layout.ventilation_fraction = 1.0;
+    layout.ventilation_width_m = 0.16;
+    layout.rows_seen_from_left_only = {3};
+    layout.gap_probability = 0.0;
+    const auto truth = makeGreenhouseMap(layout);
+    const auto result = analyzeMap(truth.map, MapAnalyzerParams());
+    expectAllGoodAndRight(truth, result);
+    for (std::size_t i = 0; i < truth.rail_frames.size() && i < result.rail_sets.size(); ++i)
+      EXPECT_LT(acrossError(result.rail_sets[i].rail_frame, truth.rail_frames[i]), 0.02) << resolution << " " << i;
+  }
+}
+
+TEST(MapRobustness, FarEndWallIsNotTakenForTheRearWall) {
+  // The wall at the rows' far end, seen through the paths 12 m beyond the mapped part of the rows, 0.6 m
+  // longer than the rear wall and closing the same side walls and rows: the rear wall is the one the rows
+  // are seen near (the map is made on the headland).
+  GreenhouseLayout layout;
+  layout.rail_sets = 5;
+  layout.visible_rows = {1, 2, 4};
+  layout.end_wall_gap_m = 12.0;
+  const auto truth = makeGreenhouseMap(layout);
+  const auto result = analyzeMap(truth.map, MapAnalyzerParams());
+  expectAllGoodAndRight(truth, result);
+}
+
+TEST(MapRobustness, SideWallsOffSquareAreTakenWhereTheyMeetTheEdge) {
+  // The whole greenhouse sheared: side walls and rows 8 mrad off square to the rear wall (a real
+  // greenhouse, or its map). The walls' place at the edge, not their median over the headland, bounds the
+  // outer sets (5 m of headland: 4 cm apart).
+  GreenhouseLayout layout;
+  layout.rail_sets = 4;
+  layout.resolution_m = 0.025;
+  layout.headland_depth_m = 5.0;
+  layout.visible_rows = {1, 2, 3};
+  auto truth = makeGreenhouseMap(layout);
+  OccupancyMap sheared = truth.map;
+  const Pose2D to_layout = layout.layout_in_map.inverse();
+  const double shear = 0.008;
+  // Each cell takes the value the unsheared map has at x - shear * (y - headland depth) (layout frame).
+  for (int r = 0; r < sheared.height; ++r) {
+    for (int c = 0; c < sheared.width; ++c) {
+      const Eigen::Vector2d p = to_layout.transformPoint(sheared.cellCentre(c, r));
+      if (p.y() < 0.0) continue;  // the rear wall stays
+      const Eigen::Vector2d q(p.x() - shear * (p.y() - layout.headland_depth_m), p.y());
+      sheared.at(c, r) = truth.map.valueAt(layout.layout_in_map.transformPoint(q));
+    }
+  }
+  const auto result = analyzeMap(sheared, MapAnalyzerParams());
+  ASSERT_TRUE(result.ok) << result.message;
+  ASSERT_EQ(result.rail_sets.size(), 4u) << result.message;
+  // The walls' inner faces where they meet the edge, across the greenhouse (map x here): the true edge's
+  // ends (the median over the headland is 2-2.5 cm off). Within half a cell and the sampling.
+  ASSERT_TRUE(result.left_wall_found && result.right_wall_found);
+  EXPECT_LT(std::abs((result.left_wall - truth.edge_start).x()), 0.012) << result.left_wall.transpose();
+  EXPECT_LT(std::abs((result.right_wall - truth.edge_end).x()), 0.012) << result.right_wall.transpose();
+  for (std::size_t i = 0; i < 4; ++i) {
+    EXPECT_TRUE(result.rail_sets[i].good) << i << ": " << result.rail_sets[i].reason;
+    EXPECT_LT(acrossError(result.rail_sets[i].rail_frame, truth.rail_frames[i]), 0.02) << i;
+  }
+}
+
 TEST(MapRobustness, EveryResultCarriesItsChecks) {
   GreenhouseLayout layout;
   layout.rail_sets = 6;
@@ -252,7 +367,7 @@ TEST(MapRobustness, EveryResultCarriesItsChecks) {
     EXPECT_TRUE(c.passed) << c.name;
   }
   for (const char* expected : {"edge_straight", "rows_agree_in_heading", "spacing_regular", "spacing_unambiguous",
-                               "side_walls_found", "rear_wall_spans_rows"})
+                               "sides_bounded", "rear_wall_spans_rows"})
     EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << expected;
 }
 

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include <Eigen/Core>
@@ -24,6 +26,30 @@ struct HeadlandFrame {
 std::vector<double> rowRunStarts(const OccupancyMap& map, const HeadlandFrame& frame, double u0, double slope,
                                  double v_from, double v_to, double* far_v, double row_half_width_m = 0.2,
                                  double clutter_reach_m = 0.5, double max_gap_m = 0.3, double min_run_m = 0.4);
+
+/// How a row shows across its width over its first metres: where its two faces are, from the stations
+/// along it where the map saw free floor right beyond its outermost occupied cell. A row seen from one
+/// side only (a ventilation tube seen from one path) has cells on that face alone; their mean is off the
+/// row's centre by half its width, so the centre comes from the faces, never from the cells' mean.
+struct RowProfile {
+  int cells = 0;                            ///< occupied cells in the band
+  double mean_m = 0.0;                      ///< mean lateral offset of those cells [m]
+  double d_min = 0.0, d_max = 0.0;          ///< lateral extent of the cells (centres) [m]
+  int lo_stations = 0, hi_stations = 0;     ///< stations whose low / high face was seen with floor beyond it
+  double lo_face_m = 0.0, hi_face_m = 0.0;  ///< median lateral offset of each seen face (cell centres) [m]
+  double slope = 0.0;                       ///< the faces' lateral drift per metre along (beyond the row's front)
+  double slope_sigma = INFINITY;            ///< standard error of slope (infinite: too few stations)
+  int stations = 0;                         ///< stations with any cell of the row
+  /// A face counts as seen at a twentieth of the stations and at least 3 (a stray cell is no face).
+  bool loSeen() const { return lo_stations >= std::max(3, stations / 20); }
+  bool hiSeen() const { return hi_stations >= std::max(3, stations / 20); }
+  bool bothFaces() const { return loSeen() && hiSeen(); }
+};
+
+/// Measures a row from `start` (a point near its front, on its line) over [-0.05, length_m] along `along`
+/// (unit) and within half_width_m across it; lateral offsets are along (along.y, -along.x).
+RowProfile measureRowProfile(const OccupancyMap& map, const Eigen::Vector2d& start, const Eigen::Vector2d& along,
+                             double half_width_m, double length_m);
 
 /// Result of scanlines across the headland from the outermost row outwards.
 struct SideScan {

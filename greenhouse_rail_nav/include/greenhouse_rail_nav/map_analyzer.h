@@ -29,6 +29,10 @@ struct MapAnalyzerParams {
   double row_heading_tolerance_rad = 0.02;  ///< rows and the rear wall's normal must agree within this [rad]
   double edge_straightness_m = 0.10;        ///< RMS of the row starts about the headland edge [m]
   double side_wall_min_support = 0.3;  ///< share of the scanlines across the headland that must stop at a side wall
+  /// Where no side wall is found, the rear wall's end (with floor mapped beyond it) bounds the greenhouse
+  /// when it lies a whole number of spacings beyond the outermost row plus at most this (the unseen side
+  /// wall's thickness at the corner) [m]
+  double side_wall_max_thickness_m = 0.35;
 
   /// Empty if valid, else which key is wrong and what it must be.
   std::string validate() const;
@@ -76,6 +80,8 @@ struct MapAnalysis {
   Eigen::Vector2d left_wall = Eigen::Vector2d::Zero();  ///< side wall points on the edge line [m]
   Eigen::Vector2d right_wall = Eigen::Vector2d::Zero();
   bool left_open = false, right_open = false;  ///< no side wall there: rail sets may go on beyond the last one
+  /// No side wall found there, but the rear wall's end bounds the rail sets (then that side is not open)
+  bool left_by_rear_wall_end = false, right_by_rear_wall_end = false;
   std::vector<RailSetEstimate> rail_sets;
 };
 

@@ -69,6 +69,8 @@ NodeSettings loadSettings(const ros::NodeHandle& pnh) {
       r.number("row_heading_tolerance_rad", a.row_heading_tolerance_rad, ParamRange{0.0, 0.2, true, true}, "rad");
   a.edge_straightness_m = r.number("edge_straightness_m", a.edge_straightness_m, positive, "m");
   a.side_wall_min_support = r.number("side_wall_min_support", a.side_wall_min_support, ParamRange::aboveUpTo(0.0, 1.0));
+  a.side_wall_max_thickness_m =
+      r.number("side_wall_max_thickness_m", a.side_wall_max_thickness_m, ParamRange::atLeast(0.0), "m");
   r.alsoRead("diagnostic_period");
   // Checks across parameters (e.g. the gauge below the spacing): the library's own validation.
   if (const std::string error = a.validate(); !error.empty()) throw thorvald_base::ParamError(r.node() + ": " + error);

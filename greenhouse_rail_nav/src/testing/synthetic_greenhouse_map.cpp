@@ -48,15 +48,17 @@ SyntheticGreenhouseMap makeGreenhouseMap(const GreenhouseLayout& layout) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const double width = layout.rail_sets * layout.spacing_m;
   const double t = layout.wall_thickness_m;
-  const double depth = layout.headland_depth_m + layout.visible_row_depth_m;
+  const double rows_depth = layout.headland_depth_m + layout.visible_row_depth_m;
+  const double depth = rows_depth + (layout.end_wall_gap_m > 0.0 ? layout.end_wall_gap_m : 0.0);
 
   // Grid: axis-aligned bounding box of the rotated greenhouse plus margin.
   Eigen::Vector2d lo(1e18, 1e18), hi(-1e18, -1e18);
   const double left_x = -std::max(t, layout.side_walls && layout.left_wall ? 0.0 : layout.floor_beyond_missing_wall_m);
   const double right_x =
       width + std::max(t, layout.side_walls && layout.right_wall ? 0.0 : layout.floor_beyond_missing_wall_m);
-  for (const auto& corner : {Eigen::Vector2d(left_x, -t), Eigen::Vector2d(right_x, -t), Eigen::Vector2d(left_x, depth),
-                             Eigen::Vector2d(right_x, depth)}) {
+  const double far = depth + (layout.end_wall_gap_m > 0.0 ? t : 0.0), extra = layout.end_wall_gap_m > 0.0 ? 0.3 : 0.0;
+  for (const auto& corner : {Eigen::Vector2d(left_x - extra, -t), Eigen::Vector2d(right_x + extra, -t),
+                             Eigen::Vector2d(left_x - extra, far), Eigen::Vector2d(right_x + extra, far)}) {
     const Eigen::Vector2d p = layout.layout_in_map.transformPoint(corner);
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);
@@ -77,9 +79,12 @@ SyntheticGreenhouseMap makeGreenhouseMap(const GreenhouseLayout& layout) {
   // side wall is missing from the map, the laser saw floor beyond it.
   paint.rect(left_wall ? 0.0 : -beyond, right_wall ? width : width + beyond, 0.0, depth, free);
   // Walls.
-  paint.rect(-t, width + t, -t, 0.0, occ);
+  const double rear_left = left_wall || layout.rear_wall_ends_at_corner ? -t : -std::max(t, beyond);
+  const double rear_right = right_wall || layout.rear_wall_ends_at_corner ? width + t : width + std::max(t, beyond);
+  paint.rect(rear_left, rear_right, -t, 0.0, occ);
   if (left_wall) paint.rect(-t, 0.0, -t, depth, occ);
   if (right_wall) paint.rect(width, width + t, -t, depth, occ);
+  if (layout.end_wall_gap_m > 0.0) paint.rect(-t - 0.3, width + t + 0.3, depth, depth + t, occ);
   if (layout.door_width_m > 0.0) {
     // A door on the headland in each side wall; the laser saw nothing through it.
     const double y0 = 0.3 + unit(rng) * std::max(0.0, layout.headland_depth_m - layout.door_width_m - 0.6);
@@ -95,12 +100,26 @@ SyntheticGreenhouseMap makeGreenhouseMap(const GreenhouseLayout& layout) {
     out.rows_drawn.push_back(j);
     const double x = j * layout.spacing_m;
     const double y0 = layout.headland_depth_m + layout.row_start_jitter_m * (2.0 * unit(rng) - 1.0);
-    const double y_end = depth;
+    const double y_end = rows_depth;
     const bool has_gap = unit(rng) < layout.gap_probability;
     const double gap0 = y0 + 1.0 + unit(rng) * std::max(0.0, y_end - y0 - 2.5), gap1 = gap0 + 0.5 + 0.5 * unit(rng);
     if (unit(rng) < layout.ventilation_fraction) {
       const double half = 0.5 * res;
-      if (has_gap) {
+      if (layout.ventilation_width_m > 0.0) {
+        // A tube: its faces and front are what the laser hits; its inside is never seen.
+        const double w = 0.5 * layout.ventilation_width_m;
+        const bool left_only = std::find(layout.rows_seen_from_left_only.begin(), layout.rows_seen_from_left_only.end(),
+                                         j) != layout.rows_seen_from_left_only.end();
+        paint.rect(x - w, x + w, y0, y_end, OccupancyMap::kUnknown);
+        paint.rect(x - w - half, x - w + half, y0, y_end, occ);
+        paint.rect(x + w - half, x + w + half, y0, y0 + w, occ);
+        if (left_only) {
+          paint.rect(x + w - half, x + w + 0.15, y0 + w, y_end, OccupancyMap::kUnknown);
+        } else {
+          paint.rect(x + w - half, x + w + half, y0, y_end, occ);
+        }
+        paint.rect(x - w, x + w, y0, y0 + res, occ);
+      } else if (has_gap) {
         paint.rect(x - half, x + half, y0, gap0, occ);
         paint.rect(x - half, x + half, gap1, y_end, occ);
       } else {

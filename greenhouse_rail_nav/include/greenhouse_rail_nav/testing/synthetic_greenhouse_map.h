@@ -36,6 +36,18 @@ struct GreenhouseLayout {
   bool left_wall = true;                     ///< false: the left side wall is missing from the map
   bool right_wall = true;                    ///< false: the right side wall is missing from the map
   double floor_beyond_missing_wall_m = 1.0;  ///< free floor mapped beyond a missing side wall [m]
+  /// Where a side wall is missing: true, the rear wall ends at the greenhouse's corner (the floor beyond it
+  /// shows that it ends there); false, the rear wall runs on over all the floor mapped beyond.
+  bool rear_wall_ends_at_corner = true;
+  /// > 0: ventilation lines are tubes this wide as a laser maps them: a face of one cell on each side and at
+  /// the front, unknown inside [m]
+  double ventilation_width_m = 0.0;
+  /// Row positions j whose tube is seen from its left path only: its right face, and the floor up to 0.15 m
+  /// beyond it, are unknown except at its front (needs ventilation_width_m > 0 and the row drawn solid).
+  std::vector<int> rows_seen_from_left_only;
+  /// > 0: the wall at the far end of the rows is in the map this far beyond the mapped part of the rows
+  /// (floor between), 0.3 m wider than the greenhouse on each side, with the side walls running on to it [m]
+  double end_wall_gap_m = 0.0;
   double door_width_m = 0.0;  ///< > 0: a door of this width in each side wall on the headland (unknown beyond) [m]
   std::uint32_t seed = 1;
 };
