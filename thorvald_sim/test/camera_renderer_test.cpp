@@ -11,28 +11,10 @@
 #include "thorvald_sim/world.h"
 
 namespace ts = thorvald_sim;
+using ts::test::optical;
+using ts::test::StaticWorld;
 
 namespace {
-
-struct StaticWorld {
-  ts::ModelPtr model;
-  ts::DataPtr data;
-  explicit StaticWorld(const ts::WorldDescription& w) {
-    model = ts::compileXml(ts::composeScene(w, {}, ts::SceneOptions()), "test world");
-    data.reset(mj_makeData(model.get()));
-    mj_forward(model.get(), data.get());
-  }
-};
-
-// Optical frame (z forward, y down) looking along `forward`.
-ts::SensorPose optical(const Eigen::Vector3d& origin, const Eigen::Vector3d& forward, const Eigen::Vector3d& down) {
-  ts::SensorPose p;
-  p.origin = origin;
-  p.rotation.col(2) = forward.normalized();
-  p.rotation.col(1) = (down - down.dot(p.rotation.col(2)) * p.rotation.col(2)).normalized();
-  p.rotation.col(0) = p.rotation.col(1).cross(p.rotation.col(2));
-  return p;
-}
 
 ts::CameraView viewOf(const ts::DepthCameraSpec& s) {
   ts::CameraView v;

@@ -10,18 +10,10 @@
 #include "thorvald_sim/world.h"
 
 namespace ts = thorvald_sim;
+using ts::test::optical;
+using ts::test::StaticWorld;
 
 namespace {
-
-struct StaticWorld {
-  ts::ModelPtr model;
-  ts::DataPtr data;
-  explicit StaticWorld(const ts::WorldDescription& w) {
-    model = ts::compileXml(ts::composeScene(w, {}, ts::SceneOptions()), "test world");
-    data.reset(mj_makeData(model.get()));
-    mj_forward(model.get(), data.get());
-  }
-};
 
 // Sensor looking along `x_axis` (its x) with `z_axis` up.
 ts::SensorPose pose(const Eigen::Vector3d& origin, const Eigen::Vector3d& x_axis, const Eigen::Vector3d& z_axis) {
@@ -30,16 +22,6 @@ ts::SensorPose pose(const Eigen::Vector3d& origin, const Eigen::Vector3d& x_axis
   p.rotation.col(0) = x_axis.normalized();
   p.rotation.col(2) = z_axis.normalized();
   p.rotation.col(1) = p.rotation.col(2).cross(p.rotation.col(0));
-  return p;
-}
-
-// Optical frame (z forward, y down) looking along `forward`.
-ts::SensorPose optical(const Eigen::Vector3d& origin, const Eigen::Vector3d& forward, const Eigen::Vector3d& down) {
-  ts::SensorPose p;
-  p.origin = origin;
-  p.rotation.col(2) = forward.normalized();
-  p.rotation.col(1) = (down - down.dot(p.rotation.col(2)) * p.rotation.col(2)).normalized();
-  p.rotation.col(0) = p.rotation.col(1).cross(p.rotation.col(2));
   return p;
 }
 

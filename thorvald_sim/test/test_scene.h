@@ -11,7 +11,9 @@
 #include "thorvald_sim/drive_loop.h"
 #include "thorvald_sim/testing/reference_urdf.h"
 #include "thorvald_sim/scene.h"
+#include "thorvald_sim/sensors.h"
 #include "thorvald_sim/simulation.h"
+#include "thorvald_sim/world.h"
 
 namespace thorvald_sim {
 namespace test {
@@ -93,6 +95,28 @@ struct TestScene {
     }
   }
 };
+
+/// A world without robots, compiled and with its positions computed (mj_forward), for sensors against known
+/// geometry.
+struct StaticWorld {
+  ModelPtr model;
+  DataPtr data;
+  explicit StaticWorld(const WorldDescription& w) {
+    model = compileXml(composeScene(w, {}, SceneOptions()), "test world");
+    data.reset(mj_makeData(model.get()));
+    mj_forward(model.get(), data.get());
+  }
+};
+
+/// Optical frame (z forward, y down) at `origin` looking along `forward`, with `down` as near its y as it can be.
+inline SensorPose optical(const Eigen::Vector3d& origin, const Eigen::Vector3d& forward, const Eigen::Vector3d& down) {
+  SensorPose p;
+  p.origin = origin;
+  p.rotation.col(2) = forward.normalized();
+  p.rotation.col(1) = (down - down.dot(p.rotation.col(2)) * p.rotation.col(2)).normalized();
+  p.rotation.col(0) = p.rotation.col(1).cross(p.rotation.col(2));
+  return p;
+}
 
 }  // namespace test
 }  // namespace thorvald_sim
