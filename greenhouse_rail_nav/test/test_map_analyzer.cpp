@@ -190,7 +190,7 @@ TEST(KeepOutGrid, MarksEverythingBeyondTheHeadlandEdge) {
   }
 }
 
-// The greenhouse robot's own maps of the simulator's greenhouse (test/data/sim_headland_*_sets.yaml, made by
+// The greenhouse robot's own maps of the simulator's greenhouse (test/data/sim_*headland*.yaml, made by
 // sim_greenhouse_mapping.launch): ventilation lines of 0.16 m seen mostly from one path, the far end wall
 // seen through the paths, walls a few milliradians off square in the map. Truth from the world's parameters
 // (launch/sim_greenhouse_world.launch: set k starts at world (0, 1.6 k), yaw 0; the map frame is where
@@ -219,3 +219,6 @@ void expectSimMapRight(const std::string& name, int sets) {
 TEST(MapAnalyzer, RobotsOwnSimulatorMapWithTwoSets) { expectSimMapRight("sim_headland_2_sets.yaml", 2); }
 
 TEST(MapAnalyzer, RobotsOwnSimulatorMapWithThreeSets) { expectSimMapRight("sim_headland_3_sets.yaml", 3); }
+
+// The UV mission's world (2 sets of 5 m rails: the far end wall 6 m from the headland edge).
+TEST(MapAnalyzer, RobotsOwnSimulatorMapWithShortRails) { expectSimMapRight("sim_uv_headland_2x5.yaml", 2); }
