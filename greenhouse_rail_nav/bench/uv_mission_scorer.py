@@ -86,6 +86,7 @@ class UvMissionScorer:
         self.t_start = None
         self.t_end = None
         self.report = []
+        self.report_received = False
         self.path = []
 
     def on_rails(self, x, y):
@@ -164,6 +165,7 @@ class UvMissionScorer:
 
     def on_report(self, m):
         self.report = parse_report(m.data)
+        self.report_received = True
 
     def subscribe(self):
         rospy.Subscriber("ground_truth/odom", Odometry, self.on_truth, queue_size=50)
@@ -176,7 +178,7 @@ class UvMissionScorer:
         rospy.Subscriber("mission/report", String, self.on_report)
 
     def finished(self):
-        return self.t_end is not None and len(self.report) > 0
+        return self.t_end is not None and self.report_received
 
     def wait(self, timeout_sim_s, wall_timeout_s=None):
         wall_deadline = None if wall_timeout_s is None else time.monotonic() + wall_timeout_s
