@@ -30,6 +30,9 @@ class Args:
     jitter_xy = 0.05
     jitter_yaw = 0.05
     goal_timeout = 120.0  # simulated seconds: up to three corrections of the approach at 0.5 m/s
+    odom_jump = 0.0  # no forced odometry jump
+    odom_jump_every = 1
+    odom_jump_delay = 3.0
 
 
 class GreenhouseSimNavigation(unittest.TestCase):
