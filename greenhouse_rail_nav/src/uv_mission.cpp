@@ -64,6 +64,13 @@ class UvMission::Impl {
                       p_.motion.max_turn_rate_rps);
   }
 
+  /// Turn rate on and off the rails: while the wheel sensors read rail the pipes guide the robot, and steering
+  /// towards an odometry heading (which drifts with wheel slip) would only make the wheels fight the pipes and
+  /// slip; off them the heading is held.
+  double railSteering(double yaw_ref, double yaw) {
+    return io_.surface().wheels == Surface::kRail ? 0.0 : headingHold(yaw_ref, yaw);
+  }
+
   std::string select();
   std::string navigate(tsm::ExecutionContext& ctx);
   std::string detect(tsm::ExecutionContext& ctx);
@@ -440,7 +447,7 @@ std::string UvMission::Impl::treat(tsm::ExecutionContext& ctx) {
     }
     v = inboundSpeed(p_.rail_run, v, io_.forwardRange(), dt);
     if (v == 0.0 && along > 0.5) break;  // the far wall says the rail ends here
-    io_.commandTwist(v, headingHold(yaw_ref, pose.yaw));
+    io_.commandTwist(v, railSteering(yaw_ref, pose.yaw));
     io_.waitTick();
   }
   stop();
@@ -500,7 +507,7 @@ std::string UvMission::Impl::comeBack(tsm::ExecutionContext& ctx) {
     }
     v = returnSpeed(p_.rail_run, v, reversed, driven_in_m_, dt);
     if (along <= 0.0) v = std::min(v, p_.rail_run.slow_speed_mps);
-    io_.commandTwist(-v, headingHold(yaw_ref, pose.yaw));
+    io_.commandTwist(-v, railSteering(yaw_ref, pose.yaw));
     io_.waitTick();
   }
   stop();
