@@ -206,7 +206,9 @@ class UvMissionScorer:
         std = (math.sqrt(max(0.0, sum(v * v for v in self.speeds) / len(self.speeds) - mean * mean))
                if self.speeds else float("nan"))
         total_s = (self.t_end - self.t_start) if (self.t_end and self.t_start) else float("nan")
-        both = sorted(set(treated_report) & set(treated_truth))
+        # The analyzer numbers the sets in its own order (not the world's): a set counts as treated when the
+        # mission's report says so and the truth saw the lights over a set's rails, counted, not matched by index.
+        both = treated_truth[:min(len(treated_report), len(treated_truth))]
         return {
             "rail_sets": n_sets,
             "rail_length_m": self.rail_length,
