@@ -3,7 +3,8 @@
 // (lidar 1081 beams at 40 Hz, four ultrasonic cones at 20 Hz, a 640x480 depth camera at 30 Hz, IMU at 100 Hz);
 // a rover-sized robot in the cotton row with a 1280x720 colour + depth camera at 15 Hz (the cotton paper's ZED
 // intrinsics). Then the cost of one camera frame alone. Cameras render through CameraRenderer (OSMesa/llvmpipe)
-// with LP_NUM_THREADS=1 unless --render-threads says otherwise: the figures are single-core. Real-time factors and
+// with LP_NUM_THREADS=1 unless --render-threads or the environment says otherwise (LP_NUM_THREADS=0: llvmpipe
+// rasterises on the calling thread): the figures are single-core. Real-time factors and
 // frame times are given per CPU second of this process (the RESULT keys) and per wall second (`_wall`), with the
 // load average, because the machine is shared.
 //
@@ -147,7 +148,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.1, 3600.0));
   app.add_option("--frames", frames, "camera frames timed alone")->check(CLI::Range(1, 100000));
   app.add_option("--render-threads", render_threads,
-                 "llvmpipe threads (LP_NUM_THREADS) and depth-image threads; 0: every core")
+                 "llvmpipe threads (LP_NUM_THREADS, unless set in the environment) and image threads; 0: every core")
       ->check(CLI::Range(0, 64));
   try {
     app.parse(argc, argv);
@@ -155,7 +156,7 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : 2;  // --help: 0; an unknown option or a bad value: 2
   }
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // each line shows as it is done, also when piped
-  if (render_threads > 0) setenv("LP_NUM_THREADS", std::to_string(render_threads).c_str(), 1);
+  if (render_threads > 0) setenv("LP_NUM_THREADS", std::to_string(render_threads).c_str(), 0);
   const int image_threads =
       render_threads > 0 ? render_threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 
@@ -297,8 +298,9 @@ int main(int argc, char** argv) {
               1e3 * stage[1][1] / frames, 1e3 * stage[1][2] / frames);
   const double load_end = loadAverage();
   std::printf("load average at the end: %.2f\n", load_end);
-  std::printf("(%.0f s simulated per flat scene, %.0f s per scene with sensors, llvmpipe threads: %s)\n", seconds,
-              sensor_seconds, render_threads > 0 ? std::to_string(render_threads).c_str() : "default");
+  const char* lp = getenv("LP_NUM_THREADS");
+  std::printf("(%.0f s simulated per flat scene, %.0f s per scene with sensors, LP_NUM_THREADS %s, image threads %d)\n",
+              seconds, sensor_seconds, lp ? lp : "unset (every core)", image_threads);
   std::printf(
       "RESULT {\"rtf_1_robot\": %.2f, \"rtf_2_robots\": %.2f, \"rtf_4_robots\": %.2f, \"rtf_8_robots\": %.2f, "
       "\"rtf_greenhouse_sensors\": %.3f, \"rtf_cotton_camera\": %.3f, \"ms_per_depth_frame_640x480\": %.2f, "
