@@ -3,7 +3,9 @@
 # simulation: the Figure 7 six-wheel robot drives a 77 s loop in x, y and yaw, first in MuJoCo (the body moves by
 # contact physics), then on base_driver's joint simulator with encoder quantisation, noise, a 1% radius error on
 # two wheels and one slipping wheel. It prints distances and end-point errors of ground truth, the least-squares
-# and the paper's random-pairs odometry, and writes plots of the paths to demo_output/.
+# and the paper's random-pairs odometry, and writes plots of the paths to demo_output/. Then the two robots at
+# work, headless in MuJoCo: the greenhouse robot's UV cycle on 2 short rail sets (it maps the headland, analyses the
+# map, localises, navigates, enters and treats each rail set) and the cotton rover's potted harvest run (Table 2).
 set -euo pipefail
 src="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 export PATH="/usr/bin:$PATH"
@@ -24,4 +26,9 @@ rosrun thorvald_base odometry_bench --seeds 5 --csv odometry_joint_sim.csv
   "Figure 7 robot, 77 s loop, joint simulator with corrupted readings (seed 1)"
 echo "== cost of one control cycle"
 rosrun thorvald_base cycle_bench --cycles 5000
-echo "== done: plots in demo_output/odometry_mujoco.png and demo_output/odometry_joint_sim.png"
+echo "== the greenhouse robot's UV cycle in MuJoCo: 2 rail sets of 5 m (it maps the headland first; a few minutes)"
+rosrun greenhouse_rail_nav uv_mission_bench --rail-sets 2 --rail-length 5 --out "$src/demo_output/uv_mission"
+echo "== the cotton rover's potted harvest in MuJoCo: six plants, three bolls each (Table 2)"
+rosrun cotton_harvester harvest_bench --potted-runs 1 --field-runs 0 --png cotton_path.png --debug-image cotton_frame.png
+echo "== done: plots in demo_output/ (odometry_mujoco.png, odometry_joint_sim.png, uv_mission/, cotton_path.png," \
+  "cotton_frame.png)"
