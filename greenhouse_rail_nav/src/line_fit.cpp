@@ -48,4 +48,12 @@ LineFit2D fitLine(const std::vector<Eigen::Vector2d>& points) {
   return fit;
 }
 
+double angleBetweenLines(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return std::acos(std::min(1.0, std::abs(a.dot(b))));
+}
+
+bool perpendicular(const LineFit2D& a, const LineFit2D& b, double tolerance) {
+  return std::abs(M_PI / 2 - angleBetweenLines(a.direction, b.direction)) <= tolerance;
+}
+
 }  // namespace greenhouse_rail_nav

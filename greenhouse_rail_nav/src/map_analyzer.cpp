@@ -14,14 +14,6 @@
 namespace greenhouse_rail_nav {
 namespace {
 
-double angleBetweenLines(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return std::acos(std::min(1.0, std::abs(a.dot(b))));
-}
-
-bool perpendicular(const LineFit2D& a, const LineFit2D& b, double tolerance) {
-  return std::abs(M_PI / 2 - angleBetweenLines(a.direction, b.direction)) <= tolerance;
-}
-
 double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());

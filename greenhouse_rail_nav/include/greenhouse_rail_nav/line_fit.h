@@ -36,4 +36,9 @@ struct LineFit2D {
 /// linearity = 0).
 LineFit2D fitLine(const std::vector<Eigen::Vector2d>& points);
 
+/// Angle between two lines given by unit directions, in [0, pi/2] (a line and its reverse are the same line).
+double angleBetweenLines(const Eigen::Vector2d& a, const Eigen::Vector2d& b);
+/// Whether two fitted lines are perpendicular within `tolerance` [rad].
+bool perpendicular(const LineFit2D& a, const LineFit2D& b, double tolerance);
+
 }  // namespace greenhouse_rail_nav
