@@ -61,6 +61,8 @@ std::string CostmapParams::validate() const {
   if (!(inflation_radius_m >= planning_radius_m) || !std::isfinite(inflation_radius_m))
     return "inflation_radius must be >= planning_radius";
   if (!(cost_scaling > 0.0)) return "cost_scaling must be > 0";
+  if (!(known_structure_tolerance_m >= 0.0) || !(known_structure_tolerance_m <= 1.0))
+    return "known_structure_tolerance must be within [0, 1] m";
   return {};
 }
 
@@ -87,16 +89,36 @@ Costmap::Costmap(const Grid2D& map, const Grid2D& keep_out, const CostmapParams&
     }
   }
   blocker_ = static_blocker_;
+  // Distance to the known structure (walls and keep-out; not unknown space, which holds nothing known).
+  Grid2D known(geometry_.width, geometry_.height, geometry_.resolution_m, geometry_.origin_x_m, geometry_.origin_y_m,
+               kFree);
+  for (std::size_t i = 0; i < static_blocker_.size(); ++i)
+    if (static_blocker_[i] == static_cast<std::uint8_t>(Blocker::kWall) ||
+        static_blocker_[i] == static_cast<std::uint8_t>(Blocker::kKeepOut))
+      known.data[i] = kOccupied;
+  const DistanceField field(known, params_.known_structure_tolerance_m + 2.0 * geometry_.resolution_m);
+  known_distance_.assign(n, 0.0f);
+  for (int y = 0; y < geometry_.height; ++y)
+    for (int x = 0; x < geometry_.width; ++x)
+      known_distance_[geometry_.index(x, y)] = static_cast<float>(field.cellDistance(x, y));
   inflate();
 }
 
 void Costmap::setObstacles(const std::vector<Eigen::Vector2d>& points_world) {
   blocker_ = static_blocker_;
+  obstacle_points_ = known_points_ = 0;
   for (const auto& p : points_world) {
     if (!p.allFinite()) continue;
     const Eigen::Vector2i c = geometry_.cellOf(p);
     if (!geometry_.inside(c.x(), c.y())) continue;
-    auto& b = blocker_[geometry_.index(c.x(), c.y())];
+    const std::size_t i = geometry_.index(c.x(), c.y());
+    // Cell centres' distance: a point in a cell next to a wall cell is one cell from it however close it lies.
+    if (known_distance_[i] <= params_.known_structure_tolerance_m + 1e-6) {
+      ++known_points_;
+      continue;
+    }
+    ++obstacle_points_;
+    auto& b = blocker_[i];
     if (b == static_cast<std::uint8_t>(Blocker::kNone) || b == static_cast<std::uint8_t>(Blocker::kUnknown))
       b = static_cast<std::uint8_t>(Blocker::kObstacle);
   }
@@ -126,8 +148,12 @@ void Costmap::inflate() {
   }
 }
 
-Blocker Costmap::footprintBlocker(const Pose2D& pose, const Footprint& footprint) const {
-  if (footprint.polygon.size() < 3 || geometry_.width == 0) return Blocker::kNone;
+namespace {
+
+// Calls visit(cx, cy) for every cell whose centre lies inside the footprint placed at `pose` (cells outside the grid
+// included) until it returns true; true when it did.
+template <typename Visit>
+bool forFootprintCells(const Grid2D& geometry, const Pose2D& pose, const Footprint& footprint, Visit visit) {
   std::vector<Eigen::Vector2d> poly;
   Eigen::Vector2d lo(1e18, 1e18), hi(-1e18, -1e18);
   for (const auto& p : footprint.polygon) {
@@ -135,23 +161,69 @@ Blocker Costmap::footprintBlocker(const Pose2D& pose, const Footprint& footprint
     lo = lo.cwiseMin(poly.back());
     hi = hi.cwiseMax(poly.back());
   }
-  const Eigen::Vector2i c0 = geometry_.cellOf(lo), c1 = geometry_.cellOf(hi);
+  const Eigen::Vector2i c0 = geometry.cellOf(lo), c1 = geometry.cellOf(hi);
   for (int cy = c0.y(); cy <= c1.y(); ++cy) {
     for (int cx = c0.x(); cx <= c1.x(); ++cx) {
-      const Eigen::Vector2d q = geometry_.centerOf(cx, cy);
+      const Eigen::Vector2d q = geometry.centerOf(cx, cy);
       bool in = false;  // even-odd rule on the cell centre
       for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
         if ((poly[i].y() > q.y()) != (poly[j].y() > q.y()) &&
             q.x() < (poly[j].x() - poly[i].x()) * (q.y() - poly[i].y()) / (poly[j].y() - poly[i].y()) + poly[i].x())
           in = !in;
       }
-      if (!in) continue;
-      if (!geometry_.inside(cx, cy)) return params_.unknown_is_blocked ? Blocker::kUnknown : Blocker::kNone;
-      const Blocker b = blocker(cx, cy);
-      if (b != Blocker::kNone) return b;
+      if (in && visit(cx, cy)) return true;
     }
   }
-  return Blocker::kNone;
+  return false;
+}
+
+}  // namespace
+
+Blocker Costmap::footprintBlocker(const Pose2D& pose, const Footprint& footprint) const {
+  if (footprint.polygon.size() < 3 || geometry_.width == 0) return Blocker::kNone;
+  Blocker found = Blocker::kNone;
+  forFootprintCells(geometry_, pose, footprint, [&](int cx, int cy) {
+    if (!geometry_.inside(cx, cy)) {
+      found = params_.unknown_is_blocked ? Blocker::kUnknown : Blocker::kNone;
+      return true;
+    }
+    found = blocker(cx, cy);
+    return found != Blocker::kNone;
+  });
+  return found;
+}
+
+bool Costmap::footprintTouches(const Pose2D& pose, const Footprint& footprint, Blocker which) const {
+  if (footprint.polygon.size() < 3 || geometry_.width == 0) return false;
+  return forFootprintCells(geometry_, pose, footprint, [&](int cx, int cy) {
+    if (!geometry_.inside(cx, cy)) return which == Blocker::kUnknown && params_.unknown_is_blocked;
+    return blocker(cx, cy) == which;
+  });
+}
+
+double sweptObstacleDistance(const Costmap& costmap, const Footprint& footprint, const Pose2D& pose,
+                             const std::vector<Eigen::Vector2d>& path, std::size_t next_index, double ahead_m,
+                             bool omnidirectional) {
+  const double step = std::max(0.05, costmap.geometry().resolution_m);
+  auto hit = [&](const Eigen::Vector2d& p, double yaw) {
+    return costmap.footprintTouches({p.x(), p.y(), yaw}, footprint, Blocker::kObstacle);
+  };
+  Eigen::Vector2d prev(pose.x, pose.y);
+  if (hit(prev, pose.yaw)) return 0.0;
+  double travelled = 0.0;
+  for (std::size_t i = next_index; i < path.size() && travelled < ahead_m; ++i) {
+    const Eigen::Vector2d seg = path[i] - prev;
+    const double len = seg.norm();
+    if (len < 1e-6) continue;
+    const double yaw = omnidirectional ? pose.yaw : std::atan2(seg.y(), seg.x());
+    const int steps = std::max(1, static_cast<int>(std::ceil(len / step)));
+    for (int k = 1; k <= steps && travelled < ahead_m; ++k) {
+      travelled += len / steps;
+      if (hit(prev + seg * (static_cast<double>(k) / steps), yaw)) return travelled;
+    }
+    prev = path[i];
+  }
+  return -1.0;
 }
 
 Grid2D Costmap::toDisplayGrid() const {

@@ -92,6 +92,108 @@ TEST(GridPlanner, ObstaclesBlockAndReplanGoesAround) {
   EXPECT_NEAR(tn::planPath(cm, {1.0, 2.0}, {9.0, 2.0}, tn::PlannerParams{}).length_m, 8.0, 0.05);
 }
 
+// A headland edge at x = 5 m (keep-out beyond it) with a mapped structure (a ventilation line's end, 0.16 m wide)
+// starting 0.08 m past it at y = 2.8 m, and a mapped post (0.2 m square) at (3.65, 2.8), 6 cm beside the
+// robot's padded box on its way from (4.2, 2) to (4.2, 3.6).
+struct EdgeScene {
+  tn::Grid2D map{160, 120, 0.05, 0.0, 0.0, tn::kFree};
+  tn::Grid2D keep_out{160, 120, 0.05, 0.0, 0.0, tn::kFree};
+  EdgeScene() {
+    for (int y = 0; y < map.height; ++y)
+      for (int x = 0; x < map.width; ++x) {
+        const Eigen::Vector2d c = map.centerOf(x, y);
+        if (c.x() > 5.0) keep_out.at(x, y) = tn::kOccupied;
+        if (c.x() > 5.08 && std::abs(c.y() - 2.8) < 0.08) map.at(x, y) = tn::kOccupied;
+        if (std::abs(c.x() - 3.65) < 0.1 && std::abs(c.y() - 2.8) < 0.1) map.at(x, y) = tn::kOccupied;
+      }
+  }
+};
+
+// The greenhouse robot's box (base_link at its front axle) with 0.05 m padding.
+tn::Footprint greenhouseFootprint() { return tn::rectangleFootprint(-0.91, 0.23, -0.39, 0.39); }
+
+TEST(ObstacleCheck, LidarPointsOnMappedStructureBesideThePathDoNotStopTheRobot) {
+  const EdgeScene scene;
+  tn::Costmap cm(scene.map, scene.keep_out, tn::CostmapParams{});
+  const tn::Footprint fp = greenhouseFootprint();
+  // From one target 0.8 m before the edge to the next 1.6 m along it: turn left, drive, turn back.
+  const tn::Pose2D start{4.2, 2.0, 0.0};
+  const std::vector<Eigen::Vector2d> path{{4.2, 2.0}, {4.2, 3.6}};
+  std::mt19937 rng(15);
+  std::normal_distribution<double> noise(0.0, 0.02);  // range noise and the localiser's error
+  for (int trial = 0; trial < 20; ++trial) {
+    std::vector<Eigen::Vector2d> pts;
+    // The lidar sees the vent line's end face and sides, the post's faces, and the floor beyond the edge.
+    for (double y = 2.72; y <= 2.88; y += 0.01) pts.emplace_back(5.08 + noise(rng), y + noise(rng));
+    for (double x = 5.08; x <= 6.5; x += 0.02) {
+      pts.emplace_back(x + noise(rng), 2.72 + noise(rng));
+      pts.emplace_back(x + noise(rng), 2.88 + noise(rng));
+    }
+    for (double y = 2.7; y <= 2.9; y += 0.01) pts.emplace_back(3.75 + noise(rng), y + noise(rng));
+    for (double y = 0.5; y <= 5.5; y += 0.05) pts.emplace_back(5.3 + noise(rng), y);
+    cm.setObstacles(pts);
+    EXPECT_EQ(cm.obstaclePoints(), 0u) << "trial " << trial;
+    EXPECT_EQ(cm.knownStructurePoints(), pts.size());
+    EXPECT_LT(tn::sweptObstacleDistance(cm, fp, start, path, 1, 2.5, false), 0.0) << "trial " << trial;
+  }
+  // Without the tolerance, points of the post's face seen 7 cm off the map (inside the padded box) stop the robot.
+  tn::CostmapParams strict;
+  strict.known_structure_tolerance_m = 0.0;
+  tn::Costmap raw(scene.map, scene.keep_out, strict);
+  std::vector<Eigen::Vector2d> post;
+  for (double y = 2.7; y <= 2.9; y += 0.01) post.emplace_back(3.82, y);
+  raw.setObstacles(post);
+  EXPECT_GT(raw.obstaclePoints(), 0u);
+  EXPECT_GE(tn::sweptObstacleDistance(raw, fp, start, path, 1, 2.5, false), 0.0);
+}
+
+TEST(ObstacleCheck, UnmappedPointsInTheSweptFootprintStopTheRobot) {
+  const EdgeScene scene;
+  tn::Costmap cm(scene.map, scene.keep_out, tn::CostmapParams{});
+  const tn::Footprint fp = greenhouseFootprint();
+  const tn::Pose2D start{4.2, 2.0, 0.0};
+  const std::vector<Eigen::Vector2d> path{{4.2, 2.0}, {4.2, 3.6}};
+  // A small unmapped object (a crate, a foot) on the way: 1 m along the path.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> jitter(-0.05, 0.05);
+  for (int trial = 0; trial < 20; ++trial) {
+    const Eigen::Vector2d c(4.2 + jitter(rng), 3.0 + jitter(rng));
+    std::vector<Eigen::Vector2d> pts;
+    for (double a = 0.0; a < 2 * tn::kPi; a += 0.3) pts.push_back(c + 0.06 * Eigen::Vector2d(std::cos(a), std::sin(a)));
+    cm.setObstacles(pts);
+    EXPECT_EQ(cm.obstaclePoints(), pts.size());
+    const double d = tn::sweptObstacleDistance(cm, fp, start, path, 1, 2.5, false);
+    // Met when the box's front (0.23 m ahead of base_link after the turn) reaches it.
+    EXPECT_GT(d, 0.5) << "trial " << trial;
+    EXPECT_LT(d, 1.0) << "trial " << trial;
+    // Not looked at when it lies beyond the distance checked ahead.
+    EXPECT_LT(tn::sweptObstacleDistance(cm, fp, start, path, 1, 0.4, false), 0.0);
+  }
+  // Beside the path: a differential robot heads along it (0.39 m either side), an omnidirectional one keeps its
+  // heading across it (its 0.91 m rear reaches the point).
+  cm.setObstacles({{3.5, 3.0}});
+  EXPECT_LT(tn::sweptObstacleDistance(cm, fp, start, path, 1, 2.5, false), 0.0);
+  EXPECT_GE(tn::sweptObstacleDistance(cm, fp, start, path, 1, 2.5, true), 0.0);
+  // Beside the path, outside the swept box: no stop.
+  cm.setObstacles({{3.3, 2.6}, {4.75, 3.0}, {3.56, 1.36}});
+  EXPECT_EQ(cm.obstaclePoints(), 3u);
+  EXPECT_LT(tn::sweptObstacleDistance(cm, fp, start, path, 1, 2.5, false), 0.0);
+  // Under the robot now: stop at once, whatever the path.
+  cm.setObstacles({{4.0, 2.1}});
+  EXPECT_NEAR(tn::sweptObstacleDistance(cm, fp, start, {}, 0, 2.5, false), 0.0, 1e-9);
+  // An obstacle under a mapped wall's cell is the wall; unknown-space points far from walls are obstacles.
+  tn::Grid2D map = scene.map;
+  for (int y = 100; y < 120; ++y)
+    for (int x = 0; x < 40; ++x) map.at(x, y) = tn::kUnknown;
+  tn::Costmap cm2(map, scene.keep_out, tn::CostmapParams{});
+  cm2.setObstacles({{0.5, 5.5}, {3.65, 2.8}, {std::nan(""), 1.0}});
+  EXPECT_EQ(cm2.obstaclePoints(), 1u);
+  EXPECT_EQ(cm2.knownStructurePoints(), 1u);
+  tn::CostmapParams bad;
+  bad.known_structure_tolerance_m = -0.1;
+  EXPECT_NE(bad.validate(), "");
+}
+
 TEST(GridPlanner, StartInsideThePlanningRadiusCanLeave) {
   const tn::Costmap cm(roomWithBaffle(), tn::Grid2D(), tn::CostmapParams{});
   const auto r = tn::planPath(cm, {0.2, 2.0}, {3.0, 2.0}, tn::PlannerParams{});

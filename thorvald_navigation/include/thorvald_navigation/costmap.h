@@ -37,6 +37,9 @@ struct CostmapParams {
   double inflation_radius_m = 1.0;  ///< cost decays to 0 at this distance [m]
   double cost_scaling = 3.0;        ///< exponential decay rate beyond planning_radius [1/m]
   bool unknown_is_blocked = true;   ///< unknown map cells block (no planning into unexplored space)
+  /// Lidar points this close to a wall of the map or to the keep-out zone are that known structure (seen with the
+  /// localiser's error and the map's cell size), not obstacles: the static layers already keep the robot off it [m].
+  double known_structure_tolerance_m = 0.15;
   std::string validate() const;
 };
 
@@ -49,13 +52,19 @@ class Costmap {
   /// `keep_out` may be empty (width 0). Cells >= 65 of either grid block.
   Costmap(const Grid2D& map, const Grid2D& keep_out, const CostmapParams& params);
 
-  /// Replaces the obstacle layer with points seen now (world frame) and re-inflates.
+  /// Replaces the obstacle layer with points seen now (world frame) and re-inflates. Points on or within
+  /// known_structure_tolerance_m of a wall of the map or of the keep-out zone are not obstacles.
   void setObstacles(const std::vector<Eigen::Vector2d>& points_world);
+  /// Of the last setObstacles: points marked as obstacles, points taken as known map structure.
+  std::size_t obstaclePoints() const { return obstacle_points_; }
+  std::size_t knownStructurePoints() const { return known_points_; }
   const Grid2D& geometry() const { return geometry_; }
   std::uint8_t cost(int cx, int cy) const { return cost_[geometry_.index(cx, cy)]; }
   Blocker blocker(int cx, int cy) const { return static_cast<Blocker>(blocker_[geometry_.index(cx, cy)]); }
   /// The first blocked cell under the footprint placed at `pose`, or kNone.
   Blocker footprintBlocker(const Pose2D& pose, const Footprint& footprint) const;
+  /// Whether any cell under the footprint placed at `pose` is blocked by `which` (whatever else it overlaps).
+  bool footprintTouches(const Pose2D& pose, const Footprint& footprint, Blocker which) const;
   /// Costs as 0..100 occupancy values for display (-1 never).
   Grid2D toDisplayGrid() const;
   const CostmapParams& params() const { return params_; }
@@ -68,6 +77,17 @@ class Costmap {
   std::vector<std::uint8_t> static_blocker_;
   std::vector<std::uint8_t> blocker_;
   std::vector<std::uint8_t> cost_;
+  std::vector<float> known_distance_;  // distance to the nearest wall / keep-out cell, clamped [m]
+  std::size_t obstacle_points_ = 0, known_points_ = 0;
 };
+
+/// How far along the path the robot meets a lidar obstacle: its footprint at `pose`, then placed every 5 cm (or map
+/// cell) along path[next_index..] for the next `ahead_m` metres, heading along each segment (differential) or kept
+/// (omnidirectional). Turns on the spot between segments are not swept (the plan is for base_link's circle; sweeping
+/// them would stop a long robot for good next to an obstacle it passes). Only obstacle cells count: walls, keep-out
+/// and unknown space are the planner's. Negative when the way is clear.
+double sweptObstacleDistance(const Costmap& costmap, const Footprint& footprint, const Pose2D& pose,
+                             const std::vector<Eigen::Vector2d>& path, std::size_t next_index, double ahead_m,
+                             bool omnidirectional);
 
 }  // namespace thorvald_navigation

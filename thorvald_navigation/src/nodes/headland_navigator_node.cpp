@@ -99,6 +99,8 @@ bool loadSettings(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, Setting
     s->costmap.planning_radius_m = r.number("planning_radius", 0.0, R::atLeast(0.0), "m");
     s->costmap.cost_scaling = r.number("cost_scaling_factor", s->costmap.cost_scaling, R::above(0.0), "1/m");
     s->costmap.unknown_is_blocked = !r.flag("allow_unknown", !s->costmap.unknown_is_blocked);
+    s->costmap.known_structure_tolerance_m =
+        r.number("known_structure_tolerance", s->costmap.known_structure_tolerance_m, R::closed(0.0, 1.0), "m");
     s->planner.cost_weight = r.number("cost_weight", s->planner.cost_weight, R::atLeast(0.0));
     auto& f = s->follower;
     f.max_speed_mps = r.number("max_vel_x", f.max_speed_mps, R::above(0.0), "m/s");
@@ -385,23 +387,11 @@ class HeadlandNavigatorNode {
     return path;
   }
 
-  // Is a lidar obstacle under the footprint along the next obstacle_check_ahead metres of the path?
+  // Is a lidar obstacle (not a known wall or the keep-out zone) under the footprint along the next
+  // obstacle_check_ahead metres of the path?
   bool obstacleAhead(const Pose2D& pose) const {
-    if (costmap_->footprintBlocker(pose, footprint_) == Blocker::kObstacle) return true;
-    double travelled = 0.0;
-    Eigen::Vector2d prev(pose.x, pose.y);
-    for (std::size_t i = follower_.progressIndex() + 1; i < path_.size() && travelled < s_.obstacle_check_ahead; ++i) {
-      const Eigen::Vector2d seg = path_[i] - prev;
-      const int steps = std::max(1, static_cast<int>(std::ceil(seg.norm() / 0.1)));
-      const double yaw = s_.follower.omnidirectional ? pose.yaw : std::atan2(seg.y(), seg.x());
-      for (int k = 1; k <= steps && travelled < s_.obstacle_check_ahead; ++k) {
-        const Eigen::Vector2d p = prev + seg * (static_cast<double>(k) / steps);
-        travelled += seg.norm() / steps;
-        if (costmap_->footprintBlocker({p.x(), p.y(), yaw}, footprint_) == Blocker::kObstacle) return true;
-      }
-      prev = path_[i];
-    }
-    return false;
+    return sweptObstacleDistance(*costmap_, footprint_, pose, path_, follower_.progressIndex() + 1,
+                                 s_.obstacle_check_ahead, s_.follower.omnidirectional) >= 0.0;
   }
 
   void onTimer(const ros::TimerEvent& ev) {
@@ -447,8 +437,7 @@ class HeadlandNavigatorNode {
         stopRobot();
         return;
       }
-      need_plan_ = false;
-      blocked_since_ = ros::Time();
+      need_plan_ = false;  // blocked_since_ stays: a new plan the obstacle still blocks does not restart the wait
     }
     if (obstacleAhead(pose)) {
       stopRobot();
@@ -546,6 +535,10 @@ class HeadlandNavigatorNode {
     st.add("plans", plans_);
     st.add("goals reached", reached_);
     st.add("obstacle stops (cycles)", obstacle_stops_);
+    if (costmap_) {
+      st.add("lidar points: obstacles", costmap_->obstaclePoints());
+      st.add("lidar points: known walls / keep-out", costmap_->knownStructurePoints());
+    }
     st.add("localiser status", localizerStateName(gate_.state()));
     st.add("waits for relocalisation", relocalisation_waits_);
     st.add("localiser statuses not understood", bad_statuses_);
