@@ -26,6 +26,9 @@ std::string UvMissionParams::validate() const {
   if (!(surface_timeout_s > 0.0)) e << "surface_timeout must be > 0 [s]; ";
   if (!(on_rails_margin_m >= 0.0 && on_rails_margin_m < enter_max_distance_m))
     e << "on_rails_margin must be in [0, enter_max_distance) [m]; ";
+  if (!(secure_wait_s > 0.0)) e << "secure_wait must be > 0 [s]; ";
+  if (!(recover_reverse_max_m >= 0.0 && recover_reverse_max_m <= 5.0))
+    e << "recover_reverse_max must be in [0, 5] [m]; ";
   return e.str();
 }
 
@@ -36,6 +39,8 @@ class UvMission::Impl {
 
   // Outcomes of the motion loops.
   enum class Loop { kDone, kFailed, kPreempted, kEdge };
+  // Where the robot stands after a failure at a rail set.
+  enum class Safety { kSafe, kUnsafe, kPreempted };
 
   void build(tsm::StateMachine& sm);
 
@@ -51,6 +56,8 @@ class UvMission::Impl {
     io_.log(o.str());
   }
   void stop() { io_.commandTwist(0.0, 0.0); }
+  /// Adds a failure to the current set's reason (a treatment stopped on the rails, then its return).
+  void addReason(const std::string& r) { skip_reason_ = skip_reason_.empty() ? r : skip_reason_ + "; " + r; }
   /// Holds the robot while a person must clear a safety stop; false when preempted meanwhile.
   bool holdWhileStopped(tsm::ExecutionContext& ctx);
   bool surfaceStale() {
@@ -81,7 +88,9 @@ class UvMission::Impl {
   std::string backOut(tsm::ExecutionContext& ctx);
   std::string treat(tsm::ExecutionContext& ctx);
   std::string comeBack(tsm::ExecutionContext& ctx);
-  std::string skip();
+  std::string skip(tsm::ExecutionContext& ctx);
+  Safety secure(tsm::ExecutionContext& ctx, std::string* note);
+  Safety reverseToFloor(tsm::ExecutionContext& ctx, std::string* note);
 
   UvMission& owner_;
   MissionIO& io_;
@@ -96,6 +105,9 @@ class UvMission::Impl {
   Pose2D entry_odom_;
   Pose2D entry_map_;
   bool entry_map_known_ = false;
+  bool set_started_ = false;     // the robot has moved for the current set (skipping it needs a safety check)
+  bool rail_phase_ = false;      // the robot has started entering the current set's rails
+  bool treat_complete_ = false;  // the current set's rails were driven to their end with the lights on
   double entered_m_ = 0.0;
   double driven_in_m_ = 0.0;
 };
@@ -179,6 +191,7 @@ std::string UvMission::Impl::select() {
     bool reported = false;
     for (const auto& r : owner_.reports_) reported = reported || (r.index == t.index && !r.treated);
     if (reported) continue;  // tried in this run and skipped
+    set_started_ = rail_phase_ = treat_complete_ = false;
     if (!t.good) {
       current_ = &t;
       skip_reason_ = "marked uncertain by the map analyzer: " + t.note;
@@ -201,6 +214,7 @@ std::string UvMission::Impl::select() {
 }
 
 std::string UvMission::Impl::navigate(tsm::ExecutionContext& ctx) {
+  set_started_ = true;
   for (int attempt = 1; attempt <= p_.nav_attempts; ++attempt) {
     io_.sendNavGoal(current_->target_pose);
     const double deadline = io_.now() + p_.nav_timeout_s;
@@ -310,6 +324,7 @@ std::string UvMission::Impl::enter(tsm::ExecutionContext& ctx) {
     return "failed";
   }
   entry_map_known_ = io_.mapPose(&entry_map_);
+  rail_phase_ = true;
   entered_m_ = 0.0;
   MotionLimits slow = p_.motion;
   slow.max_speed_mps = p_.enter_speed_mps;
@@ -395,7 +410,10 @@ std::string UvMission::Impl::backOut(tsm::ExecutionContext& ctx) {
 
 std::string UvMission::Impl::treat(tsm::ExecutionContext& ctx) {
   Pose2D pose, last;
-  if (!io_.odomPose(&pose)) return "failed";
+  if (!io_.odomPose(&pose)) {
+    skip_reason_ = "no odometry on the rails";
+    return "failed";
+  }
   last = pose;
   const double yaw_ref = pose.yaw;
   const Pose2D rail_start = pose;
@@ -420,12 +438,14 @@ std::string UvMission::Impl::treat(tsm::ExecutionContext& ctx) {
       io_.setLights(true);
     }
     if (surfaceStale() || !io_.odomPose(&pose)) {
-      log("on the rails: surface readings or odometry lost, stopping");
+      skip_reason_ = "treatment stopped: surface readings or odometry lost on the rails";
+      log(skip_reason_);
       outcome = "failed";
       break;
     }
     if (io_.surface().wheels == Surface::kEdge) {
-      log("on the rails: edge under a wheel, stopping");
+      skip_reason_ = "treatment stopped: edge under a wheel on the rails";
+      log(skip_reason_);
       outcome = "failed";
       break;
     }
@@ -441,7 +461,8 @@ std::string UvMission::Impl::treat(tsm::ExecutionContext& ctx) {
     }
     last = pose;
     if (along > p_.rail_run.max_rail_length_m) {
-      log("on the rails: longer than max_rail_length without seeing the far wall, stopping");
+      skip_reason_ = "treatment stopped: longer than max_rail_length without seeing the far wall";
+      log(skip_reason_);
       outcome = "failed";
       break;
     }
@@ -459,6 +480,7 @@ std::string UvMission::Impl::treat(tsm::ExecutionContext& ctx) {
     report_.speed_mean_mps = sum / n;
     report_.speed_std_mps = std::sqrt(std::max(0.0, sum2 / n - report_.speed_mean_mps * report_.speed_mean_mps));
   }
+  treat_complete_ = outcome == "end_of_rail";
   std::ostringstream o;
   o << "UV lights off after " << report_.rail_length_m << " m on the rails (mean speed " << report_.speed_mean_mps
     << " m/s)";
@@ -468,7 +490,10 @@ std::string UvMission::Impl::treat(tsm::ExecutionContext& ctx) {
 
 std::string UvMission::Impl::comeBack(tsm::ExecutionContext& ctx) {
   Pose2D pose;
-  if (!io_.odomPose(&pose)) return "failed";
+  if (!io_.odomPose(&pose)) {
+    addReason("return: no odometry");
+    return "failed";
+  }
   const double yaw_ref = entry_odom_.yaw;
   double v = 0.0, t_last = io_.now();
   const double extra_m = 0.5;  // beyond the stored pose, to find the floor if odometry came up short
@@ -485,7 +510,8 @@ std::string UvMission::Impl::comeBack(tsm::ExecutionContext& ctx) {
     }
     if (surfaceStale() || !io_.odomPose(&pose)) {
       stop();
-      log("returning: surface readings or odometry lost, stopping");
+      addReason("return: surface readings or odometry lost");
+      log(skip_reason_);
       return "failed";
     }
     const double now = io_.now();
@@ -496,13 +522,15 @@ std::string UvMission::Impl::comeBack(tsm::ExecutionContext& ctx) {
     const SurfaceReading s = io_.surface();
     if (s.wheels == Surface::kEdge) {
       stop();
-      log("returning: edge under a wheel, stopping");
+      addReason("return: edge under a wheel");
+      log(skip_reason_);
       return "failed";
     }
     if (along <= 0.0 && s.wheels == Surface::kFloor) break;  // back at the stored pose, on the floor
     if (along < -extra_m) {
       stop();
-      log("returning: no floor sensed at the stored pose");
+      addReason("return: no floor sensed at the stored pose");
+      log(skip_reason_);
       return "failed";
     }
     v = returnSpeed(p_.rail_run, v, reversed, driven_in_m_, dt);
@@ -512,6 +540,10 @@ std::string UvMission::Impl::comeBack(tsm::ExecutionContext& ctx) {
   }
   stop();
   if (entry_map_known_) io_.resetLocalisation(entry_map_);
+  if (!treat_complete_) {
+    log("back on the headland floor; the rails were not treated to their end");
+    return "back_untreated";
+  }
   report_.treated = true;
   report_.result = "treated";
   report_.duration_s = io_.now() - set_start_s_;
@@ -521,15 +553,133 @@ std::string UvMission::Impl::comeBack(tsm::ExecutionContext& ctx) {
   return "back";
 }
 
-std::string UvMission::Impl::skip() {
+UvMission::Impl::Safety UvMission::Impl::reverseToFloor(tsm::ExecutionContext& ctx, std::string* note) {
+  Pose2D start, pose;
+  if (!io_.odomPose(&start)) {
+    *note = "rail under the wheels and no odometry to reverse on";
+    return Safety::kUnsafe;
+  }
+  std::ostringstream l;
+  l << "rail under the wheels: reversing at " << p_.rail_run.slow_speed_mps << " m/s to find the floor (at most "
+    << p_.recover_reverse_max_m << " m)";
+  log(l.str());
+  pose = start;
+  while (io_.ok()) {
+    if (ctx.preemptRequested()) {
+      stop();
+      return Safety::kPreempted;
+    }
+    if (!holdWhileStopped(ctx)) return Safety::kPreempted;
+    if (surfaceStale() || !io_.odomPose(&pose)) {
+      stop();
+      *note = "surface readings or odometry lost while reversing to the floor";
+      return Safety::kUnsafe;
+    }
+    const double reversed = (pose.position() - start.position()).norm();
+    const SurfaceReading s = io_.surface();
+    if (s.wheels == Surface::kEdge) {
+      stop();
+      *note = "an edge under a wheel while reversing to the floor";
+      return Safety::kUnsafe;
+    }
+    if (s.wheels == Surface::kFloor) {
+      stop();
+      if (entry_map_known_) io_.resetLocalisation(entry_map_);
+      std::ostringstream o;
+      o << "floor found after reversing " << reversed << " m more";
+      *note = o.str();
+      return Safety::kSafe;
+    }
+    if (reversed > p_.recover_reverse_max_m) {
+      stop();
+      std::ostringstream o;
+      o << "still on the rails after reversing " << reversed << " m more";
+      *note = o.str();
+      return Safety::kUnsafe;
+    }
+    io_.commandTwist(-p_.rail_run.slow_speed_mps, railSteering(entry_odom_.yaw, pose.yaw));
+    io_.waitTick();
+  }
+  stop();
+  return Safety::kPreempted;
+}
+
+UvMission::Impl::Safety UvMission::Impl::secure(tsm::ExecutionContext& ctx, std::string* note) {
+  // The surface classifier needs a few agreeing readings after a change: wait for a fresh, decided reading.
+  const double deadline = io_.now() + p_.secure_wait_s;
+  SurfaceReading s;
+  while (true) {
+    if (!io_.ok() || ctx.preemptRequested()) return Safety::kPreempted;
+    if (!holdWhileStopped(ctx)) return Safety::kPreempted;
+    stop();
+    s = io_.surface();
+    const bool fresh = !surfaceStale();
+    if (fresh && s.wheels != Surface::kUnknown) break;
+    if (io_.now() >= deadline) {
+      *note = fresh ? "the range finders at the wheels read neither floor nor rail under both wheels"
+                    : "no fresh readings from the range finders";
+      return Safety::kUnsafe;
+    }
+    io_.waitTick();
+  }
+  if (s.wheels == Surface::kEdge) {
+    *note = "an edge under a wheel";
+    return Safety::kUnsafe;
+  }
+  if (s.wheels == Surface::kRail) {
+    if (!rail_phase_) {
+      *note = "rail under the wheels away from the rails' entry";
+      return Safety::kUnsafe;
+    }
+    const Safety r = reverseToFloor(ctx, note);
+    if (r != Safety::kSafe) return r;
+  }
+  Pose2D pose;
+  if (!io_.odomPose(&pose)) {
+    *note = "no odometry";
+    return Safety::kUnsafe;
+  }
+  const double map_deadline = io_.now() + p_.detect_timeout_s;
+  while (!io_.mapPose(&pose)) {
+    if (!io_.ok() || ctx.preemptRequested()) return Safety::kPreempted;
+    if (io_.now() >= map_deadline) {
+      *note = "the robot's pose in the map is unknown";
+      return Safety::kUnsafe;
+    }
+    stop();
+    io_.waitTick();
+  }
+  return Safety::kSafe;
+}
+
+std::string UvMission::Impl::skip(tsm::ExecutionContext& ctx) {
   stop();
   io_.setLights(false);
-  report_.treated = false;
-  report_.result = skip_reason_.empty() ? "skipped" : skip_reason_;
+  const std::string reason = skip_reason_.empty() ? "skipped" : skip_reason_;
+  skip_reason_.clear();
+  std::string note;
+  Safety safety = Safety::kSafe;
+  if (set_started_) {
+    safety = secure(ctx, &note);
+    if (safety == Safety::kPreempted) {
+      stop();
+      return tsm::kPreempted;
+    }
+  }
+  // The lights went over the whole rails even if the way back needed help: the set is treated.
+  report_.treated = treat_complete_;
+  report_.result = treat_complete_ ? "treated; " + reason : reason;
+  if (!note.empty()) report_.result += safety == Safety::kSafe ? " (" + note + ")" : "; robot stopped: " + note;
   report_.duration_s = io_.now() - set_start_s_;
   owner_.reports_.push_back(report_);
-  log("skipped: " + report_.result);
-  skip_reason_.clear();
+  if (treat_complete_) owner_.done_.insert(current_->index);
+  if (safety != Safety::kSafe) {
+    stop();
+    owner_.stop_reason_ = "rail set " + std::to_string(current_->index) + ": " + reason + "; robot stopped: " + note;
+    log("mission stopped, not safe to go on: " + note);
+    return "unsafe";
+  }
+  log((treat_complete_ ? "treated, with a failure: " : "skipped: ") + report_.result);
   return "next";
 }
 
@@ -551,12 +701,16 @@ void UvMission::Impl::build(tsm::StateMachine& sm) {
          {{"on_rails", "TREAT"}, {"edge", "BACK_OUT"}, {"failed", "BACK_OUT"}});
   sm.add("BACK_OUT",
          state({"backed_out", "give_up", "failed", P}, [this](tsm::ExecutionContext& c) { return backOut(c); }),
-         {{"backed_out", "DETECT"}, {"give_up", "SKIP"}, {"failed", "aborted"}});
+         {{"backed_out", "DETECT"}, {"give_up", "SKIP"}, {"failed", "SKIP"}});
   sm.add("TREAT", state({"end_of_rail", "failed", P}, [this](tsm::ExecutionContext& c) { return treat(c); }),
          {{"end_of_rail", "RETURN"}, {"failed", "RETURN"}});
-  sm.add("RETURN", state({"back", "failed", P}, [this](tsm::ExecutionContext& c) { return comeBack(c); }),
-         {{"back", "SELECT"}, {"failed", "aborted"}});
-  sm.add("SKIP", state({"next"}, [this](tsm::ExecutionContext&) { return skip(); }), {{"next", "SELECT"}});
+  sm.add("RETURN",
+         state({"back", "back_untreated", "failed", P}, [this](tsm::ExecutionContext& c) { return comeBack(c); }),
+         {{"back", "SELECT"}, {"back_untreated", "SKIP"}, {"failed", "SKIP"}});
+  // Every failure at a rail set comes here: the robot is stopped, lights off, and the mission goes on only when
+  // it stands on the headland floor with odometry and a map pose.
+  sm.add("SKIP", state({"next", "unsafe", P}, [this](tsm::ExecutionContext& c) { return skip(c); }),
+         {{"next", "SELECT"}, {"unsafe", "aborted"}});
 }
 
 UvMission::UvMission(MissionIO& io, const UvMissionParams& params, std::vector<MissionTarget> targets)

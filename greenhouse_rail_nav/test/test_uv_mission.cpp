@@ -30,6 +30,9 @@ class SimulatedGreenhouse : public grn::MissionIO {
   double nav_xy_error = 0.08, nav_yaw_error = 0.06;
   double detector_y_bias = 0.0;
   double bumper_from = -1.0, bumper_to = -1.0;  ///< sim time of a bumper press and of the person's reset
+  /// Odometry gain while reversing on the rails (> 1: odometry runs ahead of the robot, as when the wheels slip).
+  double odom_reverse_gain_on_rails = 1.0;
+  double silent_after_lights_s = -1.0;  ///< the range finders stop reporting after the lights were on this long
 
   // What the tests check.
   bool wheel_past_edge = false;
@@ -63,6 +66,7 @@ class SimulatedGreenhouse : public grn::MissionIO {
   void cancelNav() override { nav_done_at_ = -1.0; }
   bool odomPose(grn::Pose2D* p) override {
     *p = pose_;
+    p->x += odom_extra_x_;
     return true;
   }
   bool mapPose(grn::Pose2D* p) override {
@@ -71,6 +75,8 @@ class SimulatedGreenhouse : public grn::MissionIO {
   }
   grn::RailObservation railObservation() override { return obs_; }
   grn::SurfaceReading surface() override { return surface_; }
+  grn::Pose2D truePose() const { return pose_; }
+  double lastLinearCommand() const { return v_cmd_; }
   double forwardRange() override {
     // The far wall 1 m past the rail end, seen by the lidar 0.45 m ahead of base_link when facing along +x.
     if (std::cos(pose_.yaw) < 0.9) return std::numeric_limits<double>::quiet_NaN();
@@ -113,6 +119,8 @@ class SimulatedGreenhouse : public grn::MissionIO {
     w_ += a * (w_cmd_ - w_);
     pose_.yaw = grn::normalizeAngle(pose_.yaw + w_ * dt);
     pose_.x += v_ * std::cos(pose_.yaw) * dt;
+    if (v_ < 0.0 && surface_.wheels == grn::Surface::kRail)
+      odom_extra_x_ += (odom_reverse_gain_on_rails - 1.0) * v_ * std::cos(pose_.yaw) * dt;
     pose_.y += v_ * std::sin(pose_.yaw) * dt;
     // On the pipes the rail wheels guide the robot along the rails.
     if (pose_.x > 0.1 && surface_.wheels == grn::Surface::kRail) {
@@ -127,6 +135,7 @@ class SimulatedGreenhouse : public grn::MissionIO {
     // Drive wheels at base_link +-0.2 m: the range finders at +-0.30 m beside them watch the rail wheels' line.
     const grn::Surface wl = surfaceAt(0.0, 0.30), wr = surfaceAt(0.0, -0.30);
     const grn::Surface fl = surfaceAt(0.52, 0.30), fr = surfaceAt(0.52, -0.30);
+    if (silent_after_lights_s >= 0.0 && lights_on_time > silent_after_lights_s) return;
     auto common = [](grn::Surface a, grn::Surface b) {
       if (a == grn::Surface::kEdge || b == grn::Surface::kEdge) return grn::Surface::kEdge;
       return a == b ? a : grn::Surface::kUnknown;
@@ -157,6 +166,7 @@ class SimulatedGreenhouse : public grn::MissionIO {
   std::vector<RailSetTruth> sets_;
   std::mt19937 rng_;
   grn::Pose2D pose_, goal_;
+  double odom_extra_x_ = 0.0;
   double t_ = 0.0, v_ = 0.0, w_ = 0.0, v_cmd_ = 0.0, w_cmd_ = 0.0, nav_done_at_ = -1.0, last_cloud_ = -1.0;
   grn::RailObservation obs_;
   grn::SurfaceReading surface_;
@@ -297,4 +307,108 @@ TEST(UvMission, LightsGoOnOnlyAfterTheOnRailsMargin) {
     EXPECT_LT(world.first_lights_on_x, margin + 0.05) << "margin " << margin;
     EXPECT_TRUE(mission.reports()[0].treated);
   }
+}
+
+namespace {
+bool logSays(const SimulatedGreenhouse& world, const std::string& text) {
+  for (const auto& l : world.lines)
+    if (l.find(text) != std::string::npos) return true;
+  return false;
+}
+}  // namespace
+
+// Odometry runs 15 % ahead while reversing on 12 m rails: 0.5 m beyond the stored pose (0.8 m before the pipes,
+// by odometry) the robot is still about 0.3 m on the rails and the return finds no floor. The robot reverses slowly
+// until the floor is under the wheels, the set counts as treated with the reason in its report, and the mission goes on
+// with the next set.
+TEST(UvMissionRobustness, AReturnWithoutFloorIsRecoveredAndTheMissionGoesOn) {
+  const std::vector<RailSetTruth> sets = {{0.0}, {1.6}};
+  SimulatedGreenhouse world(sets, 13);
+  world.odom_reverse_gain_on_rails = 1.15;
+  grn::UvMissionParams p;
+  grn::UvMission mission(world, p, targetsFor(sets, -1.2));
+  EXPECT_EQ(mission.run(), "done");
+  EXPECT_TRUE(mission.stopReason().empty()) << mission.stopReason();
+  ASSERT_EQ(mission.reports().size(), 2u);
+  for (const auto& r : mission.reports()) {
+    EXPECT_TRUE(r.treated) << r.result;
+    EXPECT_NE(r.result.find("no floor sensed at the stored pose"), std::string::npos) << r.result;
+    EXPECT_NE(r.result.find("floor found after reversing"), std::string::npos) << r.result;
+  }
+  EXPECT_EQ(mission.done().size(), 2u);
+  EXPECT_FALSE(world.wheel_past_edge);
+  EXPECT_FALSE(world.lights_on_off_rails);
+  EXPECT_LT(world.truePose().x, 0.0) << "the robot ends on the headland floor";
+  if (HasFailure())
+    for (const auto& l : world.lines) std::cout << l << "\n";
+}
+
+// Odometry 35 % ahead: the robot is still about 2 m on the rails when the recovery's limit is reached. Its state is
+// not what the mission can handle: it stops there with the lights off and says why, and tries no other set.
+TEST(UvMissionRobustness, StopsAndSaysWhyWhenTheFloorCannotBeFound) {
+  const std::vector<RailSetTruth> sets = {{0.0}, {1.6}};
+  SimulatedGreenhouse world(sets, 13);
+  world.odom_reverse_gain_on_rails = 1.35;
+  grn::UvMissionParams p;
+  grn::UvMission mission(world, p, targetsFor(sets, -1.2));
+  EXPECT_EQ(mission.run(), "aborted");
+  EXPECT_NE(mission.stopReason().find("rail set 0"), std::string::npos) << mission.stopReason();
+  EXPECT_NE(mission.stopReason().find("still on the rails after reversing"), std::string::npos) << mission.stopReason();
+  ASSERT_EQ(mission.reports().size(), 1u);
+  EXPECT_NE(mission.reports()[0].result.find("robot stopped"), std::string::npos) << mission.reports()[0].result;
+  EXPECT_EQ(world.nav_goals, 1) << "no navigation towards the next set";
+  EXPECT_FALSE(world.lights_on);
+  EXPECT_EQ(world.lastLinearCommand(), 0.0);
+  EXPECT_GT(world.truePose().x, 0.5) << "the robot is still on the rails";
+  EXPECT_FALSE(world.wheel_past_edge);
+  if (HasFailure())
+    for (const auto& l : world.lines) std::cout << l << "\n";
+}
+
+// A target pose with no rails in front of it: the search finds nothing, the set is reported with that reason, the
+// robot stands on the floor, and the next sets are treated.
+TEST(UvMissionRobustness, PerSetFailuresAreReportedAndTheMissionGoesOn) {
+  const std::vector<RailSetTruth> sets = {{0.0}, {1.6}};
+  SimulatedGreenhouse world(sets, 17);
+  auto targets = targetsFor(sets, -1.2);
+  grn::MissionTarget nowhere;
+  nowhere.index = 7;
+  nowhere.target_pose = grn::Pose2D(-1.2, -2.4, 0.0);  // no rails within the camera's reach
+  targets.insert(targets.begin(), nowhere);
+  grn::UvMissionParams p;
+  p.max_align_attempts = 2;
+  grn::UvMission mission(world, p, targets);
+  EXPECT_EQ(mission.run(), "done");
+  ASSERT_EQ(mission.reports().size(), 3u);
+  EXPECT_EQ(mission.reports()[0].index, 7);
+  EXPECT_FALSE(mission.reports()[0].treated);
+  EXPECT_NE(mission.reports()[0].result.find("rails not found by the search"), std::string::npos)
+      << mission.reports()[0].result;
+  EXPECT_TRUE(mission.reports()[1].treated) << mission.reports()[1].result;
+  EXPECT_TRUE(mission.reports()[2].treated) << mission.reports()[2].result;
+  EXPECT_FALSE(world.wheel_past_edge);
+  if (HasFailure())
+    for (const auto& l : world.lines) std::cout << l << "\n";
+}
+
+// The range finders fall silent while the robot is on the rails: the treatment stops, and with no fresh reading
+// nothing says where the robot stands, so the mission stops instead of driving on.
+TEST(UvMissionRobustness, SilentRangeFindersOnTheRailsStopTheMission) {
+  const std::vector<RailSetTruth> sets = {{0.0}, {1.6}};
+  SimulatedGreenhouse world(sets, 19);
+  world.nav_xy_error = world.nav_yaw_error = 0.0;
+  world.silent_after_lights_s = 3.0;
+  grn::UvMissionParams p;
+  grn::UvMission mission(world, p, targetsFor(sets, -1.2));
+  EXPECT_EQ(mission.run(), "aborted");
+  ASSERT_EQ(mission.reports().size(), 1u);
+  EXPECT_FALSE(mission.reports()[0].treated);
+  EXPECT_NE(mission.stopReason().find("no fresh readings from the range finders"), std::string::npos)
+      << mission.stopReason();
+  EXPECT_FALSE(world.lights_on);
+  EXPECT_EQ(world.lastLinearCommand(), 0.0);
+  EXPECT_EQ(world.nav_goals, 1);
+  EXPECT_TRUE(logSays(world, "mission stopped, not safe to go on"));
+  if (HasFailure())
+    for (const auto& l : world.lines) std::cout << l << "\n";
 }

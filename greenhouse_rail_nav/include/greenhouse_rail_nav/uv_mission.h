@@ -86,6 +86,13 @@ struct UvMissionParams {
   /// Entering, the range finders must read rail under the front and the wheels over this distance before the
   /// robot counts as on the rails (their cones see a pipe before the rail wheels are carried by it) [m].
   double on_rails_margin_m = 0.1;
+  /// After a failure at a rail set (a return without floor, an entry or alignment that failed) the robot must be
+  /// on the headland floor before the mission goes on: this long for a fresh and decided reading under the
+  /// wheels [s].
+  double secure_wait_s = 1.0;
+  /// With rail still under the wheels after such a failure, the robot reverses at the slow speed at most this
+  /// far to find the floor; beyond it the mission stops [m].
+  double recover_reverse_max_m = 1.0;
 
   std::string validate() const;
 };
@@ -117,7 +124,9 @@ class UvMission {
   ~UvMission();
 
   /// Runs until every good set is done, or preempted; returns the machine's outcome ("done", "preempted",
-  /// "aborted").
+  /// "aborted"). A failure at one rail set is reported for that set and the mission goes on with the next one
+  /// once the robot stands on the headland floor with odometry and a map pose; otherwise the robot is stopped,
+  /// its lights off, and the mission ends "aborted" with stopReason().
   std::string run();
   void requestPreempt();
   thorvald_state_machine::StateMachine& machine() { return *machine_; }
@@ -125,6 +134,8 @@ class UvMission {
   const std::set<int>& done() const { return done_; }
   /// Sets already treated (e.g. from a progress file): they are skipped.
   void markDone(const std::set<int>& indices) { done_.insert(indices.begin(), indices.end()); }
+  /// Why the mission stopped before its end (empty when it did not).
+  const std::string& stopReason() const { return stop_reason_; }
 
  private:
   class Impl;
@@ -132,6 +143,7 @@ class UvMission {
   std::unique_ptr<thorvald_state_machine::StateMachine> machine_;
   std::vector<RailSetReport> reports_;
   std::set<int> done_;
+  std::string stop_reason_;
   friend class Impl;
 };
 

@@ -296,6 +296,8 @@ int main(int argc, char** argv) {
     p.on_rails_margin_m = params.number("on_rails_margin", p.on_rails_margin_m, R::closed(0.0, 1.0), "m");
     p.enter_line_frequency_rps =
         params.number("enter_line_frequency", p.enter_line_frequency_rps, R::closed(0.0, 3.0), "rad/s");
+    p.secure_wait_s = params.number("secure_wait", p.secure_wait_s, R::aboveUpTo(0.0, 10.0), "s");
+    p.recover_reverse_max_m = params.number("recover_reverse_max", p.recover_reverse_max_m, R::closed(0.0, 5.0), "m");
     params.finish();
     const std::string problems = p.validate();
     if (!problems.empty()) throw thorvald_base::ParamError("uv_mission: " + problems);
@@ -360,6 +362,8 @@ int main(int argc, char** argv) {
         std_msgs::String r;
         r.data = grn::reportText(mission);
         report_pub.publish(r);
+        if (!mission.stopReason().empty())
+          ROS_ERROR("uv_mission: stopped before the end, the robot needs a person: %s", mission.stopReason().c_str());
         int treated = 0;
         for (const auto& rep : mission.reports()) treated += rep.treated ? 1 : 0;
         ROS_INFO("uv_mission: finished with '%s': %d of %zu rail sets treated\n%s", outcome.c_str(), treated,
