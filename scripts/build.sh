@@ -60,7 +60,8 @@ case "$mode" in
     ;;
   --only)
     shift
-    pkgs="$(IFS=';'; echo "$*")"
+    # thorvald_testing (the Python rostests' helpers) comes with every partial build: tests import it.
+    pkgs="$(IFS=';'; echo "$*");thorvald_testing"
     name="${BUILD_NAME:-$1}"  # BUILD_NAME: a build folder of its own for the same package
     b="$src/.ws/build_$name"; mkdir -p "$b"
     configure "$b" "$src/.ws/devel_$name" -DCATKIN_WHITELIST_PACKAGES="$pkgs"

@@ -1,7 +1,6 @@
 #!/usr/bin/python3
 """base_driver with a broken robot file exits non-zero and says which key is wrong."""
 import os
-import select
 import signal
 import subprocess
 import time
@@ -11,6 +10,7 @@ import rosgraph
 import rosparam
 import rospy
 import rostest
+from thorvald_testing import run_until_line
 
 
 class BadConfig(unittest.TestCase):
@@ -24,29 +24,10 @@ class BadConfig(unittest.TestCase):
     def output_of_running_driver(self, ns, params, args, wanted, deadline_s=30.0, command=None):
         """Starts base_driver, collects its output until a line contains `wanted` (or the deadline), stops it."""
         rosparam.upload_params(ns, params)
-        env = dict(os.environ) if command else dict(os.environ, ROS_NAMESPACE=ns)
-        proc = subprocess.Popen(command or ["rosrun", "thorvald_base", "base_driver", *args], env=env,
-                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-        lines = []
-        end = time.monotonic() + deadline_s
-        try:
-            while time.monotonic() < end:
-                ready, _, _ = select.select([proc.stdout], [], [], 0.5)
-                if not ready:
-                    continue
-                line = proc.stdout.readline()
-                if not line:
-                    break
-                lines.append(line)
-                if wanted in line:
-                    break
-        finally:
-            proc.send_signal(signal.SIGINT)
-            try:
-                proc.wait(timeout=10)
-            except subprocess.TimeoutExpired:
-                proc.kill()
-        return "".join(lines)
+        env = None if command else {"ROS_NAMESPACE": ns}
+        _, out = run_until_line(command or ["rosrun", "thorvald_base", "base_driver", *args], wanted=wanted,
+                                deadline_s=deadline_s, env=env)
+        return out
 
     def good_robot(self):
         return {"motor_drives": {"drive0": self.drive(), "drive1": self.drive(node=2, x=-0.5, y=0.3)}}

@@ -20,6 +20,7 @@ import rostest
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from std_msgs.msg import Bool, String
+from thorvald_testing import wait_for
 
 JS_EVENT_BUTTON, JS_EVENT_AXIS, JS_EVENT_INIT = 0x01, 0x02, 0x80
 BUTTONS, AXES = 11, 8          # xpad layout
@@ -32,15 +33,6 @@ DEADLINE = 60.0                # [s] for start-up on a loaded 2-core machine
 
 def event(kind, number, value, time_ms=0):
     return struct.pack('<IhBB', time_ms, value, kind, number)
-
-
-def wait_for(predicate, timeout, what):
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline and not rospy.is_shutdown():
-        if predicate():
-            return
-        time.sleep(0.005)  # polling interval of the wait, not a synchronisation delay
-    raise AssertionError('timed out after %.1f s waiting for %s' % (timeout, what))
 
 
 class Series(object):

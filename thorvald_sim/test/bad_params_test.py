@@ -1,46 +1,19 @@
 #!/usr/bin/python3
 """thorvald_sim refuses wrong parameters (exit 1, naming the parameter, what was found and what was expected) and
 warns about private parameters it does not read."""
-import os
-import select
-import signal
-import subprocess
-import time
 import unittest
 
 import rosparam
 import rostest
+from thorvald_testing import run_until_line
 
 
 def run_sim(name, params, wait_for=None, deadline_s=40.0):
     """Runs thorvald_sim as `name` with `params` as its private parameters. Without `wait_for`, waits for it to
     exit; with it, stops the node once a line contains `wait_for`. Returns (exit code or None, output)."""
     rosparam.upload_params("/" + name, params)
-    proc = subprocess.Popen(["rosrun", "thorvald_sim", "thorvald_sim", "__name:=" + name], stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, text=True,
-                            env=dict(os.environ, ROSCONSOLE_STDOUT_LINE_BUFFERED="1"))
-    lines = []
-    end = time.monotonic() + deadline_s
-    try:
-        while time.monotonic() < end:
-            ready, _, _ = select.select([proc.stdout], [], [], 0.5)
-            if not ready:
-                continue
-            line = proc.stdout.readline()
-            if not line:
-                break
-            lines.append(line)
-            if wait_for and wait_for in line:
-                break
-    finally:
-        if proc.poll() is None and wait_for:
-            proc.send_signal(signal.SIGINT)
-        try:
-            code = proc.wait(timeout=15)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            code = None
-    return code, "".join(lines)
+    return run_until_line(["rosrun", "thorvald_sim", "thorvald_sim", "__name:=" + name], wanted=wait_for,
+                          deadline_s=deadline_s, stop_wait_s=15.0)
 
 
 class BadParams(unittest.TestCase):

@@ -13,24 +13,7 @@ from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import JointState
-
-
-class Latest:
-    def __init__(self, topic, kind):
-        self.msg = None
-        self.sub = rospy.Subscriber(topic, kind, self.cb, queue_size=5)
-
-    def cb(self, msg):
-        self.msg = msg
-
-
-def wait_for(cond, timeout, what):
-    deadline = time.time() + timeout
-    while time.time() < deadline and not rospy.is_shutdown():
-        if cond():
-            return
-        time.sleep(0.01)
-    raise AssertionError("timed out waiting for " + what)
+from thorvald_testing import Latest, wait_for
 
 
 class PhysicsEncodersTest(unittest.TestCase):

@@ -14,17 +14,7 @@ from diagnostic_msgs.msg import DiagnosticArray
 from sensor_msgs.msg import CameraInfo, Image, Imu, LaserScan, PointCloud2, Range
 from std_srvs.srv import Empty
 from thorvald_sim.srv import Step
-
-
-class Latest:
-    def __init__(self, topic, kind):
-        self.msg = None
-        self.count = 0
-        self.sub = rospy.Subscriber(topic, kind, self.cb, queue_size=5)
-
-    def cb(self, msg):
-        self.msg = msg
-        self.count += 1
+from thorvald_testing import Latest, wait_for
 
 
 class CameraFrames:
@@ -41,15 +31,6 @@ class CameraFrames:
                 if kv.key == "r1 camera frames rendered":
                     self.frames = int(kv.value)
                     self.stamp = msg.header.stamp.to_sec()
-
-
-def wait_for(cond, timeout=20.0, what="condition"):
-    deadline = time.time() + timeout
-    while time.time() < deadline and not rospy.is_shutdown():
-        if cond():
-            return
-        time.sleep(0.01)
-    raise AssertionError("timed out waiting for " + what)
 
 
 def yaw(q):

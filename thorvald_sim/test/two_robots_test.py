@@ -9,15 +9,7 @@ import rostest
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock
-
-
-def wait_for(cond, timeout, what):
-    deadline = time.time() + timeout
-    while time.time() < deadline and not rospy.is_shutdown():
-        if cond():
-            return
-        time.sleep(0.01)
-    raise AssertionError("timed out waiting for " + what)
+from thorvald_testing import wait_for
 
 
 class TwoRobotsTest(unittest.TestCase):

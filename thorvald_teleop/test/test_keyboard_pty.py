@@ -1,11 +1,7 @@
 #!/usr/bin/python3
 """keyboard_teleop on a pseudo-terminal: help screen, arrows and letters, speed steps, stop, key timeout, quit with
 a final stop, and a stop on SIGTERM."""
-import os
-import pty
 import signal
-import subprocess
-import threading
 import time
 import unittest
 
@@ -15,49 +11,23 @@ from geometry_msgs.msg import Twist
 from roslib.packages import find_node
 
 from teleop_harness import Recorder, twist_tuple, wait_for
+from thorvald_testing import PtyProcess
 
 LINEAR_MAX, ANGULAR_MAX, GAIN = 1.0, 2.0, 0.5
 
 
-class Terminal:
+class Terminal(PtyProcess):
     """keyboard_teleop with a pty as its controlling stdin/stdout; collects what it prints."""
 
     def __init__(self, name, key_timeout):
         exe = find_node('thorvald_teleop', 'keyboard_teleop')[0]
-        self.master, slave = pty.openpty()
-        self.proc = subprocess.Popen(
+        super().__init__(
             [exe, '__name:=%s' % name, 'cmd_vel:=/%s/cmd_vel' % name, '_linear_speed_max:=%f' % LINEAR_MAX,
              '_angular_speed_max:=%f' % ANGULAR_MAX, '_gain:=%f' % GAIN, '_key_timeout:=%f' % key_timeout,
-             '_repeat_rate:=10.0'],
-            stdin=slave, stdout=slave, stderr=subprocess.DEVNULL, start_new_session=True)
-        os.close(slave)
-        self.output = b''
-        self.lock = threading.Lock()
-        threading.Thread(target=self._read, daemon=True).start()
-
-    def _read(self):
-        while True:
-            try:
-                data = os.read(self.master, 1024)
-            except OSError:
-                return
-            if not data:
-                return
-            with self.lock:
-                self.output += data
-
-    def text(self):
-        with self.lock:
-            return self.output.decode(errors='replace')
+             '_repeat_rate:=10.0'], stderr_to_pty=False)
 
     def type(self, keys):
-        os.write(self.master, keys)
-
-    def close(self):
-        if self.proc.poll() is None:
-            self.proc.kill()
-            self.proc.wait()
-        os.close(self.master)
+        self.write(keys)
 
 
 class KeyboardPty(unittest.TestCase):

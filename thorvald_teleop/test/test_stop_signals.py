@@ -10,12 +10,8 @@ parameters set on the master for the running state)}. Each node runs on a pseudo
 one); in the running state the terminal must be back in canonical mode after the exit.
 """
 import os
-import pty
 import signal
 import socket
-import subprocess
-import termios
-import threading
 import time
 import unittest
 
@@ -23,66 +19,15 @@ import rosgraph
 import rospy
 import rostest
 from roslib.packages import find_node
+from thorvald_testing import PtyProcess, wait_for
 
 STOP_DEADLINE = 1.0    # [s] from the signal to the process's exit
 START_DEADLINE = 30.0  # [s] for a node to reach the state under test on a loaded machine
 
 
-def wait_for(predicate, timeout, what):
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        if predicate():
-            return
-        time.sleep(0.01)  # polling interval of the wait, not a synchronisation delay
-    raise AssertionError('timed out after %.1f s waiting for %s' % (timeout, what))
-
-
-class Node(object):
-    """One node process on a pty, its output collected."""
-
-    def __init__(self, exe, name, master_uri):
-        self.master_fd, self.slave_fd = pty.openpty()
-        env = dict(os.environ, ROS_MASTER_URI=master_uri)
-        self.proc = subprocess.Popen([exe, '__name:=%s' % name], stdin=self.slave_fd, stdout=self.slave_fd,
-                                     stderr=self.slave_fd, env=env, start_new_session=True)
-        self.output = b''
-        self.lock = threading.Lock()
-        threading.Thread(target=self._read, daemon=True).start()
-
-    def _read(self):
-        while True:
-            try:
-                data = os.read(self.master_fd, 4096)
-            except OSError:
-                return
-            if not data:
-                return
-            with self.lock:
-                self.output += data
-
-    def text(self):
-        with self.lock:
-            return self.output.decode(errors='replace')
-
-    def stop(self, sig):
-        """Sends `sig`; returns (exit code, seconds to exit), or (None, None) if it is still running."""
-        sent = time.monotonic()
-        self.proc.send_signal(sig)
-        try:
-            code = self.proc.wait(timeout=STOP_DEADLINE + 4.0)
-        except subprocess.TimeoutExpired:
-            return None, None
-        return code, time.monotonic() - sent
-
-    def canonical(self):
-        return bool(termios.tcgetattr(self.slave_fd)[3] & termios.ICANON)
-
-    def close(self):
-        if self.proc.poll() is None:
-            self.proc.kill()
-            self.proc.wait()
-        os.close(self.slave_fd)
-        os.close(self.master_fd)
+def start_node(exe, name, master_uri):
+    """One node process on a pty (kept open here to read its mode), its output collected."""
+    return PtyProcess([exe, '__name:=%s' % name], env={'ROS_MASTER_URI': master_uri}, keep_slave=True)
 
 
 class StopSignals(unittest.TestCase):
@@ -120,7 +65,7 @@ class StopSignals(unittest.TestCase):
             else:
                 sock = self.dead if state == 'dead_master' else self.silent
                 uri = 'http://127.0.0.1:%d' % sock.getsockname()[1]
-            node = Node(spec['exe'], name, uri)
+            node = start_node(spec['exe'], name, uri)
             try:
                 if state == 'running':
                     wait_for(lambda: self.registered(name), START_DEADLINE, '%s to register' % what)
@@ -137,7 +82,7 @@ class StopSignals(unittest.TestCase):
                     if node.proc.poll() is not None:
                         failures.append('%s exited by itself with %s before the signal' % (what, node.proc.poll()))
                         continue
-                code, seconds = node.stop(sig)
+                code, seconds = node.stop(sig, timeout=STOP_DEADLINE + 4.0)
                 if code is None:
                     failures.append('%s still running %.0f s after the signal' % (what, STOP_DEADLINE + 4.0))
                 elif seconds > STOP_DEADLINE:
