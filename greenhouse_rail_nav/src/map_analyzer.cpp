@@ -5,6 +5,7 @@
 #include <tuple>
 
 #include "greenhouse_rail_nav/cell_clustering.h"
+#include "greenhouse_rail_nav/headland_rows.h"
 #include "greenhouse_rail_nav/headland_scan.h"
 #include "greenhouse_rail_nav/map_denoise.h"
 #include "greenhouse_rail_nav/rail_set_layout.h"
@@ -14,73 +15,7 @@
 namespace greenhouse_rail_nav {
 namespace {
 
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 std::string fmt(double value, int decimals = 2) { return formatMetres(value, decimals); }
-
-/// A row found across the headland: where its line crosses the edge, its direction and its run starts.
-struct RowCandidate {
-  int line = -1;
-  double u0 = 0.0, slope = 0.0;  ///< the line as u = u0 + slope * v (headland frame)
-  std::vector<double> starts;    ///< v of each run start beyond the minimum headland depth
-  double far_v = 0.0;            ///< largest v where the row shows
-  double start_v = NAN;          ///< the run start at the edge (NaN: the row's start is not seen there)
-  LineFit2D fit;                 ///< refitted on its cells beyond the edge, directed into the rows
-};
-
-/// Line through the cells of a line segment, optionally only those with v >= v_min, as u = u0 + slope * v.
-bool fitRowLine(const LineSegment& segment, const HeadlandFrame& frame, double v_min, double inlier_m, LineFit2D* fit,
-                double* u0, double* slope) {
-  std::vector<Eigen::Vector2d> points;
-  for (const auto& p : segment.points) {
-    if (std::abs(segment.fit.signedDistance(p)) <= inlier_m && frame.toLocal(p).y() >= v_min) points.push_back(p);
-  }
-  if (points.size() < 3) return false;
-  *fit = fitLine(points);
-  if (fit->direction.dot(frame.v) < 0.0) fit->flip();
-  const Eigen::Vector2d c = frame.toLocal(fit->centroid);
-  const double dv = fit->direction.dot(frame.v), du = fit->direction.dot(frame.u);
-  if (dv < 0.5) return false;
-  *slope = du / dv;
-  *u0 = c.x() - *slope * c.y();
-  return true;
-}
-
-/// Whether free floor shows on both sides of a line u = u0 + slope * v over [v_from, v_to]: a row stands
-/// on the floor between two paths, while a side wall (or a piece of one behind a door) has the outside of
-/// the greenhouse, never mapped as floor, on one side. A side has floor when at least a third of the samples
-/// along the line find a free cell between lateral_min_m and lateral_max_m from it.
-bool floorOnBothSides(const OccupancyMap& map, const HeadlandFrame& frame, double u0, double slope, double v_from,
-                      double v_to, double lateral_min_m, double lateral_max_m) {
-  int samples = 0, left = 0, right = 0;
-  const double step = std::max(map.resolution, 0.1);
-  for (double v = v_from; v <= v_to; v += step) {
-    ++samples;
-    const double u_line = u0 + slope * v;
-    for (const double side : {-1.0, 1.0}) {
-      bool free = false;
-      for (double d = lateral_min_m; d <= lateral_max_m && !free; d += map.resolution) {
-        const std::int8_t value = map.valueAt(frame.toMap(u_line + side * d, v));
-        free = value >= 0 && value < 25;
-      }
-      (side < 0 ? left : right) += free;
-    }
-  }
-  return samples > 0 && 3 * left >= samples && 3 * right >= samples;
-}
-
-/// Standard error of a fitted line's direction [rad]: residuals (at least a cell's quantisation) over
-/// the spread of its points along it.
-double directionSigma(const LineFit2D& fit, double resolution) {
-  const double sigma = std::max(fit.rms_residual, resolution / std::sqrt(12.0));
-  const double n = std::max<double>(2.0, static_cast<double>(fit.count));
-  return sigma * std::sqrt(12.0 / n) / std::max(fit.length(), resolution);
-}
 
 std::string joinReasons(const std::vector<std::string>& reasons) {
   std::string out;
@@ -166,180 +101,35 @@ MapAnalysis analyzeMap(const OccupancyMap& input, const MapAnalyzerParams& param
   const double wall_u_max = frame.toLocal(wall.centroid + wall.direction * wall.s_max).x();
   const double span_lo = std::min(wall_u_min, wall_u_max) - 1.0, span_hi = std::max(wall_u_min, wall_u_max) + 1.0;
 
-  // Row candidates: lines perpendicular to the rear wall within its span, whose runs (stretches looking
-  // like a row, nothing wider beside them) start beyond the minimum headland depth.
-  const double inlier = params.lines.split_inlier_m * 1.5;
-  std::vector<RowCandidate> candidates;
-  for (std::size_t i = 0; i < lines.size(); ++i) {
-    if (static_cast<int>(i) == result.rear_wall ||
-        !perpendicular(wall, lines[i].fit, params.perpendicular_tolerance_rad))
-      continue;
-    RowCandidate row;
-    row.line = static_cast<int>(i);
-    if (!fitRowLine(lines[i], frame, -1e9, inlier, &row.fit, &row.u0, &row.slope)) continue;
-    if (row.u0 < span_lo || row.u0 > span_hi) continue;
-    double v_lo = 1e9, v_hi = -1e9;
-    for (const auto& p : lines[i].points) {
-      const double v = frame.toLocal(p).y();
-      v_lo = std::min(v_lo, v);
-      v_hi = std::max(v_hi, v);
-    }
-    // A line reaching back to the rear wall is a side wall (or a partition), not a row.
-    if (v_lo < 0.5 * params.min_headland_depth_m) continue;
-    const auto starts =
-        rowRunStarts(map, frame, row.u0, row.slope, std::max(0.0, v_lo - 1.0), v_hi + map.resolution, &row.far_v);
-    // A line that looks like a row right from the rear wall is a side wall (or a partition), not a row.
-    if (starts.empty() || starts.front() < 0.5 * params.min_headland_depth_m) continue;
-    for (const double s : starts)
-      if (s >= params.min_headland_depth_m) row.starts.push_back(s);
-    // A line with no floor on one side is a side wall (seen behind a door, it starts like a row).
-    if (!row.starts.empty() &&
-        !floorOnBothSides(map, frame, row.u0, row.slope, row.starts.front(),
-                          std::min(row.far_v, row.starts.front() + 3.0), 0.25,
-                          std::max(0.3, 0.4 * params.rail_set_spacing_m / params.spacing_search_ratio)))
-      continue;
-    if (!row.starts.empty()) candidates.push_back(row);
-  }
+  // Rows: lines perpendicular to the rear wall within its span whose row-like runs start beyond the minimum
+  // headland depth; the headland edge is where most of them start.
+  std::vector<RowCandidate> candidates =
+      findRowCandidates(map, lines, result.rear_wall, frame, span_lo, span_hi, params);
   if (candidates.empty()) {
     result.message = found + " (" + wall_text +
                      "), but no row perpendicular to it starting >= " + fmt(params.min_headland_depth_m, 1) +
                      " m from it; expected at least one row or ventilation line perpendicular to the rear wall";
     return result;
   }
-  // Headland edge: the run start most rows agree on (ties: the nearest, since occlusion and gaps can only
-  // make a row seem to start later), refined as the median of the agreeing starts.
-  double seed_v = 0.0;
-  std::size_t best_support = 0;
-  for (const auto& c : candidates) {
-    for (const double s : c.starts) {
-      std::size_t support = 0;
-      for (const auto& other : candidates)
-        support += std::any_of(other.starts.begin(), other.starts.end(),
-                               [&](double o) { return std::abs(o - s) <= params.edge_tolerance_m; });
-      if (support > best_support || (support == best_support && s < seed_v)) {
-        best_support = support;
-        seed_v = s;
-      }
-    }
-  }
-  std::vector<double> agreeing;
-  for (auto& c : candidates) {
-    for (const double s : c.starts) {
-      if (std::abs(s - seed_v) <= params.edge_tolerance_m) {
-        c.start_v = s;
-        agreeing.push_back(s);
-        break;
-      }
-    }
-  }
-  const double edge_v = median(agreeing);
-  // Rows: candidates that go on into the greenhouse beyond the edge (a box edge on the headland does not).
-  struct Row {
-    double u;
-    int line;
-    LineFit2D fit;
-    double start_v;                   ///< NaN: the row's start is not seen at the edge
-    double d_min = 0.0, d_max = 0.0;  ///< lateral extent of its cells about u [m]
-    bool heading_ok = true;
-    Eigen::Vector2d direction = Eigen::Vector2d::UnitX();  ///< from its faces (its line fit's when too few)
-    double direction_sigma = INFINITY;                     ///< standard error of direction's angle [rad]
-  };
-  std::vector<Row> rows;
-  for (auto& c : candidates) {
-    if (c.far_v < edge_v + 0.5) continue;
-    // Something row-like starting well before the edge is a wall or partition (a side wall behind a
-    // door), not a row: rows start at the edge or, when occluded, later.
-    if (c.starts.front() < edge_v - params.edge_tolerance_m) continue;
-    LineFit2D fit;
-    double u0 = c.u0, slope = c.slope;
-    if (!fitRowLine(lines[static_cast<std::size_t>(c.line)], frame, edge_v - 0.05, inlier, &fit, &u0, &slope)) continue;
-    rows.push_back({u0 + slope * edge_v, c.line, fit, c.start_v});
-    if (!std::isfinite(c.start_v)) {
-      result.warnings.push_back("row at " + fmt(u0 + slope * edge_v) +
-                                " m along the rear wall does not start at the edge");
-    }
-  }
+  const double edge_v = findHeadlandEdge(&candidates, params.edge_tolerance_m);
+  std::vector<EdgeRow> rows = rowsAtEdge(candidates, lines, frame, edge_v, params, &result.warnings);
   if (rows.empty()) {
     result.message = found + " (" + wall_text + "), " + std::to_string(candidates.size()) +
                      " lines perpendicular to it, none going on beyond a common headland edge; expected rows "
                      "starting along one headland edge";
     return result;
   }
-  std::sort(rows.begin(), rows.end(), [](const Row& a, const Row& b) { return a.u < b.u; });
-  // Two lines closer than half a spacing are one row seen twice (a plant row's two edges).
-  std::vector<Row> merged;
-  for (const auto& r : rows) {
-    if (!merged.empty() && r.u - merged.back().u < 0.5 * params.rail_set_spacing_m / params.spacing_search_ratio) {
-      if (r.fit.count > merged.back().fit.count) merged.back() = r;
-      continue;
-    }
-    merged.push_back(r);
-  }
-  rows = merged;
   for (const auto& r : rows) result.rows.push_back(r.line);
 
-  // Each row's place at the edge from its cells within the first metres beyond the edge, measured across
-  // the greenhouse's axis (rows are parallel): a short piece of a row with a gap has a poor direction of
-  // its own, but its cells still say where it is. The place is the middle between the row's two faces: a
-  // row seen from one side only (a tube seen from one path) shows that face alone, and its other face is
-  // then put the width of the rows seen from both sides away (without such a row, the cells' mean is used
-  // and the row's place is off by up to half its width).
-  Eigen::Vector2d row_direction = Eigen::Vector2d::Zero();
-  for (const auto& r : rows) row_direction += r.fit.direction * static_cast<double>(r.fit.count);
-  row_direction += frame.v * static_cast<double>(wall.count);
-  row_direction.normalize();
-  const Eigen::Vector2d across(row_direction.y(), -row_direction.x());
-  std::vector<RowProfile> profiles;
-  std::vector<double> widths;
-  std::vector<double> slopes, slope_sigmas;
-  for (const auto& r : rows) {
-    // Faces on the map as given: the laser's sparse hits on a face seen at a grazing angle are single cells
-    // that the speckle removal takes away. The direction on the cleaned map, which is free of them.
-    const Eigen::Vector2d start = frame.toMap(r.u, edge_v);
-    profiles.push_back(measureRowProfile(input, start, row_direction, 0.2, 3.0));
-    const RowProfile clean = measureRowProfile(map, start, row_direction, 0.2, 3.0);
-    slopes.push_back(clean.slope);
-    slope_sigmas.push_back(clean.slope_sigma);
-    if (profiles.back().bothFaces()) widths.push_back(profiles.back().hi_face_m - profiles.back().lo_face_m);
-  }
-  const bool width_known = !widths.empty();
-  const double row_width = median(widths);
-  int rows_one_face = 0;
-  for (std::size_t k = 0; k < rows.size(); ++k) {
-    Row& r = rows[k];
-    const RowProfile& p = profiles[k];
-    r.direction = r.fit.direction;
-    if (p.cells < 3) continue;
-    double centre = p.mean_m;
-    if (p.bothFaces()) {
-      centre = 0.5 * (p.lo_face_m + p.hi_face_m);
-    } else if (width_known && (p.loSeen() || p.hiSeen())) {
-      centre = p.hiSeen() ? p.hi_face_m - 0.5 * row_width : p.lo_face_m + 0.5 * row_width;
-    } else {
-      ++rows_one_face;
-    }
-    r.u += centre / std::max(0.5, across.dot(frame.u));
-    r.d_min = p.d_min - centre - 0.5 * map.resolution;
-    r.d_max = p.d_max - centre + 0.5 * map.resolution;
-    if (std::isfinite(slope_sigmas[k])) {
-      r.direction = (row_direction + slopes[k] * across).normalized();
-      r.direction_sigma = slope_sigmas[k];
-    }
-  }
+  // Each row's place at the edge: the middle between its two faces.
+  const int rows_one_face = placeRowsByFaces(input, map, frame, wall, edge_v, &rows);
   if (rows_one_face > 0)
     result.warnings.push_back(std::to_string(rows_one_face) +
                               " rows seen from one side only and no row seen from both: their places may be off by "
                               "half a row's width");
 
-  // Heading: the rows' directions (each weighted by how well its faces fix it; the line fit's cells when
-  // the faces do not) and the rear wall's normal measure the same axis.
-  Eigen::Vector2d rows_sum = Eigen::Vector2d::Zero();
-  const bool faces_fix_heading =
-      std::all_of(rows.begin(), rows.end(), [](const Row& r) { return std::isfinite(r.direction_sigma); });
-  for (const auto& r : rows)
-    rows_sum += faces_fix_heading ? Eigen::Vector2d(r.direction / (r.direction_sigma * r.direction_sigma))
-                                  : Eigen::Vector2d(r.fit.direction * static_cast<double>(r.fit.count));
-  const Eigen::Vector2d rows_mean = rows_sum.normalized();
+  // Heading: the rows' directions and the rear wall's normal measure the same axis.
+  const Eigen::Vector2d rows_mean = meanRowDirection(rows);
   int rows_off_heading = 0;
   for (auto& r : rows) {
     // A short row's direction is known only to about a cell (and the scatter of its pots) over its length.
