@@ -264,6 +264,10 @@ int main(int argc, char** argv) {
   // Each stage's CPU time too: the render (MuJoCo on OSMesa, read-back, exact depth of curved geoms), the depth image
   // (range, dropout, grazing angle, noise) and the colour image.
   double stage[2][3] = {{0, 0, 0}, {0, 0, 0}};
+  CameraRenderer::StageTimes render_stages[2];  // the render's parts, summed over the frames
+  auto addStages = [](CameraRenderer::StageTimes* sum, const CameraRenderer::StageTimes& t) {
+    sum->scene_s += t.scene_s, sum->draw_s += t.draw_s, sum->readback_s += t.readback_s, sum->convert_s += t.convert_s;
+  };
   auto timed = [](double* acc, const std::function<void()>& f) {
     const double c0 = cpuNow();
     f();
@@ -276,6 +280,7 @@ int main(int argc, char** argv) {
       gh_renderer.render(gh.sim->data(), cam, cameraView(depth, false), gh.sim->robot(0).root_body, &view,
                          image_threads);
     });
+    addStages(&render_stages[0], gh_renderer.lastStageTimes());
     timed(&stage[0][1], [&] { depthFromView(view, caster, cam, depth, rng, &depth_img, image_threads); });
   }
   const double ms_depth = 1e3 * (cpuNow() - c) / frames, ms_depth_wall = 1e3 * (wallNow() - w) / frames;
@@ -286,6 +291,7 @@ int main(int argc, char** argv) {
       cotton_renderer.render(cotton.sim->data(), cam, cameraView(zed, true), cotton.sim->robot(0).root_body, &view,
                              image_threads);
     });
+    addStages(&render_stages[1], cotton_renderer.lastStageTimes());
     timed(&stage[1][1], [&] { depthFromView(view, cotton_caster, cam, zed, rng, &depth_img, image_threads); });
     timed(&stage[1][2], [&] { colorFromView(view, cotton.sim->model(), zed_color, &color_img); });
   }
@@ -296,6 +302,12 @@ int main(int argc, char** argv) {
   std::printf("%-52s %12.2f %12.2f\n", "1280x720 RGB + depth (cotton row)", ms_rgbd, ms_rgbd_wall);
   std::printf("  (render %.2f, depth image %.2f, colour image %.2f CPU ms)\n", 1e3 * stage[1][0] / frames,
               1e3 * stage[1][1] / frames, 1e3 * stage[1][2] / frames);
+  for (int i = 0; i < 2; ++i) {
+    const CameraRenderer::StageTimes& t = render_stages[i];
+    std::printf("  render of the %s: scene %.2f, draw %.2f, read-back %.2f, conversion %.2f CPU ms\n",
+                i == 0 ? "640x480 depth" : "1280x720 RGB + depth", 1e3 * t.scene_s / frames, 1e3 * t.draw_s / frames,
+                1e3 * t.readback_s / frames, 1e3 * t.convert_s / frames);
+  }
   const double load_end = loadAverage();
   std::printf("load average at the end: %.2f\n", load_end);
   const char* lp = getenv("LP_NUM_THREADS");

@@ -8,6 +8,7 @@
 #include <limits>
 #include <string>
 #include <thread>
+#include <ctime>
 
 namespace thorvald_sim {
 
@@ -30,6 +31,64 @@ void forBlocks(int blocks, int threads, const Body& body) {
   for (auto& w : workers) w.join();
 }
 
+/// CPU time of this process, every thread [s].
+double cpuSeconds() {
+  timespec ts;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+/// A perspective z-buffer's value back to the distance along the optical axis. With the window depth d = k / K in
+/// [0, 1] (k the buffer's integer, K = 2^24 - 1 its largest value): z = near far / (far - d (far - near))
+/// = near far / (near + (K - k) (far - near) / K). The second form takes K - k exactly (no cancellation near the far
+/// plane, where d is within a float's rounding of 1).
+struct ZBufferToDepth {
+  static constexpr uint32_t kMax = (1u << 24) - 1;
+  float nf, near, step;
+  ZBufferToDepth(double near_m, double far_m)
+      : nf(static_cast<float>(near_m * far_m)),
+        near(static_cast<float>(near_m)),
+        step(static_cast<float>((far_m - near_m) / kMax)) {}
+  /// `k` of a 24-bit buffer; +inf for the far plane (nothing drawn).
+  float depth(uint32_t k) const {
+    return k >= kMax ? std::numeric_limits<float>::infinity() : nf / (near + static_cast<float>(kMax - k) * step);
+  }
+  /// A window depth in [0, 1] as MuJoCo's mjr_readPixels gives it.
+  float depthOfFraction(float d) const {
+    return d >= 1.0f ? std::numeric_limits<float>::infinity() : nf / (near + (1.0f - d) * (step * kMax));
+  }
+};
+
+/// One image row of the read-back buffers (bottom-up in OpenGL, given here already as the image's row): RGBA bytes
+/// whose red, green and blue hold the segmentation id + 1, and the z-buffer as 32-bit integers (the 24-bit depth in
+/// the high bits). Writes each pixel's geom (-1: none) and depth (+inf: none).
+void convertRow(const unsigned char* rgba, const uint32_t* zbits, int width, const int* lut, int lut_size,
+                ZBufferToDepth to_depth, int* geom, float* depth) {
+  for (int u = 0; u < width; ++u) {
+    const unsigned char* c = rgba + 4 * u;
+    const int id = c[0] | (c[1] << 8) | (c[2] << 16);
+    const int g = id < lut_size ? lut[id] : -1;
+    const float z = to_depth.depth(zbits[u] >> 8);
+    const bool seen = g >= 0 && z < std::numeric_limits<float>::infinity();
+    geom[u] = seen ? g : -1;
+    depth[u] = seen ? z : std::numeric_limits<float>::infinity();
+  }
+}
+
+/// The same from MuJoCo's mjr_readPixels: RGB bytes and the window depth as floats in [0, 1].
+void convertRowFloat(const unsigned char* rgb, const float* zbuf, int width, const int* lut, int lut_size,
+                     ZBufferToDepth to_depth, int* geom, float* depth) {
+  for (int u = 0; u < width; ++u) {
+    const unsigned char* c = rgb + 3 * u;
+    const int id = c[0] | (c[1] << 8) | (c[2] << 16);
+    const int g = id < lut_size ? lut[id] : -1;
+    const float z = to_depth.depthOfFraction(zbuf[u]);
+    const bool seen = g >= 0 && z < std::numeric_limits<float>::infinity();
+    geom[u] = seen ? g : -1;
+    depth[u] = seen ? z : std::numeric_limits<float>::infinity();
+  }
+}
+
 }  // namespace
 
 struct CameraRenderer::Context {
@@ -43,6 +102,8 @@ struct CameraRenderer::Context {
   /// OSMesa's own glReadPixels (the process may also link a GL library whose entry points go elsewhere).
   using ReadPixels = void (*)(GLint, GLint, GLsizei, GLsizei, GLenum, GLenum, void*);
   ReadPixels read_pixels = nullptr;
+  using Finish = void (*)();
+  Finish finish = nullptr;
 
   void makeCurrent() const {
     if (!OSMesaMakeCurrent(gl, const_cast<unsigned char*>(window.data()), GL_UNSIGNED_BYTE, 16, 16))
@@ -60,6 +121,7 @@ CameraRenderer::CameraRenderer(const mjModel* model) : m_(model), ctx_(std::make
   ctx_->have_con = true;
   mjr_setBuffer(mjFB_OFFSCREEN, &ctx_->con);
   ctx_->read_pixels = reinterpret_cast<Context::ReadPixels>(OSMesaGetProcAddress("glReadPixels"));
+  ctx_->finish = reinterpret_cast<Context::Finish>(OSMesaGetProcAddress("glFinish"));
   if (ctx_->con.currentBuffer != mjFB_OFFSCREEN) throw RenderError("MuJoCo has no offscreen buffer in this context");
   curved_.resize(m_->ngeom);
   for (int g = 0; g < m_->ngeom; ++g) {
@@ -99,6 +161,7 @@ void CameraRenderer::render(const mjData* data, const SensorPose& pose, const Ca
   if (!(view.near_m > 0.0 && view.far_m > view.near_m)) throw RenderError("camera view needs 0 < near < far");
   if (!(view.k.fx > 0.0) || std::fabs(view.k.fx - view.k.fy) > 1e-9 * view.k.fx)
     throw RenderError("camera view needs square pixels (fx = fy > 0)");
+  const double t_start = cpuSeconds();
   ctx_->makeCurrent();
   mjvScene& s = ctx_->scene;
   s.ngeom = 0;
@@ -160,7 +223,11 @@ void CameraRenderer::render(const mjData* data, const SensorPose& pose, const Ca
   s.camera[0] = cam;
   s.camera[1] = cam;
   const mjrRect rect = {0, 0, view.width, view.height};
+  const double t_scene = cpuSeconds();
   mjr_render(rect, &s, &ctx_->con);
+  // llvmpipe rasterises when the frame is flushed: finish here so that the draw's time includes it.
+  if (ctx_->finish) ctx_->finish();
+  const double t_draw = cpuSeconds();
   const size_t n = static_cast<size_t>(view.width) * view.height;
   const bool direct = ctx_->read_pixels && ctx_->con.offSamples == 0;
   if (direct) {
@@ -175,57 +242,51 @@ void CameraRenderer::render(const mjData* data, const SensorPose& pose, const Ca
     zbuf_.resize(n);
     mjr_readPixels(rgb_.data(), zbuf_.data(), rect, &ctx_->con);
   }
-  const int stride = direct ? 4 : 3;
+  const double t_read = cpuSeconds();
   ++frames_;
 
   out->width = view.width;
   out->height = view.height;
   out->depth_m.resize(n);
   out->geom.resize(n);
-  // Window depth d in [0, 1] of a perspective projection back to the distance along the optical axis:
-  // z = near far / (far - d (far - near)).
-  const float nf = static_cast<float>(view.near_m * view.far_m), fr = static_cast<float>(view.far_m),
-              span = static_cast<float>(view.far_m - view.near_m);
-  const float inf = std::numeric_limits<float>::infinity();
-  const int segments = static_cast<int>(seg_geom_.size());
+  // Segmentation colour (id + 1, 0 for the background) -> geom, -1 where none: one lookup per pixel, no range test.
+  seg_lut_.assign(seg_geom_.size() + 1, -1);
+  std::copy(seg_geom_.begin(), seg_geom_.end(), seg_lut_.begin() + 1);
+  const ZBufferToDepth to_depth(view.near_m, view.far_m);
+  const int lut_size = static_cast<int>(seg_lut_.size());
   // The pixels that see a curved geom cost a ray test each: the rows go in blocks over the threads.
   constexpr int kBlocks = 8;
   forBlocks(kBlocks, threads, [&](int b) {
     for (int row = view.height * b / kBlocks; row < view.height * (b + 1) / kBlocks; ++row) {
       const size_t src = static_cast<size_t>(view.height - 1 - row) * view.width;  // OpenGL: bottom row first
       const size_t dst = static_cast<size_t>(row) * view.width;
-      const unsigned char* c = direct ? &rgba_[4 * src] : &rgb_[3 * src];
-      const float* zb = direct ? nullptr : &zbuf_[src];
-      const uint32_t* zi = direct ? &zbits_[src] : nullptr;
       float* depth = &out->depth_m[dst];
       int* geom = &out->geom[dst];
-      for (int u = 0; u < view.width; ++u, c += stride) {
-        const int id = (c[0] | (c[1] << 8) | (c[2] << 16)) - 1;
-        const int g = (id >= 0 && id < segments) ? seg_geom_[id] : -1;
-        // The depth as a fraction of the buffer's range; 1 where nothing was drawn.
-        const float d = direct ? static_cast<float>(zi[u] * (1.0 / 4294967295.0)) : zb[u];
-        if (g < 0 || d >= 1.0f) {
-          geom[u] = -1;
-          depth[u] = inf;
-          continue;
-        }
-        geom[u] = g;
-        float z = nf / (fr - d * span);
-        if (curved_[g]) {
-          // Tessellation only decided which geom the pixel sees; its depth comes from the exact surface.
-          const Eigen::Vector3d ray((u - view.k.cx) / view.k.fx, (row - view.k.cy) / view.k.fy, 1.0);
-          const double len = ray.norm();
-          const Eigen::Vector3d dir = pose.rotation * (ray / len);
-          const mjtNum pnt[3] = {pose.origin.x(), pose.origin.y(), pose.origin.z()},
-                       vec[3] = {dir.x(), dir.y(), dir.z()};
-          const double x = mju_rayGeom(data->geom_xpos + 3 * g, data->geom_xmat + 9 * g, m_->geom_size + 3 * g, pnt,
-                                       vec, m_->geom_type[g]);
-          if (x >= 0.0) z = static_cast<float>(x / len);
-        }
-        depth[u] = z;
+      if (direct)
+        convertRow(&rgba_[4 * src], &zbits_[src], view.width, seg_lut_.data(), lut_size, to_depth, geom, depth);
+      else
+        convertRowFloat(&rgb_[3 * src], &zbuf_[src], view.width, seg_lut_.data(), lut_size, to_depth, geom, depth);
+      // Tessellation only decided which geom a pixel sees; the depth of a curved geom comes from its exact surface.
+      const double y = (row - view.k.cy) / view.k.fy;
+      const mjtNum pnt[3] = {pose.origin.x(), pose.origin.y(), pose.origin.z()};
+      for (int u = 0; u < view.width; ++u) {
+        const int g = geom[u];
+        if (g < 0 || !curved_[g]) continue;
+        const Eigen::Vector3d ray((u - view.k.cx) / view.k.fx, y, 1.0);
+        const double len = ray.norm();
+        const Eigen::Vector3d dir = pose.rotation * (ray / len);
+        const mjtNum vec[3] = {dir.x(), dir.y(), dir.z()};
+        const double x = mju_rayGeom(data->geom_xpos + 3 * g, data->geom_xmat + 9 * g, m_->geom_size + 3 * g, pnt, vec,
+                                     m_->geom_type[g]);
+        if (x >= 0.0) depth[u] = static_cast<float>(x / len);
       }
     }
   });
+  const double t_convert = cpuSeconds();
+  stages_.scene_s = t_scene - t_start;
+  stages_.draw_s = t_draw - t_scene;
+  stages_.readback_s = t_read - t_draw;
+  stages_.convert_s = t_convert - t_read;
 }
 
 CameraView cameraView(const DepthCameraSpec& depth, bool color, double color_range_max_m) {
@@ -309,16 +370,16 @@ void depthFromView(const RenderedView& view, const RayCaster& caster, const Sens
   img->points.resize(n);  // every pixel is written below
   const mjModel* m = caster.model();
   const mjData* d = caster.data();
-  // Each seen geom once per frame (a frame sees few geoms, many pixels each), in the optical frame: the faces'
-  // normals of planes and boxes (rows of A = R_geom^T R_camera), and for boxes the map from a point in the optical
-  // frame to the box frame, p_box = A p + b.
+  // Each seen geom once per frame (a frame sees few geoms, many pixels each), in the optical frame: for planes and
+  // boxes the rows of A = R_geom^T R_camera (the faces' normals) and, for boxes, the map from a point in the optical
+  // frame to the box frame, p_box = A p + b; the other types need their world pose.
   enum Kind : char { kPlane, kBox, kOther };
   struct Frame {
     Eigen::Matrix3d A;
     Eigen::Vector3d b;
+    Eigen::Vector3d half;
     Eigen::Matrix3d R;  ///< world frame, for the other types
     Eigen::Vector3d c;
-    Eigen::Vector3d half;
     Kind kind = kOther;
   };
   std::vector<Frame> frames(m->ngeom);
@@ -340,11 +401,13 @@ void depthFromView(const RenderedView& view, const RayCaster& caster, const Sens
   const double min_cos = std::cos(s.grazing_limit_rad);
   const double min_cos2 = min_cos > 0.0 ? min_cos * min_cos : 0.0;
   const float range_min = static_cast<float>(s.range_min_m), range_max = static_cast<float>(s.range_max_m);
+  const double noise_coeff = s.noise_coeff > 0 ? s.noise_coeff : 0.0;
   // Dropout with probability p: the draw's 24-bit uniform below p 2^24.
   const uint32_t dropout_below =
       s.dropout > 0 ? static_cast<uint32_t>(std::min(1.0, s.dropout) * (1u << PixelNoise::kUniformBits)) : 0u;
-  std::vector<double> xs(s.width);  // the ray's x at z = 1, per column
-  for (int u = 0; u < s.width; ++u) xs[u] = (u - k.cx) / k.fx;
+  // Per column the ray's x at z = 1 and 1 + x^2 (|ray|^2 without the row's y^2).
+  std::vector<double> xs(s.width), xs2(s.width);
+  for (int u = 0; u < s.width; ++u) xs[u] = (u - k.cx) / k.fx, xs2[u] = 1.0 + xs[u] * xs[u];
   // Rows in a fixed number of blocks, each with its own noise stream drawn in order from `rng`: the image is the
   // same whatever the number of threads.
   constexpr int kBlocks = 8;
@@ -354,7 +417,7 @@ void depthFromView(const RenderedView& view, const RayCaster& caster, const Sens
     PixelNoise noise = noises[b];  // a copy on this thread's stack: the streams share cache lines in the vector
     const int v0 = s.height * b / kBlocks, v1 = s.height * (b + 1) / kBlocks;
     for (int v = v0; v < v1; ++v) {
-      const double y = (v - k.cy) / k.fy;
+      const double y = (v - k.cy) / k.fy, y2 = y * y;
       const size_t row = static_cast<size_t>(v) * s.width;
       const int* geoms = view.geom.data() + row;
       const float* depths = view.depth_m.data() + row;
@@ -362,34 +425,42 @@ void depthFromView(const RenderedView& view, const RayCaster& caster, const Sens
       for (int u = 0; u < s.width; ++u) {
         const int g = geoms[u];
         const float zf = depths[u];
-        out[u] = none;
-        if (g < 0 || !(zf >= range_min && zf <= range_max)) continue;
+        if (g < 0 || !(zf >= range_min && zf <= range_max)) {
+          out[u] = none;
+          continue;
+        }
         const uint64_t draw = noise.next();
-        if (PixelNoise::uniform(draw) < dropout_below) continue;
-        const double z = zf;
+        if (PixelNoise::uniform(draw) < dropout_below) {
+          out[u] = none;
+          continue;
+        }
+        const double z = zf, x = xs[u];
         const Frame& f = frames[g];
-        const Eigen::Vector3d ray(xs[u], y, 1.0);  // z = 1
         // Seen more obliquely than grazing_limit: the cosine between the ray and the surface normal n is below
         // min_cos. For planes and boxes, with the face normal n in the optical frame: (n . ray)^2 < min_cos^2 |ray|^2.
         bool grazing;
         if (f.kind != kOther) {
           int face = 2;
           if (f.kind == kBox) {  // the face nearest to the point
-            const Eigen::Vector3d p = f.A * (ray * z) + f.b;
+            const Eigen::Vector3d p = z * (f.A.col(0) * x + f.A.col(1) * y + f.A.col(2)) + f.b;
             const Eigen::Vector3d gap = (p.cwiseAbs() - f.half).cwiseAbs();
             face = gap[0] <= gap[1] ? (gap[0] <= gap[2] ? 0 : 2) : (gap[1] <= gap[2] ? 1 : 2);
           }
-          const double dot = f.A.row(face).dot(ray);
-          grazing = dot * dot < min_cos2 * ray.squaredNorm();
+          const double dot = f.A(face, 0) * x + f.A(face, 1) * y + f.A(face, 2);
+          grazing = dot * dot < min_cos2 * (xs2[u] + y2);
         } else {
-          const Eigen::Vector3d dir = pose.rotation * ray.normalized();
+          const Eigen::Vector3d ray(x, y, 1.0);
+          const Eigen::Vector3d dir = pose.rotation * (ray / std::sqrt(xs2[u] + y2));
           const Eigen::Vector3d nrm =
               geomNormal(m->geom_type[g], m->geom_size + 3 * g, f.R, f.c, pose.origin + pose.rotation * (ray * z), dir);
           grazing = -nrm.dot(dir) < min_cos;
         }
-        if (grazing) continue;
-        const double zn = z + (s.noise_coeff > 0 ? s.noise_coeff * z * z * noise.normal(draw) : 0.0);
-        out[u] = Eigen::Vector3f(static_cast<float>(xs[u] * zn), static_cast<float>(y * zn), static_cast<float>(zn));
+        if (grazing) {
+          out[u] = none;
+          continue;
+        }
+        const double zn = z + noise_coeff * z * z * noise.normal(draw);
+        out[u] = Eigen::Vector3f(static_cast<float>(x * zn), static_cast<float>(y * zn), static_cast<float>(zn));
       }
     }
   };

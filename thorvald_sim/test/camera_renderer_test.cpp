@@ -405,3 +405,50 @@ TEST(CameraRenderer, RefusesImagesLargerThanTheModelAllows) {
                ts::RenderError);
   EXPECT_EQ(renderer.frames(), 0u);
 }
+
+// The z-buffer ends at the far plane (1.001 range_max for a depth camera): a wall seen at an angle, from 4 m to
+// beyond 8 m along the optical axis, has the ray caster's depth (within 0.1 mm, where the 24-bit z-buffer is coarsest)
+// up to range_max, no depth beyond it, and no geom at all beyond the far plane.
+TEST(CameraRenderer, DepthIsExactUpToTheFarPlaneAndNoneBeyond) {
+  ts::GeomWriter gw;
+  gw.box("wall", {4.9, 0.0, 0.0}, {0.1, 30.0, 8.0}, "0.8 0.4 0.2 1");
+  StaticWorld w(ts::WorldDescription{"wall", gw.str(), 0.0});
+  ts::CameraRenderer renderer(w.model.get());
+  ts::RayCaster caster(w.model.get(), w.data.get(), -1);
+  ts::DepthCameraSpec spec;
+  spec.width = 160, spec.height = 120, spec.hfov_rad = 1.2;
+  spec.range_min_m = 0.3, spec.range_max_m = 6.0, spec.noise_coeff = 0.0, spec.dropout = 0.0;
+  const ts::CameraView cv = ts::cameraView(spec, false);
+  ASSERT_NEAR(cv.far_m, 6.006, 1e-9);
+  const auto cam = optical({0, 0, 0}, {std::cos(0.5), std::sin(0.5), 0.0}, {0, 0, -1});
+  ts::RenderedView view;
+  renderer.render(w.data.get(), cam, cv, -1, &view);
+  std::mt19937 rng(3);
+  const ts::DepthImage img = ts::depthFromView(view, caster, cam, spec, rng);
+  caster.prepare(cam.origin, 1e3, cam.rotation.col(2), M_PI);
+  const auto k = ts::intrinsics(spec);
+  const int wall = mj_name2id(w.model.get(), mjOBJ_GEOM, "wall");
+  int near_pixels = 0, far_pixels = 0;
+  for (int v = 0; v < spec.height; ++v)
+    for (int u = 0; u < spec.width; ++u) {
+      int g = -1;
+      const double z = castPixel(caster, cam, k, u, v, &g);
+      ASSERT_EQ(g, wall);
+      const size_t i = static_cast<size_t>(v) * spec.width + u;
+      if (z < spec.range_max_m - 1e-3) {
+        ++near_pixels;
+        ASSERT_EQ(view.geom[i], wall) << u << " " << v;
+        EXPECT_NEAR(view.depth_m[i], z, 1e-4) << u << " " << v;
+        EXPECT_NEAR(img.points[i].z(), z, 1e-4) << u << " " << v;
+      } else if (z > cv.far_m + 1e-3) {
+        ++far_pixels;
+        EXPECT_EQ(view.geom[i], -1) << u << " " << v;
+        EXPECT_TRUE(std::isinf(view.depth_m[i])) << u << " " << v;
+        EXPECT_TRUE(std::isnan(img.points[i].z())) << u << " " << v;
+      } else if (z > spec.range_max_m + 1e-4) {
+        EXPECT_TRUE(std::isnan(img.points[i].z())) << u << " " << v;  // drawn, but beyond the camera's range
+      }
+    }
+  EXPECT_GT(near_pixels, spec.width * spec.height / 4);
+  EXPECT_GT(far_pixels, spec.width * spec.height / 4);
+}

@@ -69,17 +69,28 @@ class CameraRenderer {
   /// Geoms of the last frame left out because their bounding spheres lie outside the view frustum.
   int culledGeoms() const { return culled_; }
 
+  /// Where the last frame's CPU time went (this process, every thread) [s].
+  struct StageTimes {
+    double scene_s = 0;     ///< MuJoCo's scene of the geoms, the own robot and the geoms out of view left out
+    double draw_s = 0;      ///< mjr_render: OpenGL calls and llvmpipe's rasterisation
+    double readback_s = 0;  ///< glReadPixels of the geom ids and the z-buffer
+    double convert_s = 0;   ///< z-buffer to depth, segmentation id to geom, exact depth of curved geoms
+  };
+  const StageTimes& lastStageTimes() const { return stages_; }
+
  private:
   struct Context;
   const mjModel* m_;
   std::unique_ptr<Context> ctx_;
   std::vector<char> curved_;               ///< per geom: depth refined analytically
   std::vector<int> seg_geom_;              ///< segmentation id -> geom id of the last frame
+  std::vector<int> seg_lut_;               ///< segmentation colour (id + 1) -> geom id, -1 for none
   std::vector<unsigned char> rgb_, rgba_;  ///< read back through MuJoCo (rgb_) or directly (rgba_)
   std::vector<float> zbuf_;
   std::vector<uint32_t> zbits_;
   unsigned long frames_ = 0;
   int culled_ = 0;
+  StageTimes stages_;
 };
 
 /// Depth image of an active-stereo camera (noise growing with z^2, dropouts, no depth at grazing angles) from a
