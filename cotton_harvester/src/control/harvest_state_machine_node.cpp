@@ -41,6 +41,10 @@ HarvestParams loadHarvestParams(const NodeParams& params) {
   p.max_missed_observations = readInt(params, "max_missed_observations", p.max_missed_observations, 1);
   p.max_failed_actions = readInt(params, "max_failed_actions", p.max_failed_actions, 1);
   p.bolls_present = readInt(params, "bolls_present", p.bolls_present, 0);
+  p.remember_target_frames = readInt(params, "remember_target_frames", p.remember_target_frames, 0);
+  p.keep_target = readBool(params, "keep_target", p.keep_target);
+  p.revisit_pending = readBool(params, "revisit_pending", p.revisit_pending);
+  p.revisit_window_m = readDouble(params, "revisit_window_m", p.revisit_window_m);
   requireSound(params, p.check());
   return p;
 }
@@ -57,6 +61,7 @@ TopicPlantParams loadPlantParams(const NodeParams& params) {
   p.arm_tolerance_m = readPositive(params, "arm_tolerance_m", p.arm_tolerance_m);
   p.arm_timeout_s = readPositive(params, "arm_timeout_s", p.arm_timeout_s);
   p.pick_dwell_s = readDouble(params, "pick_dwell_s", p.pick_dwell_s);
+  p.rest_depth_m = readDouble(params, "rest_depth_m", p.rest_depth_m);
   return p;
 }
 

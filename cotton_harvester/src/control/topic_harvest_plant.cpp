@@ -132,6 +132,20 @@ MoveResult TopicHarvestPlant::moveRover(double distance_m, const Preempted& pree
     if (!rover_position_) return MoveResult::kFailed;
     target = *rover_position_ + distance_m;
   }
+  bool raise_arm = false;
+  if (params_.rest_depth_m > 0.0) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    raise_arm = arm_depth_ && *arm_depth_ > params_.rest_depth_m + params_.arm_tolerance_m;
+    if (raise_arm) arm_busy_ = true;  // until the manipulator says otherwise after this command
+  }
+  if (raise_arm) {
+    geometry_msgs::PointStamped up;
+    up.header.stamp = ros::Time::now();
+    up.header.frame_id = "manipulator";
+    up.point.x = std::numeric_limits<double>::quiet_NaN();
+    up.point.z = params_.rest_depth_m;
+    arm_target_pub_.publish(up);
+  }
   std_msgs::Float64 msg;
   msg.data = target;
   rover_target_pub_.publish(msg);
@@ -142,7 +156,7 @@ MoveResult TopicHarvestPlant::moveRover(double distance_m, const Preempted& pree
   bool was_preempted = false;
   const bool arrived = waitFor(
       [&] {
-        if (!rover_position_ || std::abs(*rover_position_ - target) > tolerance) {
+        if (!rover_position_ || std::abs(*rover_position_ - target) > tolerance || (raise_arm && arm_busy_)) {
           inside_since = ros::Time();
           return false;
         }

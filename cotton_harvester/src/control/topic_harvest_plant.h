@@ -31,6 +31,9 @@ struct TopicPlantParams {
   double arm_tolerance_m = 0.01;  ///< an arm axis is there within this
   double arm_timeout_s = 15.0;
   double pick_dwell_s = 1.0;  ///< brush runs this long at the boll
+  /// > 0: as a rover move starts, an end-effector deeper than this below the camera goes up to it, so the rover
+  /// never drives with it in the plants; the move is done when the arm has arrived too [m]. 0: the arm stays.
+  double rest_depth_m = 0.0;
 };
 
 class TopicHarvestPlant : public HarvestPlant {

@@ -12,6 +12,7 @@
 #include <image_transport/image_transport.h>
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/JointState.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <sensor_msgs/image_encodings.h>
 
@@ -41,6 +42,8 @@ class HarvestPerceptionNode {
     cloud_sub_ = nh.subscribe("camera/depth/points", 2, &HarvestPerceptionNode::onCloud, this);
     if (config.use_camera_info)
       info_sub_ = nh.subscribe("camera/color/camera_info", 1, &HarvestPerceptionNode::onCameraInfo, this);
+    if (config.arm_prior)
+      joints_sub_ = nh.subscribe("manipulator/joint_states", 5, &HarvestPerceptionNode::onJoints, this);
 
     diagnostics_.setHardwareID("harvest_perception");
     diagnostics_.add("perception", this, &HarvestPerceptionNode::diagnose);
@@ -101,6 +104,27 @@ class HarvestPerceptionNode {
     }
   }
 
+  /// The arm's position from its own sensing (stepper counters through the manipulator node's calibration).
+  void onJoints(const sensor_msgs::JointStateConstPtr& message) {
+    for (std::size_t i = 0; i < message->name.size() && i < message->position.size(); ++i) {
+      if (!std::isfinite(message->position[i])) continue;
+      if (message->name[i] == "horizontal") arm_extension_m_ = message->position[i];
+      if (message->name[i] == "vertical") arm_depth_m_ = message->position[i];
+    }
+    arm_stamp_ = message->header.stamp;
+  }
+
+  /// Where the arm puts the housing's top face at `stamp`, when its joint states are that recent.
+  std::optional<EndEffectorPrior> armPrior(const ros::Time& stamp) const {
+    if (!config_.arm_prior || !arm_extension_m_ || !arm_depth_m_) return std::nullopt;
+    if (std::abs((stamp - arm_stamp_).toSec()) > config_.arm_prior_max_age_s) return std::nullopt;
+    EndEffectorPrior prior;
+    prior.position = cv::Point3d(*arm_extension_m_ + config_.arm_extension_zero_x_m, 0.0, *arm_depth_m_);
+    prior.radius_m = config_.arm_prior_radius_m;
+    prior.housing_half_m = config_.arm_housing_half_m;
+    return prior;
+  }
+
   void tryProcess() {
     if (!image_ || !cloud_) return;
     const double gap = (image_->header.stamp - cloud_->stamp).toSec();
@@ -119,7 +143,10 @@ class HarvestPerceptionNode {
     cloud_.reset();
 
     const ros::WallTime start = ros::WallTime::now();
-    const FrameResult result = pipeline_.process(image->image, cloud);
+    const std::optional<EndEffectorPrior> prior = armPrior(image->header.stamp);
+    if (config_.arm_prior && !prior) ++frames_without_arm_;
+    const FrameResult result =
+        prior ? pipeline_.process(image->image, cloud, prior) : pipeline_.process(image->image, cloud);
     const double ms = (ros::WallTime::now() - start).toSec() * 1e3;
     if (result.status != FrameStatus::kOk) return reject(toString(result.status));
     if (result.bolls.empty() && result.bolls_detected > 0) {
@@ -172,6 +199,7 @@ class HarvestPerceptionNode {
     status.add("bolls last frame", last_bolls_);
     status.add("bolls without depth", bolls_without_depth_);
     status.add("end-effector found", end_effector_found_);
+    if (config_.arm_prior) status.add("frames without the arm's position (whole-image search)", frames_without_arm_);
     status.add("last frame [ms]", last_ms_);
     status.add("mean frame [ms]", processed_ ? total_ms_ / processed_ : 0.0);
     status.add("last frame at", last_processed_.toSec());
@@ -187,7 +215,7 @@ class HarvestPerceptionNode {
   image_transport::ImageTransport image_transport_;
   image_transport::Subscriber image_sub_;
   image_transport::Publisher debug_pub_;
-  ros::Subscriber cloud_sub_, info_sub_;
+  ros::Subscriber cloud_sub_, info_sub_, joints_sub_;
   ros::Publisher bolls_pub_, end_effector_pub_, markers_pub_;
   diagnostic_updater::Updater diagnostics_;
   ros::Timer diagnostics_timer_;
@@ -199,6 +227,9 @@ class HarvestPerceptionNode {
   int processed_ = 0, unpaired_ = 0, last_bolls_ = 0, bolls_without_depth_ = 0, end_effector_found_ = 0;
   double last_ms_ = 0.0, total_ms_ = 0.0;
   ros::Time last_processed_;
+  std::optional<double> arm_extension_m_, arm_depth_m_;
+  ros::Time arm_stamp_;
+  int frames_without_arm_ = 0;
 };
 
 }  // namespace cotton_harvester

@@ -147,6 +147,11 @@ static bool loadPerceptionNodeConfigOrThrow(const ros::NodeHandle& pnh, Percepti
 
   r.read("max_stamp_diff_s", &config->max_stamp_diff_s, "a number >= 0 [s]");
   r.read("publish_debug_image", &config->publish_debug_image, "true or false");
+  r.read("arm_prior/enabled", &config->arm_prior, "true or false");
+  r.read("arm_prior/extension_zero_x_m", &config->arm_extension_zero_x_m, "a number [m]");
+  r.read("arm_prior/radius_m", &config->arm_prior_radius_m, "a positive number [m]");
+  r.read("arm_prior/housing_half_m", &config->arm_housing_half_m, "a positive number [m]");
+  r.read("arm_prior/max_age_s", &config->arm_prior_max_age_s, "a positive number [s]");
 
   r.finish();
   std::string errors;
@@ -160,6 +165,13 @@ static bool loadPerceptionNodeConfigOrThrow(const ros::NodeHandle& pnh, Percepti
   }
   if (!(config->max_stamp_diff_s >= 0.0) || !std::isfinite(config->max_stamp_diff_s))
     errors += "~max_stamp_diff_s: expected a number >= 0; ";
+  if (!std::isfinite(config->arm_extension_zero_x_m)) errors += "~arm_prior/extension_zero_x_m: expected a number; ";
+  if (!(config->arm_prior_radius_m > 0.0) || !std::isfinite(config->arm_prior_radius_m))
+    errors += "~arm_prior/radius_m: expected a number > 0; ";
+  if (!(config->arm_housing_half_m > 0.0) || !std::isfinite(config->arm_housing_half_m))
+    errors += "~arm_prior/housing_half_m: expected a number > 0; ";
+  if (!(config->arm_prior_max_age_s > 0.0) || !std::isfinite(config->arm_prior_max_age_s))
+    errors += "~arm_prior/max_age_s: expected a number > 0; ";
   *error = errors;
   return errors.empty();
 }

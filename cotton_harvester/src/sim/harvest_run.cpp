@@ -17,24 +17,6 @@ namespace sim {
 
 namespace {
 
-/// Bolls the arm can reach from the row's line as the rover drives it: the boll's centre across the row within the
-/// end-effector's travel, its top no deeper than the vertical axis goes, and passed by the camera's optical axis
-/// during the drive. Computed from the truth at the start, for scoring only.
-std::vector<bool> reachableBolls(const RoverSim& sim, double row_length_m) {
-  const RoverGeometry& g = sim.params().geometry;
-  const Eigen::Vector3d start_cam_world = sim.roverPosition();
-  std::vector<bool> reachable;
-  for (const BollTruth& b : sim.bolls()) {
-    const Eigen::Vector3d c = sim.toCamera(b.centre);
-    const double x_min = -g.arm_base_offset_m, x_max = -g.arm_base_offset_m + g.horizontal_travel_m;
-    const double top_depth = c.z() - sim.params().row.boll_radius_m;
-    const double along = b.centre.x() - start_cam_world.x() - g.camera_ahead_m;
-    reachable.push_back(c.x() >= x_min && c.x() <= x_max && top_depth >= g.min_depth_m && top_depth <= g.max_depth_m &&
-                        along <= row_length_m);
-  }
-  return reachable;
-}
-
 /// The scorer's view of one camera frame: which bolls were in view, how visible, and which detection was which
 /// boll (the nearest true visible top within the tracker's match radius), in the tracker's row coordinates.
 void scoreFrame(const RoverSim& sim, const perception::FrameResult& result, double rover_position_m,
@@ -74,6 +56,21 @@ void scoreFrame(const RoverSim& sim, const perception::FrameResult& result, doub
 }
 
 }  // namespace
+
+std::vector<bool> reachableBolls(const RoverSim& sim, double row_length_m) {
+  const RoverGeometry& g = sim.params().geometry;
+  const Eigen::Vector3d start_cam_world = sim.roverPosition();
+  std::vector<bool> reachable;
+  for (const BollTruth& b : sim.bolls()) {
+    const Eigen::Vector3d c = sim.toCamera(b.centre);
+    const double x_min = -g.arm_base_offset_m, x_max = -g.arm_base_offset_m + g.horizontal_travel_m;
+    const double top_depth = c.z() - sim.params().row.boll_radius_m;
+    const double along = b.centre.x() - start_cam_world.x() - g.camera_ahead_m;
+    reachable.push_back(c.x() >= x_min && c.x() <= x_max && top_depth >= g.min_depth_m && top_depth <= g.max_depth_m &&
+                        along <= row_length_m);
+  }
+  return reachable;
+}
 
 HarvestRunConfig pottedConfig(unsigned seed) {
   HarvestRunConfig c;

@@ -66,6 +66,11 @@ struct HarvestRunReport {
 /// limit), and scores it against the simulation's truth. Never throws; `error` says what went wrong.
 HarvestRunReport runHarvest(const HarvestRunConfig& config);
 
+/// Bolls the arm can reach from the row's line as the rover drives `row_length_m` from where it stands now: the
+/// boll's centre across the row within the end-effector's travel, its top no deeper than the vertical axis goes, and
+/// passed by the camera's optical axis during the drive. From the truth, for scoring only (one flag per sim.bolls()).
+std::vector<bool> reachableBolls(const RoverSim& sim, double row_length_m);
+
 /// The paper's two experiments (§2.13): potted defoliated plants (Table 2) and a field-like undefoliated row
 /// (Table 3). `seed` varies the plants.
 HarvestRunConfig pottedConfig(unsigned seed);
