@@ -172,7 +172,10 @@ int main(int argc, char** argv) {
   }
 
   // The greenhouse robot (sensors_greenhouse.yaml) on the headland, driving a circle.
-  Run gh = build(makeGreenhouseWorld(GreenhouseParams(), nullptr), 1, fourWheelSteered(), -3.0, 0.0);
+  // The offscreen buffer as the node sizes it: the largest camera image.
+  SceneOptions gh_options;
+  gh_options.camera_max_width = 640, gh_options.camera_max_height = 480;
+  Run gh = build(makeGreenhouseWorld(GreenhouseParams(), nullptr), 1, fourWheelSteered(), -3.0, 0.0, gh_options);
   CameraRenderer gh_renderer(gh.sim->model());
   RayCaster caster(gh.sim->model(), gh.sim->data(), gh.sim->robot(0).root_body);
   LidarSpec lidar;

@@ -205,12 +205,16 @@ bool SimRos::loadRobots(const WorldDescription& world) {
   try {
     SceneOptions options;
     options.sphere_wheels = params_.sphere_wheels;
-    for (const auto& list : sensors)  // the offscreen buffer must hold the largest camera image
+    // The offscreen buffer holds the largest camera image and no more: llvmpipe's cost per frame grows with the
+    // buffer, not only with the image drawn into it.
+    int camera_width = 0, camera_height = 0;
+    for (const auto& list : sensors)
       for (const auto& c : list)
         if (c.type == SensorType::kDepthCamera) {
-          options.camera_max_width = std::max(options.camera_max_width, c.depth.width);
-          options.camera_max_height = std::max(options.camera_max_height, c.depth.height);
+          camera_width = std::max(camera_width, c.depth.width);
+          camera_height = std::max(camera_height, c.depth.height);
         }
+    if (camera_width > 0) options.camera_max_width = camera_width, options.camera_max_height = camera_height;
     sim_ = std::make_unique<Simulation>(composeScene(world, spawns, options), spawns);
     for (size_t i = 0; i < spawns.size(); ++i)
       robots_.push_back(std::make_unique<RobotIo>(
