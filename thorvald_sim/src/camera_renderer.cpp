@@ -422,6 +422,11 @@ void depthFromView(const RenderedView& view, const RayCaster& caster, const Sens
       const int* geoms = view.geom.data() + row;
       const float* depths = view.depth_m.data() + row;
       Eigen::Vector3f* out = img->points.data() + row;
+      // A ray = A (x, y, 1) = x A_0 + (y A_1 + A_2): the second term once per row and geom (neighbouring pixels
+      // mostly see the same geom).
+      int last = -1;
+      const Frame* f = nullptr;
+      Eigen::Vector3d row_term;
       for (int u = 0; u < s.width; ++u) {
         const int g = geoms[u];
         const float zf = depths[u];
@@ -435,24 +440,28 @@ void depthFromView(const RenderedView& view, const RayCaster& caster, const Sens
           continue;
         }
         const double z = zf, x = xs[u];
-        const Frame& f = frames[g];
+        if (g != last) {
+          last = g;
+          f = &frames[g];
+          row_term = f->A.col(1) * y + f->A.col(2);
+        }
         // Seen more obliquely than grazing_limit: the cosine between the ray and the surface normal n is below
-        // min_cos. For planes and boxes, with the face normal n in the optical frame: (n . ray)^2 < min_cos^2 |ray|^2.
+        // min_cos. For planes and boxes, with the face normal n in the optical frame (a row of A):
+        // (n . ray)^2 < min_cos^2 |ray|^2.
         bool grazing;
-        if (f.kind != kOther) {
+        if (f->kind != kOther) {
+          const Eigen::Vector3d a_ray = f->A.col(0) * x + row_term;
           int face = 2;
-          if (f.kind == kBox) {  // the face nearest to the point
-            const Eigen::Vector3d p = z * (f.A.col(0) * x + f.A.col(1) * y + f.A.col(2)) + f.b;
-            const Eigen::Vector3d gap = (p.cwiseAbs() - f.half).cwiseAbs();
+          if (f->kind == kBox) {  // the face nearest to the point p_box = A (z ray) + b
+            const Eigen::Vector3d gap = ((z * a_ray + f->b).cwiseAbs() - f->half).cwiseAbs();
             face = gap[0] <= gap[1] ? (gap[0] <= gap[2] ? 0 : 2) : (gap[1] <= gap[2] ? 1 : 2);
           }
-          const double dot = f.A(face, 0) * x + f.A(face, 1) * y + f.A(face, 2);
-          grazing = dot * dot < min_cos2 * (xs2[u] + y2);
+          grazing = a_ray[face] * a_ray[face] < min_cos2 * (xs2[u] + y2);
         } else {
           const Eigen::Vector3d ray(x, y, 1.0);
           const Eigen::Vector3d dir = pose.rotation * (ray / std::sqrt(xs2[u] + y2));
-          const Eigen::Vector3d nrm =
-              geomNormal(m->geom_type[g], m->geom_size + 3 * g, f.R, f.c, pose.origin + pose.rotation * (ray * z), dir);
+          const Eigen::Vector3d nrm = geomNormal(m->geom_type[g], m->geom_size + 3 * g, f->R, f->c,
+                                                 pose.origin + pose.rotation * (ray * z), dir);
           grazing = -nrm.dot(dir) < min_cos;
         }
         if (grazing) {
