@@ -1,0 +1,99 @@
+// The UV mission's machine behind UvMission: its states' bodies share the robot's interface, the current rail
+// set and what was stored before entering the rails. Private to the mission library (uv_mission.cpp: selecting,
+// navigating, detecting, aligning and skipping; uv_mission_rails.cpp: the rail phase).
+#pragma once
+
+#include <algorithm>
+#include <functional>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "greenhouse_rail_nav/uv_mission.h"
+
+namespace greenhouse_rail_nav {
+
+namespace tsm = thorvald_state_machine;
+
+class UvMission::Impl {
+ public:
+  Impl(UvMission& owner, MissionIO& io, const UvMissionParams& p, std::vector<MissionTarget> targets)
+      : owner_(owner), io_(io), p_(p), targets_(std::move(targets)) {}
+
+  // Outcomes of the motion loops.
+  enum class Loop { kDone, kFailed, kPreempted, kEdge };
+  // Where the robot stands after a failure at a rail set.
+  enum class Safety { kSafe, kUnsafe, kPreempted };
+
+  void build(tsm::StateMachine& sm);
+
+ private:
+  using State = std::unique_ptr<tsm::State>;
+  State state(std::vector<std::string> outcomes, std::function<std::string(tsm::ExecutionContext&)> body) {
+    return std::make_unique<tsm::FunctionState>(std::move(outcomes),
+                                                [body](tsm::UserData&, tsm::ExecutionContext& c) { return body(c); });
+  }
+  void log(const std::string& s) {
+    std::ostringstream o;
+    o << "[rail set " << (current_ ? std::to_string(current_->index) : std::string("-")) << "] " << s;
+    io_.log(o.str());
+  }
+  void stop() { io_.commandTwist(0.0, 0.0); }
+  /// Adds a failure to the current set's reason (a treatment stopped on the rails, then its return).
+  void addReason(const std::string& r) { skip_reason_ = skip_reason_.empty() ? r : skip_reason_ + "; " + r; }
+  /// Holds the robot while a person must clear a safety stop; false when preempted meanwhile.
+  bool holdWhileStopped(tsm::ExecutionContext& ctx);
+  bool surfaceStale() {
+    const SurfaceReading s = io_.surface();
+    return s.stamp_s < 0.0 || io_.now() - s.stamp_s > p_.surface_timeout_s;
+  }
+  Loop runStep(const MotionStep& step, tsm::ExecutionContext& ctx, const MotionLimits& limits);
+  bool freshObservation(double since_s, tsm::ExecutionContext& ctx, RailObservation* obs);
+  double headingHold(double yaw_ref, double yaw) const {
+    return std::clamp(p_.motion.heading_gain * normalizeAngle(yaw_ref - yaw), -p_.motion.max_turn_rate_rps,
+                      p_.motion.max_turn_rate_rps);
+  }
+
+  /// Turn rate on and off the rails: while the wheel sensors read rail the pipes guide the robot, and steering
+  /// towards an odometry heading (which drifts with wheel slip) would only make the wheels fight the pipes and
+  /// slip; off them the heading is held.
+  double railSteering(double yaw_ref, double yaw) {
+    return io_.surface().wheels == Surface::kRail ? 0.0 : headingHold(yaw_ref, yaw);
+  }
+
+  std::string select();
+  std::string navigate(tsm::ExecutionContext& ctx);
+  std::string detect(tsm::ExecutionContext& ctx);
+  std::string search(tsm::ExecutionContext& ctx);
+  std::string check();
+  std::string align(tsm::ExecutionContext& ctx);
+  std::string enter(tsm::ExecutionContext& ctx);
+  std::string backOut(tsm::ExecutionContext& ctx);
+  std::string treat(tsm::ExecutionContext& ctx);
+  std::string comeBack(tsm::ExecutionContext& ctx);
+  std::string skip(tsm::ExecutionContext& ctx);
+  Safety secure(tsm::ExecutionContext& ctx, std::string* note);
+  Safety reverseToFloor(tsm::ExecutionContext& ctx, std::string* note);
+
+  UvMission& owner_;
+  MissionIO& io_;
+  UvMissionParams p_;
+  std::vector<MissionTarget> targets_;
+  const MissionTarget* current_ = nullptr;
+  RailSetReport report_;
+  double set_start_s_ = 0.0;
+  std::string skip_reason_;
+  RailObservation last_obs_;
+  // The pose stored before entering the rails (odometry and map) and the distance driven since.
+  Pose2D entry_odom_;
+  Pose2D entry_map_;
+  bool entry_map_known_ = false;
+  bool set_started_ = false;     // the robot has moved for the current set (skipping it needs a safety check)
+  bool rail_phase_ = false;      // the robot has started entering the current set's rails
+  bool treat_complete_ = false;  // the current set's rails were driven to their end with the lights on
+  double entered_m_ = 0.0;
+  double driven_in_m_ = 0.0;
+};
+
+}  // namespace greenhouse_rail_nav

@@ -1,0 +1,347 @@
+// The rail phase of the UV mission: entering the rails while the range finders watch for the floor's edge,
+// backing out, the treatment with the lights on, the return to the stored pose, and getting the robot back onto
+// the headland floor (or stopping it) after a failure at a rail set.
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "uv_mission_impl.h"
+
+namespace greenhouse_rail_nav {
+
+std::string UvMission::Impl::enter(tsm::ExecutionContext& ctx) {
+  ++report_.entry_attempts;
+  if (!io_.odomPose(&entry_odom_)) {
+    skip_reason_ = "no odometry";
+    return "failed";
+  }
+  entry_map_known_ = io_.mapPose(&entry_map_);
+  rail_phase_ = true;
+  entered_m_ = 0.0;
+  MotionLimits slow = p_.motion;
+  slow.max_speed_mps = p_.enter_speed_mps;
+  slow.min_speed_mps = std::min(slow.min_speed_mps, 0.5 * p_.enter_speed_mps);
+  OdometryMotion motion(slow);
+  motion.start({MotionStep::Kind::kTranslate, p_.enter_max_distance_m, "enter"}, entry_odom_, io_.now());
+  Pose2D pose = entry_odom_;
+  // The rail frame as seen by the last detection, carried on by odometry: rail <- odom.
+  const Pose2D rail_from_odom = last_obs_.robot_in_rail.compose(entry_odom_.inverse());
+  const double w0 = p_.enter_line_frequency_rps;
+  double rail_seen_at_m = -1.0;  // entered_m_ when the range finders first read rail under front and wheels
+  while (io_.ok()) {
+    if (ctx.preemptRequested()) {
+      stop();
+      return tsm::kPreempted;
+    }
+    if (!holdWhileStopped(ctx)) return tsm::kPreempted;
+    if (surfaceStale() || !io_.odomPose(&pose)) {
+      stop();
+      log("entering: surface readings or odometry lost, backing out");
+      return "failed";
+    }
+    entered_m_ = (pose.position() - entry_odom_.position()).dot(entry_odom_.heading());
+    const SurfaceReading s = io_.surface();
+    if (s.front == Surface::kEdge || s.wheels == Surface::kEdge) {
+      stop();
+      std::ostringstream o;
+      o << "entering: the floor's edge in front of a rail wheel after " << entered_m_ << " m, backing out";
+      log(o.str());
+      return "edge";
+    }
+    // The wheel sensors' cones see a pipe a few centimetres before the rail wheels are carried by it: drive on
+    // on_rails_margin with rail read throughout before calling it on the rails.
+    if (s.front == Surface::kRail && s.wheels == Surface::kRail) {
+      if (rail_seen_at_m < 0.0) rail_seen_at_m = entered_m_;
+    } else {
+      rail_seen_at_m = -1.0;
+    }
+    if (rail_seen_at_m >= 0.0 && entered_m_ - rail_seen_at_m >= p_.on_rails_margin_m) {
+      stop();
+      std::ostringstream o;
+      o << "on the rails after " << entered_m_ << " m (rail read from " << rail_seen_at_m << " m)";
+      log(o.str());
+      return "on_rails";
+    }
+    OdometryMotion::Command c = motion.update(pose, io_.now());
+    if (w0 > 0.0 && c.linear_mps > 0.0) {
+      // Follow the centre line y = 0, yaw = 0 of the rail frame: critically damped for small errors.
+      const Pose2D r = rail_from_odom.compose(pose);
+      c.angular_rps = std::clamp(-2.0 * w0 * r.yaw - w0 * w0 * r.y / std::max(c.linear_mps, 0.02),
+                                 -p_.motion.max_turn_rate_rps, p_.motion.max_turn_rate_rps);
+    }
+    io_.commandTwist(c.linear_mps, c.angular_rps);
+    if (c.done || c.failed) {
+      stop();
+      log("entering: the rails were not reached within the entry distance, backing out");
+      return "failed";
+    }
+    io_.waitTick();
+  }
+  stop();
+  return tsm::kPreempted;
+}
+
+std::string UvMission::Impl::backOut(tsm::ExecutionContext& ctx) {
+  Pose2D pose;
+  double back = entered_m_;
+  if (io_.odomPose(&pose)) back = (pose.position() - entry_odom_.position()).dot(entry_odom_.heading());
+  // The edge check stays on while backing out: the wheels must not leave the floor backwards either, but a
+  // front sensor over the edge is expected here.
+  const Loop l = runStep({MotionStep::Kind::kTranslate, -back, "back out"}, ctx, p_.motion);
+  if (l == Loop::kPreempted) return tsm::kPreempted;
+  if (l != Loop::kDone) {
+    skip_reason_ = "backing out failed";
+    return "failed";
+  }
+  if (report_.entry_attempts >= p_.max_align_attempts) {
+    skip_reason_ = "entering failed " + std::to_string(report_.entry_attempts) + " times";
+    return "give_up";
+  }
+  return "backed_out";
+}
+
+std::string UvMission::Impl::treat(tsm::ExecutionContext& ctx) {
+  Pose2D pose, last;
+  if (!io_.odomPose(&pose)) {
+    skip_reason_ = "no odometry on the rails";
+    return "failed";
+  }
+  last = pose;
+  const double yaw_ref = pose.yaw;
+  const Pose2D rail_start = pose;
+  double v = 0.0, t_last = io_.now(), lights_since = t_last;
+  double sum = 0.0, sum2 = 0.0;
+  int n = 0;
+  io_.setLights(true);
+  log("UV lights on, driving along the rails");
+  std::string outcome = "end_of_rail";
+  while (io_.ok()) {
+    if (ctx.preemptRequested()) {
+      outcome = tsm::kPreempted;
+      break;
+    }
+    std::string why;
+    if (io_.safetyStopped(&why)) {
+      v = 0.0;
+      if (!holdWhileStopped(ctx)) {
+        outcome = tsm::kPreempted;
+        break;
+      }
+      io_.setLights(true);
+    }
+    if (surfaceStale() || !io_.odomPose(&pose)) {
+      skip_reason_ = "treatment stopped: surface readings or odometry lost on the rails";
+      log(skip_reason_);
+      outcome = "failed";
+      break;
+    }
+    if (io_.surface().wheels == Surface::kEdge) {
+      skip_reason_ = "treatment stopped: edge under a wheel on the rails";
+      log(skip_reason_);
+      outcome = "failed";
+      break;
+    }
+    const double now = io_.now();
+    const double dt = now - t_last;
+    t_last = now;
+    const double along = (pose.position() - rail_start.position()).dot(rail_start.heading());
+    if (dt > 0.0 && std::fabs(v - p_.rail_run.treat_speed_mps) < 1e-9) {
+      const double speed = (pose.position() - last.position()).norm() / dt;
+      sum += speed;
+      sum2 += speed * speed;
+      ++n;
+    }
+    last = pose;
+    if (along > p_.rail_run.max_rail_length_m) {
+      skip_reason_ = "treatment stopped: longer than max_rail_length without seeing the far wall";
+      log(skip_reason_);
+      outcome = "failed";
+      break;
+    }
+    v = inboundSpeed(p_.rail_run, v, io_.forwardRange(), dt);
+    if (v == 0.0 && along > 0.5) break;  // the far wall says the rail ends here
+    io_.commandTwist(v, railSteering(yaw_ref, pose.yaw));
+    io_.waitTick();
+  }
+  stop();
+  io_.setLights(false);
+  report_.lights_on_s = io_.now() - lights_since;
+  driven_in_m_ = entered_m_ + (pose.position() - rail_start.position()).dot(rail_start.heading());
+  report_.rail_length_m = driven_in_m_ - entered_m_;
+  if (n > 0) {
+    report_.speed_mean_mps = sum / n;
+    report_.speed_std_mps = std::sqrt(std::max(0.0, sum2 / n - report_.speed_mean_mps * report_.speed_mean_mps));
+  }
+  treat_complete_ = outcome == "end_of_rail";
+  std::ostringstream o;
+  o << "UV lights off after " << report_.rail_length_m << " m on the rails (mean speed " << report_.speed_mean_mps
+    << " m/s)";
+  log(o.str());
+  return outcome;
+}
+
+std::string UvMission::Impl::comeBack(tsm::ExecutionContext& ctx) {
+  Pose2D pose;
+  if (!io_.odomPose(&pose)) {
+    addReason("return: no odometry");
+    return "failed";
+  }
+  const double yaw_ref = entry_odom_.yaw;
+  double v = 0.0, t_last = io_.now();
+  const double extra_m = 0.5;  // beyond the stored pose, to find the floor if odometry came up short
+  log("reversing to the headland");
+  while (io_.ok()) {
+    if (ctx.preemptRequested()) {
+      stop();
+      return tsm::kPreempted;
+    }
+    std::string why;
+    if (io_.safetyStopped(&why)) {
+      v = 0.0;
+      if (!holdWhileStopped(ctx)) return tsm::kPreempted;
+    }
+    if (surfaceStale() || !io_.odomPose(&pose)) {
+      stop();
+      addReason("return: surface readings or odometry lost");
+      log(skip_reason_);
+      return "failed";
+    }
+    const double now = io_.now();
+    const double dt = now - t_last;
+    t_last = now;
+    const double along = (pose.position() - entry_odom_.position()).dot(entry_odom_.heading());
+    const double reversed = driven_in_m_ - along;
+    const SurfaceReading s = io_.surface();
+    if (s.wheels == Surface::kEdge) {
+      stop();
+      addReason("return: edge under a wheel");
+      log(skip_reason_);
+      return "failed";
+    }
+    if (along <= 0.0 && s.wheels == Surface::kFloor) break;  // back at the stored pose, on the floor
+    if (along < -extra_m) {
+      stop();
+      addReason("return: no floor sensed at the stored pose");
+      log(skip_reason_);
+      return "failed";
+    }
+    v = returnSpeed(p_.rail_run, v, reversed, driven_in_m_, dt);
+    if (along <= 0.0) v = std::min(v, p_.rail_run.slow_speed_mps);
+    io_.commandTwist(-v, railSteering(yaw_ref, pose.yaw));
+    io_.waitTick();
+  }
+  stop();
+  if (entry_map_known_) io_.resetLocalisation(entry_map_);
+  if (!treat_complete_) {
+    log("back on the headland floor; the rails were not treated to their end");
+    return "back_untreated";
+  }
+  report_.treated = true;
+  report_.result = "treated";
+  report_.duration_s = io_.now() - set_start_s_;
+  owner_.reports_.push_back(report_);
+  owner_.done_.insert(current_->index);
+  log("back on the headland floor; rail set treated");
+  return "back";
+}
+
+UvMission::Impl::Safety UvMission::Impl::reverseToFloor(tsm::ExecutionContext& ctx, std::string* note) {
+  Pose2D start, pose;
+  if (!io_.odomPose(&start)) {
+    *note = "rail under the wheels and no odometry to reverse on";
+    return Safety::kUnsafe;
+  }
+  std::ostringstream l;
+  l << "rail under the wheels: reversing at " << p_.rail_run.slow_speed_mps << " m/s to find the floor (at most "
+    << p_.recover_reverse_max_m << " m)";
+  log(l.str());
+  pose = start;
+  while (io_.ok()) {
+    if (ctx.preemptRequested()) {
+      stop();
+      return Safety::kPreempted;
+    }
+    if (!holdWhileStopped(ctx)) return Safety::kPreempted;
+    if (surfaceStale() || !io_.odomPose(&pose)) {
+      stop();
+      *note = "surface readings or odometry lost while reversing to the floor";
+      return Safety::kUnsafe;
+    }
+    const double reversed = (pose.position() - start.position()).norm();
+    const SurfaceReading s = io_.surface();
+    if (s.wheels == Surface::kEdge) {
+      stop();
+      *note = "an edge under a wheel while reversing to the floor";
+      return Safety::kUnsafe;
+    }
+    if (s.wheels == Surface::kFloor) {
+      stop();
+      if (entry_map_known_) io_.resetLocalisation(entry_map_);
+      std::ostringstream o;
+      o << "floor found after reversing " << reversed << " m more";
+      *note = o.str();
+      return Safety::kSafe;
+    }
+    if (reversed > p_.recover_reverse_max_m) {
+      stop();
+      std::ostringstream o;
+      o << "still on the rails after reversing " << reversed << " m more";
+      *note = o.str();
+      return Safety::kUnsafe;
+    }
+    io_.commandTwist(-p_.rail_run.slow_speed_mps, railSteering(entry_odom_.yaw, pose.yaw));
+    io_.waitTick();
+  }
+  stop();
+  return Safety::kPreempted;
+}
+
+UvMission::Impl::Safety UvMission::Impl::secure(tsm::ExecutionContext& ctx, std::string* note) {
+  // The surface classifier needs a few agreeing readings after a change: wait for a fresh, decided reading.
+  const double deadline = io_.now() + p_.secure_wait_s;
+  SurfaceReading s;
+  while (true) {
+    if (!io_.ok() || ctx.preemptRequested()) return Safety::kPreempted;
+    if (!holdWhileStopped(ctx)) return Safety::kPreempted;
+    stop();
+    s = io_.surface();
+    const bool fresh = !surfaceStale();
+    if (fresh && s.wheels != Surface::kUnknown) break;
+    if (io_.now() >= deadline) {
+      *note = fresh ? "the range finders at the wheels read neither floor nor rail under both wheels"
+                    : "no fresh readings from the range finders";
+      return Safety::kUnsafe;
+    }
+    io_.waitTick();
+  }
+  if (s.wheels == Surface::kEdge) {
+    *note = "an edge under a wheel";
+    return Safety::kUnsafe;
+  }
+  if (s.wheels == Surface::kRail) {
+    if (!rail_phase_) {
+      *note = "rail under the wheels away from the rails' entry";
+      return Safety::kUnsafe;
+    }
+    const Safety r = reverseToFloor(ctx, note);
+    if (r != Safety::kSafe) return r;
+  }
+  Pose2D pose;
+  if (!io_.odomPose(&pose)) {
+    *note = "no odometry";
+    return Safety::kUnsafe;
+  }
+  const double map_deadline = io_.now() + p_.detect_timeout_s;
+  while (!io_.mapPose(&pose)) {
+    if (!io_.ok() || ctx.preemptRequested()) return Safety::kPreempted;
+    if (io_.now() >= map_deadline) {
+      *note = "the robot's pose in the map is unknown";
+      return Safety::kUnsafe;
+    }
+    stop();
+    io_.waitTick();
+  }
+  return Safety::kSafe;
+}
+
+}  // namespace greenhouse_rail_nav
