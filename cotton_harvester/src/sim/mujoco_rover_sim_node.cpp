@@ -383,11 +383,12 @@ class MujocoRoverSimNode {
     metrics_pub_.publish(s);
     ROS_INFO(
         "mujoco_rover_sim: %s; bolls %d (reachable %d), detected %d, reached %d, picked %d (machine: %d); time %.1f s, "
-        "CT %.1f s, ASR %.1f %%, DP %.1f %%, MRR %.1f %%, OV %.2f cm/s; %d frames; %.2fx real time",
+        "CT %.1f s, ASR %.1f %%, DP %.1f %%, MRR %.1f %%, OV %.2f cm/s; %d frames; %.2fx real time; lockstep timeouts: "
+        "%d drive, %d camera",
         outcome.c_str(), counts.bolls_present, reachable, counts.detected, counts.reached, counts.picked,
         machine_picked_, counts.time_s, m.cycle_time_s.value_or(0.0), m.action_success_pct.value_or(0.0),
         m.detection_performance_pct.value_or(0.0), m.reaching_ratio_pct.value_or(0.0), m.operation_velocity_cm_s,
-        frames_, wall_s > 0.0 ? sim_s / wall_s : 0.0);
+        frames_, wall_s > 0.0 ? sim_s / wall_s : 0.0, lockstep_timeouts_, camera_lockstep_timeouts_);
     std::string error;
     if (!config_.metrics_csv.empty() && !control::appendCsv(config_.metrics_csv, config_.run_name, counts, m, &error))
       ROS_ERROR("mujoco_rover_sim: %s", error.c_str());
