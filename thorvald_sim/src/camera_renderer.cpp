@@ -89,7 +89,73 @@ void convertRowFloat(const unsigned char* rgb, const float* zbuf, int width, con
   }
 }
 
+/// Smallest t >= 0 with |o + t d|^2 = r^2 (a sphere of radius r at the origin) folded into `best`.
+inline void sphereHit(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double r, double* best) {
+  const double a = d.squaredNorm(), b = o.dot(d), c = o.squaredNorm() - r * r;
+  const double disc = b * b - a * c;
+  if (disc < 0.0 || a <= 0.0) return;
+  const double q = std::sqrt(disc);
+  const double t = (-b - q) / a >= 0.0 ? (-b - q) / a : (-b + q) / a;
+  if (t >= 0.0 && (*best < 0.0 || t < *best)) *best = t;
+}
+
+/// The side of a cylinder of radius r around z, between z = -h and h.
+inline void sideHit(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double r, double h, double* best) {
+  const double a = d.x() * d.x() + d.y() * d.y();
+  if (a <= 0.0) return;
+  const double b = o.x() * d.x() + o.y() * d.y(), c = o.x() * o.x() + o.y() * o.y() - r * r;
+  const double disc = b * b - a * c;
+  if (disc < 0.0) return;
+  const double q = std::sqrt(disc);
+  for (const double t : {(-b - q) / a, (-b + q) / a})
+    if (t >= 0.0 && std::fabs(o.z() + t * d.z()) <= h && (*best < 0.0 || t < *best)) {
+      *best = t;
+      return;
+    }
+}
+
+/// Where the ray o + t d (d: a pixel's ray (x, y, 1) turned into the geom frame, so t is the depth along the
+/// optical axis) first meets the exact surface of a sphere, capsule or cylinder; -1 for none. Other types: -2 (the
+/// caller asks MuJoCo).
+double curvedDepth(int type, const double* size, const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
+  double best = -1.0;
+  switch (type) {
+    case mjGEOM_SPHERE:
+      sphereHit(o, d, size[0], &best);
+      return best;
+    case mjGEOM_CAPSULE: {
+      const double r = size[0], h = size[1];
+      sideHit(o, d, r, h, &best);
+      sphereHit(o - Eigen::Vector3d(0, 0, h), d, r, &best);
+      sphereHit(o + Eigen::Vector3d(0, 0, h), d, r, &best);
+      return best;
+    }
+    case mjGEOM_CYLINDER: {
+      const double r = size[0], h = size[1];
+      sideHit(o, d, r, h, &best);
+      if (d.z() != 0.0)
+        for (const double cap : {-h, h}) {
+          const double t = (cap - o.z()) / d.z();
+          const double px = o.x() + t * d.x(), py = o.y() + t * d.y();
+          if (t >= 0.0 && px * px + py * py <= r * r && (best < 0.0 || t < best)) best = t;
+        }
+      return best;
+    }
+    default:
+      return -2.0;
+  }
+}
+
 }  // namespace
+
+/// A curved geom seen from a camera, in the geom's frame: the camera's origin `o` and A = R_geom^T R_camera, which
+/// turns a ray (x, y, 1) of the optical frame into the geom frame.
+struct CameraRenderer::CurvedInView {
+  Eigen::Matrix3d A;
+  Eigen::Vector3d o;
+  int type = -1;
+  double size[3] = {0, 0, 0};
+};
 
 struct CameraRenderer::Context {
   OSMesaContext gl = nullptr;
@@ -205,6 +271,20 @@ void CameraRenderer::render(const mjData* data, const SensorPose& pose, const Ca
     s.geoms[kept++] = g;
   }
   s.ngeom = kept;
+  {
+    // Nearest first: the z-buffer then rejects the hidden parts of the geoms drawn later before they are written.
+    order_.clear();
+    for (int i = 0; i < kept; ++i) {
+      const mjvGeom& g = s.geoms[i];
+      const double r = m_->geom_rbound[g.objid];
+      const Eigen::Vector3d c(g.pos[0] - pose.origin.x(), g.pos[1] - pose.origin.y(), g.pos[2] - pose.origin.z());
+      order_.emplace_back(r > 0.0 ? std::max(0.0, c.dot(pose.rotation.col(2)) - r) : 1e30, i);
+    }
+    std::sort(order_.begin(), order_.end());
+    sorted_.resize(kept);
+    for (int i = 0; i < kept; ++i) sorted_[i] = s.geoms[order_[i].second];
+    std::copy(sorted_.begin(), sorted_.end(), s.geoms);
+  }
   s.nlight = 0;
   // The optical frame: z forward, y down, so OpenGL's up is -y and its right x.
   mjvGLCamera cam;
@@ -252,6 +332,21 @@ void CameraRenderer::render(const mjData* data, const SensorPose& pose, const Ca
   // Segmentation colour (id + 1, 0 for the background) -> geom, -1 where none: one lookup per pixel, no range test.
   seg_lut_.assign(seg_geom_.size() + 1, -1);
   std::copy(seg_geom_.begin(), seg_geom_.end(), seg_lut_.begin() + 1);
+  // The curved geoms drawn, each in its own frame once per frame (their pixels' exact depths below).
+  in_view_.resize(m_->ngeom);
+  for (int i = 0; i < s.ngeom; ++i) {
+    const int g = s.geoms[i].objid;
+    if (!curved_[g]) continue;
+    Eigen::Matrix3d R;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) R(r, c) = data->geom_xmat[9 * g + 3 * r + c];
+    CurvedInView& c = in_view_[g];
+    c.A = R.transpose() * pose.rotation;
+    c.o = R.transpose() * (pose.origin - Eigen::Vector3d(data->geom_xpos[3 * g], data->geom_xpos[3 * g + 1],
+                                                         data->geom_xpos[3 * g + 2]));
+    c.type = m_->geom_type[g];
+    for (int k = 0; k < 3; ++k) c.size[k] = m_->geom_size[3 * g + k];
+  }
   const ZBufferToDepth to_depth(view.near_m, view.far_m);
   const int lut_size = static_cast<int>(seg_lut_.size());
   // The pixels that see a curved geom cost a ray test each: the rows go in blocks over the threads.
@@ -269,16 +364,25 @@ void CameraRenderer::render(const mjData* data, const SensorPose& pose, const Ca
       // Tessellation only decided which geom a pixel sees; the depth of a curved geom comes from its exact surface.
       const double y = (row - view.k.cy) / view.k.fy;
       const mjtNum pnt[3] = {pose.origin.x(), pose.origin.y(), pose.origin.z()};
+      int last = -1;
+      Eigen::Vector3d row_term;  // A (0, y, 1) of the last geom
       for (int u = 0; u < view.width; ++u) {
         const int g = geom[u];
         if (g < 0 || !curved_[g]) continue;
-        const Eigen::Vector3d ray((u - view.k.cx) / view.k.fx, y, 1.0);
-        const double len = ray.norm();
-        const Eigen::Vector3d dir = pose.rotation * (ray / len);
-        const mjtNum vec[3] = {dir.x(), dir.y(), dir.z()};
-        const double x = mju_rayGeom(data->geom_xpos + 3 * g, data->geom_xmat + 9 * g, m_->geom_size + 3 * g, pnt, vec,
-                                     m_->geom_type[g]);
-        if (x >= 0.0) depth[u] = static_cast<float>(x / len);
+        const CurvedInView& c = in_view_[g];
+        if (g != last) last = g, row_term = c.A.col(1) * y + c.A.col(2);
+        const double x = (u - view.k.cx) / view.k.fx;
+        double z = curvedDepth(c.type, c.size, c.o, c.A.col(0) * x + row_term);
+        if (z == -2.0) {  // MuJoCo's intersection, along the unit ray
+          const Eigen::Vector3d ray(x, y, 1.0);
+          const double len = ray.norm();
+          const Eigen::Vector3d dir = pose.rotation * (ray / len);
+          const mjtNum vec[3] = {dir.x(), dir.y(), dir.z()};
+          const double t = mju_rayGeom(data->geom_xpos + 3 * g, data->geom_xmat + 9 * g, m_->geom_size + 3 * g, pnt,
+                                       vec, m_->geom_type[g]);
+          z = t >= 0.0 ? t / len : -1.0;
+        }
+        if (z >= 0.0) depth[u] = static_cast<float>(z);
       }
     }
   });

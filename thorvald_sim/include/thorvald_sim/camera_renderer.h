@@ -3,6 +3,7 @@
 #include <mujoco/mujoco.h>
 
 #include <memory>
+#include <utility>
 #include <stdexcept>
 #include <vector>
 
@@ -91,6 +92,10 @@ class CameraRenderer {
   unsigned long frames_ = 0;
   int culled_ = 0;
   StageTimes stages_;
+  std::vector<std::pair<double, int>> order_;  ///< geoms drawn nearest first
+  std::vector<mjvGeom> sorted_;
+  struct CurvedInView;
+  std::vector<CurvedInView> in_view_;  ///< per geom: curved geoms drawn in the last frame, in their own frame
 };
 
 /// Depth image of an active-stereo camera (noise growing with z^2, dropouts, no depth at grazing angles) from a
