@@ -62,6 +62,15 @@ TopicPlantParams loadPlantParams(const NodeParams& params) {
   p.arm_timeout_s = readPositive(params, "arm_timeout_s", p.arm_timeout_s);
   p.pick_dwell_s = readDouble(params, "pick_dwell_s", p.pick_dwell_s);
   p.rest_depth_m = readDouble(params, "rest_depth_m", p.rest_depth_m);
+  p.clear_leaves_before_pick = readBool(params, "clear_leaves_before_pick", p.clear_leaves_before_pick);
+  p.leaves.leaf_clearance_m = readDouble(params, "leaf_clearance_m", p.leaves.leaf_clearance_m);
+  p.leaves.clear_overshoot_m = readDouble(params, "clear_overshoot_m", p.leaves.clear_overshoot_m);
+  p.leaves.clear_standoff_m = readDouble(params, "clear_standoff_m", p.leaves.clear_standoff_m);
+  p.leaves.leaf_points_min = readInt(params, "leaf_points_min", p.leaves.leaf_points_min, 1);
+  p.leaves.redetect_radius_m = readDouble(params, "redetect_radius_m", p.leaves.redetect_radius_m);
+  p.leaves.effector_half_m = readPositive(params, "effector_half_m", p.leaves.effector_half_m);
+  p.arm_extension_zero_x_m = readDouble(params, "arm_extension_zero_x_m", p.arm_extension_zero_x_m);
+  requireSound(params, p.leaves.check());
   return p;
 }
 

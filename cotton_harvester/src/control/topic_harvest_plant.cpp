@@ -16,6 +16,81 @@ TopicHarvestPlant::TopicHarvestPlant(ros::NodeHandle& nh, const TopicPlantParams
   rover_sub_ = nh.subscribe("rover/position", 5, &TopicHarvestPlant::onRoverPosition, this);
   joints_sub_ = nh.subscribe("manipulator/joint_states", 5, &TopicHarvestPlant::onJoints, this);
   busy_sub_ = nh.subscribe("manipulator/busy", 5, &TopicHarvestPlant::onBusy, this);
+  if (params_.clear_leaves_before_pick)
+    cloud_sub_ = nh.subscribe("camera/depth/points", 2, &TopicHarvestPlant::onCloud, this);
+}
+
+void TopicHarvestPlant::onCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  clouds_.push_back(msg);
+  while (clouds_.size() > 4) clouds_.pop_front();
+}
+
+int TopicHarvestPlant::pointsOverApproach(double from_x, double target_x, double depth_m) const {
+  sensor_msgs::PointCloud2::ConstPtr cloud;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (const auto& c : clouds_)
+      if (c->header.stamp == last_used_stamp_) cloud = c;
+  }
+  if (!cloud || cloud->height < 2) return 0;
+  CloudView view;
+  int found = 0;
+  for (const auto& f : cloud->fields) {
+    if (f.datatype != sensor_msgs::PointField::FLOAT32) continue;
+    if (f.name == "x") view.x_offset = f.offset, found |= 1;
+    if (f.name == "y") view.y_offset = f.offset, found |= 2;
+    if (f.name == "z") view.z_offset = f.offset, found |= 4;
+  }
+  const std::size_t need = static_cast<std::size_t>(cloud->row_step) * cloud->height;
+  if (found != 7 || cloud->is_bigendian || cloud->data.size() < need || cloud->point_step < 12 ||
+      cloud->row_step < cloud->width * cloud->point_step)
+    return 0;
+  view.data = cloud->data.data();
+  view.rows = static_cast<int>(cloud->height);
+  view.cols = static_cast<int>(cloud->width);
+  view.row_step = cloud->row_step;
+  view.point_step = cloud->point_step;
+  return control::pointsOverApproach(view, from_x, target_x, depth_m, params_.leaves);
+}
+
+double TopicHarvestPlant::clearAndRelocate(double target_ext, const Preempted& preempted, MoveResult* result) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  double depth = 0.0, from = 0.0;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    depth = *arm_depth_;
+    from = *arm_extension_;
+  }
+  const LeafClearanceParams& p = params_.leaves;
+  const double dir = target_ext >= from ? 1.0 : -1.0;
+  ++picks_cleared_;
+  // Up to the leaf's level, through it past the boll, back off, down to the boll's top again.
+  const std::pair<double, double> moves[] = {{nan, depth - p.leaf_clearance_m},
+                                             {target_ext + dir * p.clear_overshoot_m, nan},
+                                             {target_ext - dir * p.clear_standoff_m, nan},
+                                             {nan, depth}};
+  for (const auto& [x, z] : moves)
+    if ((*result = moveArm(x, z, preempted)) != MoveResult::kDone) return target_ext;
+  // Look again: the boll in full view is located on its whole top rather than on the part past the leaf.
+  const auto observation = observe(preempted);
+  if (!observation) return target_ext;
+  const double target_x = target_ext + params_.arm_extension_zero_x_m;
+  double best = p.redetect_radius_m, corrected = target_ext, corrected_depth = depth;
+  for (const auto& b : observation->bolls) {
+    const double d = std::hypot(b.position.x - target_x, b.position.y, b.position.z - depth);
+    if (d < best) {
+      best = d;
+      corrected = b.position.x - params_.arm_extension_zero_x_m;
+      corrected_depth = b.position.z;
+    }
+  }
+  if (best < p.redetect_radius_m) {
+    ++picks_redetected_;
+    // A boll seen only at its side past the leaf was located deeper than its top: the housing goes to the top.
+    if (std::abs(corrected_depth - depth) > 0.015) *result = moveArm(nan, corrected_depth, preempted);
+  }
+  return corrected;
 }
 
 void TopicHarvestPlant::onBolls(const cotton_harvester::BollArray::ConstPtr& msg) {
@@ -208,7 +283,22 @@ MoveResult TopicHarvestPlant::pick(double offset_m, const Preempted& preempted) 
     start = *arm_extension_;
   }
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  MoveResult result = moveArm(start + offset_m, nan, preempted);
+  double target = start + offset_m;
+  if (params_.clear_leaves_before_pick) {
+    double depth = 0.0;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      depth = arm_depth_.value_or(nan);
+    }
+    const double zero = params_.arm_extension_zero_x_m;
+    if (std::isfinite(depth) &&
+        pointsOverApproach(start + zero, target + zero, depth) >= params_.leaves.leaf_points_min) {
+      MoveResult cleared = MoveResult::kDone;
+      target = clearAndRelocate(target, preempted, &cleared);
+      if (cleared != MoveResult::kDone) return cleared;
+    }
+  }
+  MoveResult result = moveArm(target, nan, preempted);
   if (result != MoveResult::kDone) return result;
   std_msgs::Bool brush;
   brush.data = true;

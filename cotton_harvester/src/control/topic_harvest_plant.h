@@ -5,17 +5,20 @@
 // that poll the machine's preemption flag.
 
 #include <condition_variable>
+#include <deque>
 #include <mutex>
 #include <optional>
 
 #include <geometry_msgs/PointStamped.h>
 #include <ros/ros.h>
 #include <sensor_msgs/JointState.h>
+#include <sensor_msgs/PointCloud2.h>
 #include <std_msgs/Bool.h>
 #include <std_msgs/Float64.h>
 
 #include "cotton_harvester/BollArray.h"
 #include "cotton_harvester/control/harvest_machine.h"
+#include "cotton_harvester/control/leaf_clearance.h"
 
 namespace cotton_harvester {
 namespace control {
@@ -34,6 +37,11 @@ struct TopicPlantParams {
   /// > 0: as a rover move starts, an end-effector deeper than this below the camera goes up to it, so the rover
   /// never drives with it in the plants; the move is done when the arm has arrived too [m]. 0: the arm stays.
   double rest_depth_m = 0.0;
+  /// Before a pick, leaves over the boll along the approach (in the cloud of the frame the decision used,
+  /// `camera/depth/points`) are swept aside and the boll located again in a new frame (LeafClearanceParams).
+  bool clear_leaves_before_pick = false;
+  LeafClearanceParams leaves;
+  double arm_extension_zero_x_m = -0.55;  ///< camera-frame x of the housing's centre at extension 0 [m]
 };
 
 class TopicHarvestPlant : public HarvestPlant {
@@ -56,6 +64,11 @@ class TopicHarvestPlant : public HarvestPlant {
   void onRoverPosition(const std_msgs::Float64::ConstPtr& msg);
   void onJoints(const sensor_msgs::JointState::ConstPtr& msg);
   void onBusy(const std_msgs::Bool::ConstPtr& msg);
+  void onCloud(const sensor_msgs::PointCloud2::ConstPtr& msg);
+  /// Points over the approach in the cloud of the frame last observed (0 without it).
+  int pointsOverApproach(double from_x, double target_x, double depth_m) const;
+  /// Sweeps the leaves over the boll aside and returns the pick's extension from a new frame (or target_ext).
+  double clearAndRelocate(double target_ext, const Preempted& preempted, MoveResult* result);
   /// Waits until `done()` (called with the lock held) or the deadline; false on timeout/preemption.
   template <typename Done>
   bool waitFor(Done done, double timeout_s, const Preempted& preempted, bool* was_preempted);
@@ -75,8 +88,15 @@ class TopicHarvestPlant : public HarvestPlant {
   ros::Time action_end_;
   ros::Time last_used_stamp_;
   std::size_t rejected_frames_ = 0;
+  std::deque<sensor_msgs::PointCloud2::ConstPtr> clouds_;  ///< the last few, to find the observed frame's
   ros::Publisher rover_target_pub_, arm_target_pub_, brush_pub_;
-  ros::Subscriber bolls_sub_, effector_sub_, rover_sub_, joints_sub_, busy_sub_;
+  ros::Subscriber bolls_sub_, effector_sub_, rover_sub_, joints_sub_, busy_sub_, cloud_sub_;
+  std::size_t picks_cleared_ = 0, picks_redetected_ = 0;
+
+ public:
+  /// Picks that swept leaves aside first, and of them those whose target a new frame corrected.
+  std::size_t picksCleared() const { return picks_cleared_; }
+  std::size_t picksRedetected() const { return picks_redetected_; }
 };
 
 }  // namespace control

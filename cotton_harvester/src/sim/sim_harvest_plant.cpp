@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "cotton_harvester/control/leaf_clearance.h"
 #include "cotton_harvester/perception/colour_boll_detector.h"
 
 namespace cotton_harvester {
@@ -191,23 +192,17 @@ std::optional<perception::EndEffectorPrior> SimHarvestPlant::effectorPrior() con
 
 int SimHarvestPlant::pointsOverApproach(double target_x, double depth_m) const {
   if (cloud_.empty()) return 0;
-  const double from = sim_.horizontalPosition() - params_.arm_base_offset_m;
-  const double x_low = std::min(from, target_x) - params_.effector_half_m;
-  const double x_high = std::max(from, target_x) + params_.effector_half_m;
-  // Above the boll's top by more than the stereo noise; the housing's own top face is left out by its footprint.
-  const double z_low = depth_m - params_.leaf_clearance_m, z_high = depth_m - 0.012;
-  int n = 0;
-  for (int v = 0; v < cloud_.rows; v += 2) {
-    const cv::Vec3f* row = cloud_.ptr<cv::Vec3f>(v);
-    for (int u = 0; u < cloud_.cols; u += 2) {
-      const cv::Vec3f& q = row[u];
-      if (!(q[2] > z_low && q[2] < z_high)) continue;  // also false for NaN
-      if (std::abs(q[1]) > params_.effector_half_m || q[0] < x_low || q[0] > x_high) continue;
-      if (std::abs(q[0] - from) <= params_.effector_half_m) continue;
-      ++n;
-    }
-  }
-  return n;
+  control::CloudView view;
+  view.data = cloud_.data;
+  view.rows = cloud_.rows;
+  view.cols = cloud_.cols;
+  view.row_step = cloud_.step;
+  view.point_step = cloud_.elemSize();
+  control::LeafClearanceParams leaf;
+  leaf.leaf_clearance_m = params_.leaf_clearance_m;
+  leaf.effector_half_m = params_.effector_half_m;
+  return control::pointsOverApproach(view, sim_.horizontalPosition() - params_.arm_base_offset_m, target_x, depth_m,
+                                     leaf);
 }
 
 double SimHarvestPlant::clearAndRelocate(double target_x, const Preempted& preempted, bool* ok) {
