@@ -17,6 +17,8 @@ std::string MapperParams::validate() const {
   if (!(linear_update_m >= 0.0) || !(angular_update_rad >= 0.0)) return "linear/angular update must be >= 0";
   if (!(field_max_distance_m > 0.0)) return "field_max_distance must be > 0";
   if (!(min_inlier_fraction >= 0.0 && min_inlier_fraction <= 1.0)) return "min_inlier_fraction must be in [0, 1]";
+  if (!(odom_sigma_xy_m >= 0.0) || !(odom_sigma_yaw_rad >= 0.0) || !(odom_sigma_fraction >= 0.0))
+    return "odom_sigma_xy, odom_sigma_yaw and odom_sigma_fraction must be >= 0";
   return matcher.validate();
 }
 
@@ -126,7 +128,13 @@ MapperUpdate OccupancyMapper::addScan(const Pose2D& odom, const Eigen::Vector2d&
       field_ = DistanceField(g, params_.field_max_distance_m, 65, true);
       field_stale_ = false;
     }
-    const MatchResult m = matchScan(field_, points_base, pose, params_.matcher);
+    ScanMatcherParams matcher = params_.matcher;
+    const Pose2D moved = last_integrated_odom_.inverse() * odom;
+    if (params_.odom_sigma_xy_m > 0.0)
+      matcher.prior_sigma_xy_m = params_.odom_sigma_xy_m + params_.odom_sigma_fraction * std::hypot(moved.x, moved.y);
+    if (params_.odom_sigma_yaw_rad > 0.0)
+      matcher.prior_sigma_yaw_rad = params_.odom_sigma_yaw_rad + params_.odom_sigma_fraction * std::abs(moved.yaw);
+    const MatchResult m = matchScan(field_, points_base, pose, matcher);
     u.inlier_fraction = m.inlier_fraction;
     if (m.inlier_fraction >= params_.min_inlier_fraction && m.pose.finite()) {
       pose = m.pose;

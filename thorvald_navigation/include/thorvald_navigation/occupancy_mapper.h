@@ -26,6 +26,12 @@ struct MapperParams {
   double angular_update_rad = 0.05;   ///< ...or turned this much [rad]
   double field_max_distance_m = 0.5;  ///< reach of the distance field used to match scans [m]
   double min_inlier_fraction = 0.3;   ///< a match below this is not trusted: odometry alone places the scan
+  /// Odometry prior of each match: the pose may leave the odometry prediction by about this much, plus
+  /// odom_sigma_fraction of the motion since the last integrated scan. Holds the pose where the scan says little
+  /// (a headland seen along its length, the start of a map that holds only part of the walls); 0: no prior [m, rad].
+  double odom_sigma_xy_m = 0.01;
+  double odom_sigma_yaw_rad = 0.005;
+  double odom_sigma_fraction = 0.1;
   ScanMatcherParams matcher;
   std::string validate() const;
 };

@@ -58,6 +58,9 @@ bool loadSettings(const ros::NodeHandle& pnh, Settings* s, std::string* error) {
     m.max_size_m = r.number("max_size", m.max_size_m, R::above(0.0), "m");
     m.matcher.sigma_hit_m = r.number("sigma", m.matcher.sigma_hit_m, R::above(0.0), "m");
     m.min_inlier_fraction = r.number("min_inlier_fraction", m.min_inlier_fraction, R::closed(0.0, 1.0));
+    m.odom_sigma_xy_m = r.number("odom_sigma_xy", m.odom_sigma_xy_m, R::atLeast(0.0), "m");
+    m.odom_sigma_yaw_rad = r.number("odom_sigma_yaw", m.odom_sigma_yaw_rad, R::atLeast(0.0), "rad");
+    m.odom_sigma_fraction = r.number("odom_sigma_fraction", m.odom_sigma_fraction, R::atLeast(0.0));
     // gmapping's particle-filter tuning: accepted, no meaning for a single scan-matched trajectory.
     for (const char* key : {"particles",
                             "minimumScore",
