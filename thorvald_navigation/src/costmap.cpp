@@ -201,28 +201,62 @@ bool Costmap::footprintTouches(const Pose2D& pose, const Footprint& footprint, B
   });
 }
 
+bool turnTouches(const Costmap& costmap, const Footprint& footprint, const Eigen::Vector2d& position, double from_yaw,
+                 double to_yaw, Blocker which, double step_m) {
+  const double turn = normalizeAngle(to_yaw - from_yaw);
+  const double radius = std::max(footprint.circumscribedRadius(), 1e-3);
+  auto sweep = [&](double angle) {
+    const int steps = std::max(1, static_cast<int>(std::ceil(std::abs(angle) * radius / std::max(step_m, 1e-3))));
+    for (int k = 0; k <= steps; ++k) {
+      const double yaw = from_yaw + angle * (static_cast<double>(k) / steps);
+      if (costmap.footprintTouches({position.x(), position.y(), yaw}, footprint, which)) return true;
+    }
+    return false;
+  };
+  // Near a half turn the way the robot turns depends on which side of it the next point lies by a few centimetres:
+  // both ways must be clear.
+  constexpr double kEitherWay = kPi - 0.35;
+  return sweep(turn) || (std::abs(turn) > kEitherWay && sweep(turn - std::copysign(2.0 * kPi, turn)));
+}
+
 double sweptObstacleDistance(const Costmap& costmap, const Footprint& footprint, const Pose2D& pose,
                              const std::vector<Eigen::Vector2d>& path, std::size_t next_index, double ahead_m,
-                             bool omnidirectional) {
+                             bool omnidirectional, double goal_yaw, bool reverse) {
   const double step = std::max(0.05, costmap.geometry().resolution_m);
+  // A segment shorter than this is the follower's last centimetres: it closes them without turning to their heading.
+  constexpr double kNoTurnBelow = 0.1;
   auto hit = [&](const Eigen::Vector2d& p, double yaw) {
     return costmap.footprintTouches({p.x(), p.y(), yaw}, footprint, Blocker::kObstacle);
   };
+  auto turnHits = [&](const Eigen::Vector2d& p, double from, double to) {
+    return turnTouches(costmap, footprint, p, from, to, Blocker::kObstacle, step);
+  };
+  const bool final_turn = std::isfinite(goal_yaw);
+  const double end_yaw = final_turn ? goal_yaw : pose.yaw;
   Eigen::Vector2d prev(pose.x, pose.y);
   if (hit(prev, pose.yaw)) return 0.0;
-  double travelled = 0.0;
+  if (omnidirectional && turnHits(prev, pose.yaw, end_yaw)) return 0.0;
+  double travelled = 0.0, heading = pose.yaw;
   for (std::size_t i = next_index; i < path.size() && travelled < ahead_m; ++i) {
     const Eigen::Vector2d seg = path[i] - prev;
     const double len = seg.norm();
     if (len < 1e-6) continue;
-    const double yaw = omnidirectional ? pose.yaw : std::atan2(seg.y(), seg.x());
+    if (!omnidirectional && len >= kNoTurnBelow) {
+      const double seg_yaw = normalizeAngle(std::atan2(seg.y(), seg.x()) + (reverse ? kPi : 0.0));
+      if (turnHits(prev, heading, seg_yaw)) return travelled;
+      heading = seg_yaw;
+    }
     const int steps = std::max(1, static_cast<int>(std::ceil(len / step)));
     for (int k = 1; k <= steps && travelled < ahead_m; ++k) {
       travelled += len / steps;
-      if (hit(prev + seg * (static_cast<double>(k) / steps), yaw)) return travelled;
+      const Eigen::Vector2d p = prev + seg * (static_cast<double>(k) / steps);
+      if (hit(p, heading) || (omnidirectional && hit(p, end_yaw))) return travelled;
     }
     prev = path[i];
   }
+  // The turn at the goal, when the check reached it.
+  const bool at_end = path.size() <= next_index || (prev - path.back()).norm() < 1e-6;
+  if (final_turn && at_end && travelled < ahead_m && turnHits(prev, heading, end_yaw)) return travelled;
   return -1.0;
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace thorvald_navigation {
 
@@ -17,13 +18,43 @@ std::string FollowerParams::validate() const {
   return {};
 }
 
-void PathFollower::setPath(const std::vector<Eigen::Vector2d>& path, const Pose2D& goal) {
+const char* followPhaseName(FollowPhase phase) {
+  switch (phase) {
+    case FollowPhase::kIdle:
+      return "idle";
+    case FollowPhase::kTurnToPath:
+      return "turning on the spot to the path";
+    case FollowPhase::kDrive:
+      return "driving";
+    case FollowPhase::kCreep:
+      return "closing in";
+    case FollowPhase::kFinalTurn:
+      return "final turn";
+  }
+  return "?";
+}
+
+void PathFollower::setPath(const std::vector<Eigen::Vector2d>& path, const Pose2D& goal, bool reverse) {
   path_ = path;
   if (path_.empty() || (path_.back() - Eigen::Vector2d(goal.x, goal.y)).norm() > 1e-6)
     path_.emplace_back(goal.x, goal.y);
   goal_ = goal;
   progress_ = 0;
   state_ = FollowState::kFollowing;
+  reverse_ = reverse && !params_.omnidirectional;
+  turning_ = false;
+  passed_corner_ = 0;
+}
+
+double PathFollower::distanceToCorner(const Eigen::Vector2d& p) const {
+  double d = 0.0;
+  Eigen::Vector2d from = p;
+  for (std::size_t i = progress_ + 1; i + 1 < path_.size(); ++i) {
+    d += (path_[i] - from).norm();
+    from = path_[i];
+    if (sharpCorner(i) && i > passed_corner_ && (path_[i] - p).norm() > kCornerReachM) return d;
+  }
+  return std::numeric_limits<double>::infinity();
 }
 
 Eigen::Vector2d PathFollower::carrot(const Eigen::Vector2d& p) {
@@ -43,16 +74,31 @@ Eigen::Vector2d PathFollower::carrot(const Eigen::Vector2d& p) {
   }
   progress_ = best_seg;
   if (path_.size() < 2) return path_.back();
-  // Walk lookahead metres along the path from the closest point.
+  // Walk lookahead metres along the path from the closest point. A differential robot's carrot waits at a sharp
+  // corner until the robot is there: looking past it would make the robot turn early and cut the corner.
   double remaining = params_.lookahead_m;
   Eigen::Vector2d from = path_[best_seg] + best_t * (path_[best_seg + 1] - path_[best_seg]);
   for (std::size_t i = best_seg + 1; i < path_.size(); ++i) {
     const double seg = (path_[i] - from).norm();
     if (seg >= remaining) return from + (path_[i] - from) * (remaining / seg);
+    if (!params_.omnidirectional && sharpCorner(i) && i > passed_corner_) {
+      // Reached once, passed for good: the robot's turn on the spot moves base_link by a few centimetres (caster
+      // wheels, the localiser), which must not send the carrot back to the corner.
+      if ((path_[i] - p).norm() > kCornerReachM) return path_[i];
+      passed_corner_ = i;
+    }
     remaining -= seg;
     from = path_[i];
   }
   return path_.back();
+}
+
+bool PathFollower::sharpCorner(std::size_t i) const {
+  if (i == 0 || i + 1 >= path_.size()) return false;
+  const Eigen::Vector2d a = path_[i] - path_[i - 1], b = path_[i + 1] - path_[i];
+  // Short legs (a staircase of grid cells in the plan) are smoothed by the pursuit, not turned at one by one.
+  if (a.norm() < 2.0 * kCornerReachM || b.norm() < 2.0 * kCornerReachM) return false;
+  return std::abs(normalizeAngle(std::atan2(b.y(), b.x()) - std::atan2(a.y(), a.x()))) > params_.rotate_in_place_rad;
 }
 
 Twist2D PathFollower::limit(const Twist2D& wanted, double dt) {
@@ -73,14 +119,30 @@ Twist2D PathFollower::limit(const Twist2D& wanted, double dt) {
   return out;
 }
 
-Twist2D PathFollower::step(const Pose2D& pose, double dt) {
-  if (state_ == FollowState::kArrived || path_.empty() || !pose.finite()) return limit(Twist2D{}, dt);
+Twist2D PathFollower::step(const Pose2D& pose_in, double dt) {
+  if (state_ == FollowState::kArrived || path_.empty() || !pose_in.finite()) {
+    phase_ = FollowPhase::kIdle;
+    return limit(Twist2D{}, dt);
+  }
+  // Reversing: the follower steers the robot's rear as if it were its front, and the speed's sign flips at the end.
+  const double sign = reverse_ ? -1.0 : 1.0;
+  const Pose2D pose{pose_in.x, pose_in.y, reverse_ ? normalizeAngle(pose_in.yaw + kPi) : pose_in.yaw};
+  auto out = [&](Twist2D t) {
+    t.vx *= sign;
+    return limit(t, dt);
+  };
   const Eigen::Vector2d p(pose.x, pose.y), goal(goal_.x, goal_.y);
   const double dist = (goal - p).norm();
-  const double yaw_err = normalizeAngle(goal_.yaw - pose.yaw);
+  const double yaw_err = normalizeAngle(goal_.yaw - pose_in.yaw);
   const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
   auto toBody = [&](const Eigen::Vector2d& w) {
     return Eigen::Vector2d(c * w.x() + s * w.y(), -s * w.x() + c * w.y());
+  };
+  // A yaw rate that the acceleration limit can still bring to zero within `angle` [rad/s].
+  auto turnRate = [&](double angle) {
+    const double w = std::min({params_.max_yaw_rate_radps, std::max(params_.yaw_gain * std::abs(angle), 0.05),
+                               std::sqrt(2.0 * params_.max_yaw_accel_radps2 * 0.8 * std::abs(angle))});
+    return std::copysign(w, angle);
   };
   const double near_m = params_.arrive_fraction * params_.xy_tolerance_m;
   if (state_ == FollowState::kFollowing && dist < params_.xy_tolerance_m) {
@@ -90,21 +152,22 @@ Twist2D PathFollower::step(const Pose2D& pose, double dt) {
     if (dist < near_m || (!params_.omnidirectional && ahead < near_m)) {
       state_ = FollowState::kFinalTurn;
     } else if (!params_.omnidirectional) {
+      phase_ = FollowPhase::kCreep;
       Twist2D t;
       t.vx = std::max(params_.min_speed_mps, params_.position_gain * ahead);
-      return limit(t, dt);
+      return out(t);
     }
   }
   if (state_ == FollowState::kFinalTurn) {
+    phase_ = FollowPhase::kFinalTurn;
     if (std::abs(yaw_err) < params_.yaw_tolerance_rad) {
       state_ = FollowState::kArrived;
+      phase_ = FollowPhase::kIdle;
       last_ = Twist2D{};
       return last_;
     }
     Twist2D t;
-    // Slow near the target so that the acceleration limit does not overshoot it.
-    const double wz = std::max(params_.yaw_gain * std::abs(yaw_err), 0.05);
-    t.wz = std::copysign(std::min(wz, std::sqrt(2.0 * params_.max_yaw_accel_radps2 * std::abs(yaw_err))), yaw_err);
+    t.wz = turnRate(yaw_err);
     if (params_.omnidirectional) {  // keep correcting small position drift while turning
       const Eigen::Vector2d b = toBody(goal - p) * params_.position_gain;
       t.vx = b.x();
@@ -116,8 +179,9 @@ Twist2D PathFollower::step(const Pose2D& pose, double dt) {
   const Eigen::Vector2d to_target = target - p;
   // Speed that can still stop at the goal with the acceleration limit, and slows linearly in the last metres.
   const double stop_speed = std::sqrt(2.0 * params_.max_accel_mps2 * 0.8 * dist);
-  const double speed =
+  double speed =
       std::clamp(std::min(params_.position_gain * dist, stop_speed), params_.min_speed_mps, params_.max_speed_mps);
+  phase_ = dist < params_.xy_tolerance_m ? FollowPhase::kCreep : FollowPhase::kDrive;
   Twist2D t;
   if (params_.omnidirectional) {
     const Eigen::Vector2d dir =
@@ -128,16 +192,27 @@ Twist2D PathFollower::step(const Pose2D& pose, double dt) {
     t.wz = std::clamp(params_.yaw_gain * yaw_err, -params_.max_yaw_rate_radps, params_.max_yaw_rate_radps);
     return limit(t, dt);
   }
+  // A differential robot stops at a sharp corner of the path to turn there on the spot, not past it.
+  const double corner = distanceToCorner(p);
+  if (std::isfinite(corner))
+    speed = std::min(speed, std::max(params_.min_speed_mps, std::sqrt(2.0 * params_.max_accel_mps2 * 0.8 *
+                                                                      std::max(0.0, corner - kCornerReachM))));
   const Eigen::Vector2d b = toBody(to_target);
   const double alpha = std::atan2(b.y(), b.x());
   // Close to the goal a differential robot that is slightly off to the side would circle; it backs or turns.
-  if (std::abs(alpha) > params_.rotate_in_place_rad) {
+  // A turn on the spot goes on until the robot faces the carrot (hysteresis): stopping it at rotate_in_place_rad
+  // would leave the pursuit a curve that ends the path with a heading error.
+  const double turn_until = std::min(kTurnDoneRad, 0.5 * params_.rotate_in_place_rad);
+  turning_ = std::abs(alpha) > params_.rotate_in_place_rad || (turning_ && std::abs(alpha) > turn_until);
+  if (turning_) {
     if (dist < 0.1 && std::abs(alpha) > kPi - params_.rotate_in_place_rad) {
+      turning_ = false;
       t.vx = -std::max(params_.min_speed_mps, params_.position_gain * dist);  // just passed it: back up
-      return limit(t, dt);
+      return out(t);
     }
-    t.wz = std::copysign(std::min(params_.max_yaw_rate_radps, params_.yaw_gain * std::abs(alpha)), alpha);
-    return limit(t, dt);
+    phase_ = FollowPhase::kTurnToPath;
+    t.wz = turnRate(alpha);
+    return out(t);
   }
   const double l2 = std::max(b.squaredNorm(), 1e-6);
   t.vx = speed * std::cos(alpha);
@@ -146,7 +221,7 @@ Twist2D PathFollower::step(const Pose2D& pose, double dt) {
     t.vx *= params_.max_yaw_rate_radps / std::abs(t.wz);
     t.wz = std::copysign(params_.max_yaw_rate_radps, t.wz);
   }
-  return limit(t, dt);
+  return out(t);
 }
 
 }  // namespace thorvald_navigation

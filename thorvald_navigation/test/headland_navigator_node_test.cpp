@@ -135,6 +135,23 @@ TEST_F(NavigatorTest, AnObstacleStopsTheRobotAndItReplansAroundIt) {
   EXPECT_GT(closest, 0.25 + 0.3);  // box half size + the robot's half width: never touched it
 }
 
+// A goal behind the robot: it must turn half round on the spot, its rear (0.91 m behind base_link) sweeping a circle
+// that holds a crate standing beside it, clear of its box now and of the straight drive afterwards. The navigator
+// does not start the turn: the robot stays where it is, and the goal is aborted after obstacle_wait (10 s).
+TEST_F(NavigatorTest, AnObstacleBesideTheRobotStopsATurnOnTheSpot) {
+  const Eigen::Vector2d crate(2.2, 3.1);  // 0.2 m ahead of base_link, 0.6 m to its left
+  robot_->world().addBox(crate, 0.1);
+  runUntil([] { return false; }, 0.5);  // scans with the crate reach the navigator
+  const tn::Pose2D before = robot_->truth();
+  client_->sendGoal(goal(0.9, 2.5, tn::kPi));
+  ASSERT_TRUE(runUntil([this] { return finished(); }, 30.0));
+  EXPECT_EQ(client_->getState(), actionlib::SimpleClientGoalState::ABORTED) << client_->getState().getText();
+  EXPECT_NE(client_->getState().getText().find("obstacle"), std::string::npos) << client_->getState().getText();
+  const tn::Pose2D after = robot_->truth();
+  EXPECT_LT(std::abs(tn::normalizeAngle(after.yaw - before.yaw)), 0.02) << "started the turn into the crate";
+  EXPECT_LT(std::hypot(after.x - before.x, after.y - before.y), 0.02);
+}
+
 TEST_F(NavigatorTest, MappedWallBesideThePathDoesNotStopTheRobot) {
   // Along the headland's outer wall (y = 0) with the localiser 6 cm off towards the floor's middle: the lidar puts
   // the wall's face 6 cm inside the map's floor, under the robot's padded box, as a real localiser's error and the

@@ -174,8 +174,8 @@ TEST(ObstacleCheck, UnmappedPointsInTheSweptFootprintStopTheRobot) {
   cm.setObstacles({{3.5, 3.0}});
   EXPECT_LT(tn::sweptObstacleDistance(cm, fp, start, path, 1, 2.5, false), 0.0);
   EXPECT_GE(tn::sweptObstacleDistance(cm, fp, start, path, 1, 2.5, true), 0.0);
-  // Beside the path, outside the swept box: no stop.
-  cm.setObstacles({{3.3, 2.6}, {4.75, 3.0}, {3.56, 1.36}});
+  // Beside the path, outside the swept box and beyond the rear's reach in the turn: no stop.
+  cm.setObstacles({{3.3, 2.6}, {4.75, 3.0}, {3.4, 1.2}});
   EXPECT_EQ(cm.obstaclePoints(), 3u);
   EXPECT_LT(tn::sweptObstacleDistance(cm, fp, start, path, 1, 2.5, false), 0.0);
   // Under the robot now: stop at once, whatever the path.
@@ -192,6 +192,55 @@ TEST(ObstacleCheck, UnmappedPointsInTheSweptFootprintStopTheRobot) {
   tn::CostmapParams bad;
   bad.known_structure_tolerance_m = -0.1;
   EXPECT_NE(bad.validate(), "");
+}
+
+// The greenhouse robot turns on the spot at (4.2, 2) from facing the edge to facing along it (left, 90 degrees): its
+// rear (0.91 m behind base_link) swings through the quarter behind and to the right, where neither the box at the
+// start nor the boxes along the path reach. An obstacle there stops the turn; one just beyond the rear's reach does
+// not. The turn's samples are placed by angle, checked here over random obstacle positions on both sides of the
+// rear corner's circle.
+TEST(ObstacleCheck, AnObstacleInTheRearsSweepStopsATurnOnTheSpot) {
+  const EdgeScene scene;
+  tn::Costmap cm(scene.map, scene.keep_out, tn::CostmapParams{});
+  const tn::Footprint fp = greenhouseFootprint();
+  const tn::Pose2D start{4.2, 2.0, 0.0};
+  const std::vector<Eigen::Vector2d> path{{4.2, 2.0}, {4.2, 3.6}};
+  const double reach = fp.circumscribedRadius();  // 0.99 m: the rear corners' circle
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> bearing(-0.77 * tn::kPi, -0.73 * tn::kPi), inside(0.72, 0.86),
+      outside(reach + 0.08, reach + 0.4);
+  for (int trial = 0; trial < 20; ++trial) {
+    const double b = bearing(rng);
+    const Eigen::Vector2d dir(std::cos(b), std::sin(b));
+    const Eigen::Vector2d swept = Eigen::Vector2d(start.x, start.y) + inside(rng) * dir;
+    cm.setObstacles({swept});
+    ASSERT_EQ(cm.obstaclePoints(), 1u);
+    // Not under the box at the start nor at any point of the straight drive: only the turn meets it.
+    EXPECT_EQ(cm.footprintBlocker(start, fp), tn::Blocker::kNone) << trial;
+    for (double y = 2.0; y <= 3.6; y += 0.05)
+      EXPECT_EQ(cm.footprintBlocker({4.2, y, tn::kPi / 2}, fp), tn::Blocker::kNone) << trial;
+    EXPECT_NEAR(tn::sweptObstacleDistance(cm, fp, start, path, 1, 1.5, false), 0.0, 1e-9) << trial;
+    EXPECT_TRUE(tn::turnTouches(cm, fp, {start.x, start.y}, 0.0, tn::kPi / 2, tn::Blocker::kObstacle)) << trial;
+    // Turning right instead (the other way round) the rear swings the other side: clear.
+    EXPECT_FALSE(tn::turnTouches(cm, fp, {start.x, start.y}, 0.0, -tn::kPi / 2 + 1e-3, tn::Blocker::kObstacle));
+    cm.setObstacles({Eigen::Vector2d(start.x, start.y) + outside(rng) * dir});
+    EXPECT_LT(tn::sweptObstacleDistance(cm, fp, start, path, 1, 1.5, false), 0.0) << trial;
+  }
+  // The turn back to the goal's heading at the path's end: swept when the goal's heading is given and the end lies
+  // within the distance checked. The obstacle sits where the rear swings when turning right from facing +y to facing
+  // +x at (4.2, 3.6), clear of the post and of the straight drive.
+  cm.setObstacles({{4.2 - 0.7, 3.6 - 0.45}});
+  ASSERT_EQ(cm.obstaclePoints(), 1u);
+  EXPECT_LT(tn::sweptObstacleDistance(cm, fp, start, path, 1, 2.5, false), 0.0);
+  EXPECT_NEAR(tn::sweptObstacleDistance(cm, fp, start, path, 1, 2.5, false, 0.0), 1.6, 0.06);
+  EXPECT_LT(tn::sweptObstacleDistance(cm, fp, start, path, 1, 1.0, false, 0.0), 0.0);  // beyond the look-ahead
+  // Omnidirectional: keeps its heading along the path, turns only towards the goal's heading. Turning a quarter
+  // where it stands sweeps the rear through the obstacle beside it.
+  cm.setObstacles({{4.2 - 0.6, 2.0 - 0.6}});
+  ASSERT_EQ(cm.obstaclePoints(), 1u);
+  EXPECT_LT(tn::sweptObstacleDistance(cm, fp, start, path, 1, 2.5, true), 0.0);
+  EXPECT_LT(tn::sweptObstacleDistance(cm, fp, start, path, 1, 2.5, true, 0.0), 0.0);
+  EXPECT_NEAR(tn::sweptObstacleDistance(cm, fp, start, path, 1, 2.5, true, tn::kPi / 2), 0.0, 1e-9);
 }
 
 TEST(GridPlanner, StartInsideThePlanningRadiusCanLeave) {

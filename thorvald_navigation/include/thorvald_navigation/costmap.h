@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -81,13 +82,27 @@ class Costmap {
   std::size_t obstacle_points_ = 0, known_points_ = 0;
 };
 
-/// How far along the path the robot meets a lidar obstacle: its footprint at `pose`, then placed every 5 cm (or map
-/// cell) along path[next_index..] for the next `ahead_m` metres, heading along each segment (differential) or kept
-/// (omnidirectional). Turns on the spot between segments are not swept (the plan is for base_link's circle; sweeping
-/// them would stop a long robot for good next to an obstacle it passes). Only obstacle cells count: walls, keep-out
-/// and unknown space are the planner's. Negative when the way is clear.
+/// How far along the path the robot meets a lidar obstacle [m of path; 0 at the robot]. The footprint is placed at
+/// `pose`, then every 5 cm (or map cell) along path[next_index..] for the next `ahead_m` metres, and turned through
+/// every rotation the robot makes on the way in steps whose arc at the footprint's farthest corner is at most 5 cm:
+/// - differential: on the spot from the current heading to the first segment's, at every corner of the path from
+///   one segment's heading to the next, and at the path's end to `goal_yaw` (the follower turns on the spot there;
+///   where it cuts a corner with an arc instead, the arc stays inside the swept turn);
+/// - omnidirectional: the heading changes from the current one to `goal_yaw` while it translates: the footprint is
+///   placed at both headings at every sample, and the turn between them is swept where the robot stands and at the
+///   path's end.
+/// A NaN `goal_yaw` leaves the final turn out (differential) or keeps the current heading (omnidirectional);
+/// `reverse`: a differential robot backs along the path (its heading opposite to the segments'). Only obstacle cells
+/// count: walls, keep-out and unknown space are the planner's. Negative when the way is clear.
 double sweptObstacleDistance(const Costmap& costmap, const Footprint& footprint, const Pose2D& pose,
                              const std::vector<Eigen::Vector2d>& path, std::size_t next_index, double ahead_m,
-                             bool omnidirectional);
+                             bool omnidirectional, double goal_yaw = std::numeric_limits<double>::quiet_NaN(),
+                             bool reverse = false);
+
+/// Whether the footprint turning on the spot at `position` from `from_yaw` to `to_yaw` (the shorter way; both ways
+/// for turns within 0.35 rad of a half turn) touches a cell blocked by `which`; the turn is sampled so that the
+/// farthest corner moves at most `step_m` between samples.
+bool turnTouches(const Costmap& costmap, const Footprint& footprint, const Eigen::Vector2d& position, double from_yaw,
+                 double to_yaw, Blocker which, double step_m = 0.05);
 
 }  // namespace thorvald_navigation

@@ -19,8 +19,8 @@ struct FollowerParams {
   double xy_tolerance_m = 0.02;      ///< goal reached when base_link is this close... [m]
   double yaw_tolerance_rad = 0.015;  ///< ...and the heading this close [rad]
   double rotate_in_place_rad = 0.5;  ///< differential: turn on the spot when the carrot is this far off [rad]
-  double position_gain = 1.0;        ///< speed per metre of remaining distance near the goal [1/s]
-  double yaw_gain = 1.5;             ///< yaw rate per radian of heading error [1/s]
+  double position_gain = 1.5;        ///< speed per metre of remaining distance near the goal [1/s]
+  double yaw_gain = 2.5;             ///< yaw rate per radian of heading error [1/s]
   double min_speed_mps = 0.02;       ///< creep speed for the last centimetres [m/s]
   /// The position is latched when base_link is within this fraction of xy_tolerance_m of the goal, or within the
   /// tolerance once the goal is no longer ahead (a differential robot cannot close a sideways offset by driving on):
@@ -36,18 +36,34 @@ struct Twist2D {
 
 enum class FollowState { kFollowing, kFinalTurn, kArrived };
 
+/// What the follower is doing in its last step, for logs and diagnostics.
+enum class FollowPhase {
+  kIdle,        ///< no path, or arrived
+  kTurnToPath,  ///< differential: turning on the spot towards the path
+  kDrive,       ///< following the path
+  kCreep,       ///< inside the position tolerance, closing in on the goal
+  kFinalTurn,   ///< turning to the goal's heading where it stands
+};
+const char* followPhaseName(FollowPhase phase);
+
 /// Tracks a planned path to a goal pose: pure-pursuit towards a carrot on the path (differential robots turn on
-/// the spot first when the carrot is far off to the side; omnidirectional robots translate towards it and turn
-/// towards the goal heading at the same time), then a final turn on the spot. Speeds are ramped by the
-/// acceleration limits. Once the position is within tolerance it is latched, so the final turn cannot undo it.
+/// the spot first when the carrot is far off to the side, and slow down before such a corner so that they turn where
+/// the path does; omnidirectional robots translate towards it and turn towards the goal heading at the same time),
+/// then a final turn on the spot. Speeds are ramped by the acceleration limits, and every speed, turn rate and
+/// stop is planned so that the limits can stop it at its target without overshoot. Once the position is within
+/// tolerance it is latched, so the final turn cannot undo it.
 class PathFollower {
  public:
   explicit PathFollower(const FollowerParams& params) : params_(params) {}
 
-  void setPath(const std::vector<Eigen::Vector2d>& path, const Pose2D& goal);
+  /// `reverse`: a differential robot drives the path backwards (its rear first), e.g. backing straight off a goal to
+  /// approach it again; ignored by an omnidirectional robot.
+  void setPath(const std::vector<Eigen::Vector2d>& path, const Pose2D& goal, bool reverse = false);
   /// One control step: `pose` of base_link in the path's frame, `dt` since the last step [s].
   Twist2D step(const Pose2D& pose, double dt);
   FollowState state() const { return state_; }
+  FollowPhase phase() const { return phase_; }
+  bool reversing() const { return reverse_; }
   /// Index of the path segment the robot is closest to so far (progress never goes back).
   std::size_t progressIndex() const { return progress_; }
   void stop() { last_ = Twist2D{}; }
@@ -55,6 +71,14 @@ class PathFollower {
 
  private:
   Eigen::Vector2d carrot(const Eigen::Vector2d& p);
+  /// Path length from the closest point (after carrot()) to the next corner a differential robot turns on the spot
+  /// at (a heading change above rotate_in_place_rad); infinite when none is left [m].
+  double distanceToCorner(const Eigen::Vector2d& p) const;
+  /// Whether a differential robot turns on the spot at path_[i] (heading change above rotate_in_place_rad between
+  /// legs of at least 2 kCornerReachM).
+  bool sharpCorner(std::size_t i) const;
+  /// A differential robot this close to a sharp corner has reached it and turns there [m].
+  static constexpr double kCornerReachM = 0.05;
   Twist2D limit(const Twist2D& wanted, double dt);
 
   FollowerParams params_;
@@ -62,6 +86,12 @@ class PathFollower {
   Pose2D goal_;
   std::size_t progress_ = 0;
   FollowState state_ = FollowState::kArrived;
+  FollowPhase phase_ = FollowPhase::kIdle;
+  bool reverse_ = false;
+  bool turning_ = false;           ///< differential: turning on the spot towards the carrot
+  std::size_t passed_corner_ = 0;  ///< the last sharp corner the robot reached (0: none)
+  /// A differential robot's turn on the spot ends when the carrot is this close to straight ahead [rad].
+  static constexpr double kTurnDoneRad = 0.05;
   Twist2D last_;
 };
 

@@ -1,7 +1,10 @@
 // headland_navigator: move_base's interface (move_base_msgs/MoveBaseAction on `move_base`,
 // `move_base_simple/goal`) over a global A* plan on the map plus the keep-out grid, inflated for the robot's
 // footprint, and a path follower (omnidirectional where every drive steers, differential otherwise) that stops for
-// lidar obstacles and replans. Commands go to `nav_vel`. Thin shell around Costmap, planPath and PathFollower.
+// lidar obstacles and replans. Commands go to `nav_vel`. Thin shell around the library: Costmap and
+// sweptObstacleDistance, planToGoal, PathFollower, ArrivalJudge and approachAgain; parameters in
+// headland_navigator_settings.
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <mutex>
@@ -19,145 +22,18 @@
 #include <sensor_msgs/LaserScan.h>
 #include <std_msgs/String.h>
 #include <tf2_ros/transform_listener.h>
-#include <thorvald_base/ros/param_reader.h>
 
+#include "headland_navigator_settings.h"
 #include "ros_conversions.h"
 #include "scan_frames.h"
-#include "thorvald_base/ros/robot_config_params.h"
 #include "thorvald_navigation/costmap.h"
+#include "thorvald_navigation/goal_approach.h"
 #include "thorvald_navigation/grid_planner.h"
 #include "thorvald_navigation/localization_gate.h"
 #include "thorvald_navigation/path_follower.h"
 
 namespace thorvald_navigation {
 namespace {
-
-struct Settings {
-  std::string global_frame = "map", base_frame = "base_link";
-  std::string keep_out_topic = "keep_out_map";
-  std::string localization_status_topic = "map_localizer/status";  // empty: no status read (amcl)
-  double controller_frequency = 20.0;
-  double footprint_padding = 0.05;
-  std::vector<double> footprint;       // flat x0 y0 x1 y1 ...; empty: from the robot file
-  std::string drive_mode = "auto";     // auto | omnidirectional | differential
-  double obstacle_range = 3.0;         // lidar points farther than this are not obstacles [m]
-  double obstacle_check_ahead = 1.5;   // path length checked for obstacles [m]
-  double obstacle_wait = 10.0;         // give up when blocked for this long [s]
-  double planner_patience = 5.0;       // give up when no pose/plan for this long [s]
-  double settle_time = 0.5;            // after arriving, stand still this long before checking the pose [s]
-  int goal_corrections = 3;            // re-approaches when the settled pose is outside the tolerances
-  double final_approach = 0.3;         // differential: the last metres driven straight along the goal heading [m]
-  double obstacle_update_rate = 10.0;  // lidar obstacles enter the costmap (and its inflation) at most this often [Hz]
-  double scan_max_age = 0.5;           // obstacles older than this are forgotten [s]
-  CostmapParams costmap;
-  PlannerParams planner;
-  FollowerParams follower;
-  LocalizationGateParams gate;
-};
-
-Footprint makeFootprint(const std::vector<double>& flat, double padding) {
-  Footprint fp;
-  for (std::size_t i = 0; i + 1 < flat.size(); i += 2) {
-    Eigen::Vector2d p(flat[i], flat[i + 1]);
-    // Pad outwards from the polygon's centroid direction (exact for rectangles around base_link's box).
-    p += Eigen::Vector2d(p.x() >= 0 ? padding : -padding, p.y() >= 0 ? padding : -padding);
-    fp.polygon.push_back(p);
-  }
-  return fp;
-}
-
-/// Reads and checks the node's parameters; false with the reason in `error` when one is wrong.
-bool loadSettings(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, Settings* s, std::string* error) {
-  using R = thorvald_base::ParamRange;
-  auto check = [](const std::string& problem) {
-    if (!problem.empty()) throw thorvald_base::ParamError("headland_navigator: " + problem);
-  };
-  try {
-    thorvald_base::ParamReader r(pnh, "headland_navigator");
-    s->global_frame = r.text("global_frame", s->global_frame);
-    s->base_frame = r.text("robot_base_frame", s->base_frame);
-    s->keep_out_topic = r.text("keep_out_topic", s->keep_out_topic);
-    s->localization_status_topic = r.text("localization_status_topic", s->localization_status_topic);
-    s->gate.lost_wait_s = r.number("localization_lost_wait", s->gate.lost_wait_s, R::aboveUpTo(0.0, 3600.0), "s");
-    s->gate.uncertain_wait_s =
-        r.number("localization_uncertain_wait", s->gate.uncertain_wait_s, R::aboveUpTo(0.0, 3600.0), "s");
-    s->controller_frequency = r.number("controller_frequency", s->controller_frequency, R::aboveUpTo(0.0, 200.0), "Hz");
-    s->footprint_padding = r.number("footprint_padding", s->footprint_padding, R::closed(0.0, 1.0), "m");
-    s->footprint = r.numbers("footprint", s->footprint, R::closed(-20.0, 20.0), "m", 0, 200);
-    s->drive_mode = r.choice("drive_mode", s->drive_mode, {"auto", "omnidirectional", "differential"});
-    s->obstacle_range = r.number("obstacle_range", s->obstacle_range, R::above(0.0), "m");
-    s->obstacle_check_ahead = r.number("obstacle_check_ahead", s->obstacle_check_ahead, R::above(0.0), "m");
-    s->obstacle_wait = r.number("obstacle_wait", s->obstacle_wait, R::above(0.0), "s");
-    s->planner_patience = r.number("planner_patience", s->planner_patience, R::above(0.0), "s");
-    s->settle_time = r.number("settle_time", s->settle_time, R::closed(0.0, 5.0), "s");
-    s->goal_corrections = r.integer("goal_corrections", s->goal_corrections, 0, 20);
-    s->final_approach = r.number("final_approach", s->final_approach, R::closed(0.0, 2.0), "m");
-    s->obstacle_update_rate = r.number("obstacle_update_rate", s->obstacle_update_rate, R::aboveUpTo(0.0, 100.0), "Hz");
-    s->scan_max_age = r.number("scan_max_age", s->scan_max_age, R::above(0.0), "s");
-    s->costmap.inflation_radius_m = r.number("inflation_radius", s->costmap.inflation_radius_m, R::atLeast(0.0), "m");
-    // 0: half the footprint's width (+ padding), set below.
-    s->costmap.planning_radius_m = r.number("planning_radius", 0.0, R::atLeast(0.0), "m");
-    s->costmap.cost_scaling = r.number("cost_scaling_factor", s->costmap.cost_scaling, R::above(0.0), "1/m");
-    s->costmap.unknown_is_blocked = !r.flag("allow_unknown", !s->costmap.unknown_is_blocked);
-    s->costmap.known_structure_tolerance_m =
-        r.number("known_structure_tolerance", s->costmap.known_structure_tolerance_m, R::closed(0.0, 1.0), "m");
-    s->planner.cost_weight = r.number("cost_weight", s->planner.cost_weight, R::atLeast(0.0));
-    auto& f = s->follower;
-    f.max_speed_mps = r.number("max_vel_x", f.max_speed_mps, R::above(0.0), "m/s");
-    f.max_yaw_rate_radps = r.number("max_vel_theta", f.max_yaw_rate_radps, R::above(0.0), "rad/s");
-    f.max_accel_mps2 = r.number("acc_lim_x", f.max_accel_mps2, R::above(0.0), "m/s^2");
-    f.max_yaw_accel_radps2 = r.number("acc_lim_theta", f.max_yaw_accel_radps2, R::above(0.0), "rad/s^2");
-    f.xy_tolerance_m = r.number("xy_goal_tolerance", f.xy_tolerance_m, R::above(0.0), "m");
-    f.yaw_tolerance_rad = r.number("yaw_goal_tolerance", f.yaw_tolerance_rad, R::above(0.0), "rad");
-    f.lookahead_m = r.number("lookahead", f.lookahead_m, R::above(0.0), "m");
-    f.rotate_in_place_rad = r.number("rotate_in_place_angle", f.rotate_in_place_rad, R::closed(0.0, 3.1416), "rad");
-    f.arrive_fraction = r.number("arrive_fraction", f.arrive_fraction, R::closed(0.05, 1.0));
-    r.finish();
-    if (!s->footprint.empty() && (s->footprint.size() < 6 || s->footprint.size() % 2 != 0))
-      check("~footprint must be a flat list x0 y0 x1 y1 ... of at least 3 points, got " +
-            std::to_string(s->footprint.size()) + " numbers");
-    if (s->footprint.empty()) {
-      // The robot file in the robot's namespace: the box around wheels, casters and corners.
-      thorvald_base::RobotConfig cfg;
-      try {
-        cfg = thorvald_base::robotConfigFromParams(nh);
-      } catch (const std::exception& e) {
-        check("no ~footprint and no usable robot file in " + nh.getNamespace() + ": " + e.what());
-      }
-      double x0 = 1e9, x1 = -1e9, y0 = 1e9, y1 = -1e9;
-      auto grow = [&](double x, double y, double rx, double ry) {
-        x0 = std::min(x0, x - rx);
-        x1 = std::max(x1, x + rx);
-        y0 = std::min(y0, y - ry);
-        y1 = std::max(y1, y + ry);
-      };
-      bool all_steered = !cfg.drives.empty();
-      for (const auto& d : cfg.drives) {
-        grow(d.x, d.y, d.r_wheel, 0.5 * d.w_wheel);
-        all_steered = all_steered && d.type == 0;
-      }
-      for (const auto& c : cfg.casters) grow(c.x, c.y, c.r_wheel + c.offset, 0.5 * c.w_wheel);
-      for (const auto& c : cfg.passive_wheels) grow(c.x, c.y, c.r_wheel, 0.5 * c.w_wheel);
-      for (const auto& c : cfg.corners) grow(c.x, c.y, 0.05, 0.05);
-      s->footprint = {x0, y0, x1, y0, x1, y1, x0, y1};
-      if (s->drive_mode == "auto")
-        s->drive_mode = all_steered && cfg.passive_wheels.empty() ? "omnidirectional" : "differential";
-    }
-    if (s->drive_mode == "auto") s->drive_mode = "differential";
-    f.omnidirectional = s->drive_mode == "omnidirectional";
-    if (s->costmap.planning_radius_m <= 0.0)
-      s->costmap.planning_radius_m = makeFootprint(s->footprint, s->footprint_padding).halfWidth();
-    s->costmap.inflation_radius_m = std::max(s->costmap.inflation_radius_m, s->costmap.planning_radius_m);
-    check(s->costmap.validate());
-    check(s->planner.validate());
-    check(f.validate());
-    check(s->gate.validate());
-  } catch (const thorvald_base::ParamError& e) {
-    *error = e.what();
-    return false;
-  }
-  return true;
-}
 
 using ActionServer = actionlib::SimpleActionServer<move_base_msgs::MoveBaseAction>;
 
@@ -167,6 +43,7 @@ class HeadlandNavigatorNode {
       : s_(s),
         footprint_(makeFootprint(s.footprint, s.footprint_padding)),
         follower_(s.follower),
+        arrival_(ArrivalParams{s.follower.xy_tolerance_m, s.follower.yaw_tolerance_rad, s.goal_corrections}),
         gate_(s.gate),
         tf_listener_(tf_buffer_),
         frames_(tf_buffer_),
@@ -313,7 +190,8 @@ class HeadlandNavigatorNode {
     need_plan_ = true;
     blocked_since_ = ros::Time();
     arrived_at_ = ros::Time();
-    corrections_ = 0;
+    arrival_.reset();
+    last_phase_ = FollowPhase::kIdle;
     to_pre_goal_ = false;
     holding_ = false;
     started_ = ros::Time::now();
@@ -340,19 +218,24 @@ class HeadlandNavigatorNode {
     cmd_pub_.publish(geometry_msgs::Twist());
   }
 
-  bool plan(const Pose2D& pose, std::string* error) {
-    const Blocker at_goal = costmap_->footprintBlocker(goal_, footprint_);
-    if (at_goal != Blocker::kNone) {
-      *error = std::string("goal refused: the robot would overlap ") + blockerName(at_goal);
-      return false;
-    }
-    const PlanResult r = planPath(*costmap_, {pose.x, pose.y}, {goal_.x, goal_.y}, s_.planner);
+  // Plans from `pose` to the goal and publishes the plan; false with the reason, and whether lidar obstacles alone
+  // stand in the way, when there is none.
+  bool plan(const Pose2D& pose, std::string* error, bool* obstacle) {
+    const GoalPlan r = planToGoal(*costmap_, footprint_, pose, goal_, s_.planner,
+                                  s_.follower.omnidirectional ? 0.0 : s_.final_approach);
     if (!r.ok) {
-      *error = "goal refused: " + r.error;
+      *error = r.error;
+      *obstacle = r.blocked_by_obstacle;
       return false;
     }
-    path_ = withFinalApproach(r.path);
+    path_ = r.path;
     follower_.setPath(path_, goal_);
+    publishPlan();
+    ++plans_;
+    return true;
+  }
+
+  void publishPlan() {
     nav_msgs::Path msg;
     msg.header.stamp = ros::Time::now();
     msg.header.frame_id = s_.global_frame;
@@ -364,34 +247,14 @@ class HeadlandNavigatorNode {
       msg.poses.push_back(p);
     }
     plan_pub_.publish(msg);
-    ++plans_;
-    return true;
-  }
-
-  // A differential robot turning on the spot at the goal moves base_link by a few centimetres (its turning centre is
-  // not exactly base_link's on a real floor): it ends its path with `final_approach` metres straight along the goal
-  // heading, so that the final turn is small. Kept out when that stretch would touch a wall, keep-out or obstacle.
-  std::vector<Eigen::Vector2d> withFinalApproach(std::vector<Eigen::Vector2d> path) const {
-    if (s_.follower.omnidirectional || s_.final_approach <= 0.0 || path.empty()) return path;
-    const Eigen::Vector2d goal(goal_.x, goal_.y), heading(std::cos(goal_.yaw), std::sin(goal_.yaw));
-    const Eigen::Vector2d pre = goal - s_.final_approach * heading;
-    for (double d = 0.0; d <= s_.final_approach + 1e-9; d += 0.1) {
-      const Eigen::Vector2d p = pre + d * heading;
-      if (costmap_->footprintBlocker({p.x(), p.y(), goal_.yaw}, footprint_) != Blocker::kNone) return path;
-    }
-    // Drop the plan's points that lie within the approach stretch, then go through its start.
-    while (path.size() > 1 && (path.back() - goal).norm() < s_.final_approach + 0.05) path.pop_back();
-    if ((path.back() - goal).norm() < s_.final_approach + 0.05) path.clear();
-    path.push_back(pre);
-    path.push_back(goal);
-    return path;
   }
 
   // Is a lidar obstacle (not a known wall or the keep-out zone) under the footprint along the next
   // obstacle_check_ahead metres of the path?
   bool obstacleAhead(const Pose2D& pose) const {
     return sweptObstacleDistance(*costmap_, footprint_, pose, path_, follower_.progressIndex() + 1,
-                                 s_.obstacle_check_ahead, s_.follower.omnidirectional) >= 0.0;
+                                 s_.obstacle_check_ahead, s_.follower.omnidirectional, goal_.yaw,
+                                 follower_.reversing()) >= 0.0;
   }
 
   void onTimer(const ros::TimerEvent& ev) {
@@ -426,9 +289,9 @@ class HeadlandNavigatorNode {
       }
     }
     if (need_plan_) {
-      if (!plan(pose, &error)) {
+      bool obstacle = false;
+      if (!plan(pose, &error, &obstacle)) {
         // A goal blocked by the map or keep-out is refused at once; one blocked by lidar obstacles waits.
-        const bool obstacle = error.find("lidar") != std::string::npos;
         if (!obstacle || blocked_since_.isZero()) blocked_since_ = now;
         if (!obstacle || (now - blocked_since_).toSec() > s_.obstacle_wait) {
           abort(error);
@@ -454,6 +317,12 @@ class HeadlandNavigatorNode {
     const double dt =
         ev.last_real.isZero() ? 1.0 / s_.controller_frequency : std::min(0.5, (ev.current_real - ev.last_real).toSec());
     const Twist2D t = follower_.step(pose, dt);
+    if (follower_.phase() != last_phase_) {
+      last_phase_ = follower_.phase();
+      ROS_INFO("headland_navigator: %.2f s into the goal: %s%s at (%.3f, %.3f, %.3f), %.3f m from the goal",
+               (now - started_).toSec(), followPhaseName(last_phase_), follower_.reversing() ? " (reversing)" : "",
+               pose.x, pose.y, pose.yaw, std::hypot(pose.x - goal_.x, pose.y - goal_.y));
+    }
     if (follower_.state() == FollowState::kArrived) {
       // The robot still moves a little after the last command (drive response, wheel slip while turning): judge
       // the pose once it stands, and approach again while it is outside the tolerances.
@@ -475,34 +344,26 @@ class HeadlandNavigatorNode {
         ROS_INFO("headland_navigator: localiser %s again at the goal", localizerStateName(gate_.state()));
       }
       arrived_at_ = ros::Time();
-      const double err = std::hypot(pose.x - goal_.x, pose.y - goal_.y);
-      const double err_yaw = normalizeAngle(pose.yaw - goal_.yaw);
-      const bool within = err <= s_.follower.xy_tolerance_m && std::abs(err_yaw) <= s_.follower.yaw_tolerance_rad;
-      if (!within && corrections_ < s_.goal_corrections) {
-        ++corrections_;
-        ROS_INFO("headland_navigator: settled %.3f m, %.3f rad off the goal: approaching again (%d of %d)", err,
-                 err_yaw, corrections_, s_.goal_corrections);
-        // Back off to the start of the final approach (differential) and drive it again; else straight there.
-        const std::vector<Eigen::Vector2d> approach =
-            withFinalApproach({Eigen::Vector2d(pose.x, pose.y), Eigen::Vector2d(goal_.x, goal_.y)});
-        if (approach.size() >= 2 && (approach.end()[-2] - Eigen::Vector2d(goal_.x, goal_.y)).norm() > 1e-3) {
-          pre_goal_ = approach.end()[-2];
-          path_ = {Eigen::Vector2d(pose.x, pose.y), pre_goal_};
-          follower_.setPath(path_, {pre_goal_.x(), pre_goal_.y(), goal_.yaw});
-          to_pre_goal_ = true;
-        } else {
-          path_ = approach;
-          follower_.setPath(path_, goal_);
-        }
+      const ArrivalJudgement j = arrival_.judge(pose, goal_);
+      if (j.verdict == ArrivalVerdict::kApproachAgain) {
+        const Approach a =
+            approachAgain(*costmap_, footprint_, pose, goal_, s_.final_approach, s_.follower.omnidirectional);
+        ROS_INFO("headland_navigator: settled %.3f m, %.3f rad off the goal: approaching again%s (%d of %d)",
+                 j.xy_err_m, j.yaw_err_rad, a.reverse ? ", backing off first" : "", arrival_.corrections(),
+                 s_.goal_corrections);
+        path_ = a.first_leg;
+        follower_.setPath(path_, a.first_target, a.reverse);
+        to_pre_goal_ = a.then_to_goal;
+        pre_goal_ = Eigen::Vector2d(a.first_target.x, a.first_target.y);
         return;
       }
       active_ = false;
-      if (!within) {
-        abort("settled " + std::to_string(err) + " m, " + std::to_string(err_yaw) + " rad off the goal after " +
-              std::to_string(corrections_) + " corrections");
+      if (j.verdict == ArrivalVerdict::kFailed) {
+        abort(j.reason);
         return;
       }
-      ROS_INFO("headland_navigator: goal reached (%.3f m, %.3f rad off, %d corrections)", err, err_yaw, corrections_);
+      ROS_INFO("headland_navigator: goal reached (%.3f m, %.3f rad off, %d corrections) after %.1f s", j.xy_err_m,
+               j.yaw_err_rad, arrival_.corrections(), (now - started_).toSec());
       server_.setSucceeded(move_base_msgs::MoveBaseResult(), "goal reached");
       ++reached_;
       return;
@@ -548,6 +409,7 @@ class HeadlandNavigatorNode {
   Settings s_;
   Footprint footprint_;
   PathFollower follower_;
+  ArrivalJudge arrival_;
   LocalizationGate gate_;
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
@@ -563,9 +425,9 @@ class HeadlandNavigatorNode {
   Pose2D goal_;
   bool active_ = false, need_plan_ = false;
   ros::Time blocked_since_, started_, last_scan_, arrived_at_, last_obstacle_update_;
-  int corrections_ = 0;
   bool to_pre_goal_ = false;  // a correction is on its way to the start of the final approach
   Eigen::Vector2d pre_goal_{0.0, 0.0};
+  FollowPhase last_phase_ = FollowPhase::kIdle;
   long plans_ = 0, reached_ = 0, obstacle_stops_ = 0, relocalisation_waits_ = 0, bad_statuses_ = 0;
   bool holding_ = false;  // stopped for the localiser
   std::string last_failure_, hold_reason_;

@@ -1,0 +1,80 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "thorvald_navigation/costmap.h"
+#include "thorvald_navigation/grid_planner.h"
+#include "thorvald_navigation/pose2d.h"
+
+namespace thorvald_navigation {
+
+/// A plan to a goal pose, or why there is none.
+struct GoalPlan {
+  bool ok = false;
+  /// The refusal is for lidar obstacles only (they may move away: wait), not for the map or the keep-out zone.
+  bool blocked_by_obstacle = false;
+  std::vector<Eigen::Vector2d> path;  ///< start ... goal [m]
+  std::string error;
+};
+
+/// Refuses a goal whose footprint overlaps a wall, unmapped space, the keep-out zone or an obstacle (with that reason),
+/// plans with planPath, and ends a differential robot's path with its final approach (withFinalApproach;
+/// `final_approach_m` 0: none).
+GoalPlan planToGoal(const Costmap& costmap, const Footprint& footprint, const Pose2D& start, const Pose2D& goal,
+                    const PlannerParams& planner, double final_approach_m);
+
+/// A differential robot turning on the spot at the goal moves base_link by a few centimetres (its turning centre is
+/// not exactly base_link on a real floor): its path ends with `length_m` straight along the goal's heading, so that
+/// the final turn is small. The plan's points within that stretch are dropped. Unchanged when the stretch would put
+/// the footprint on any blocked cell, or for an empty path or a length <= 0.
+std::vector<Eigen::Vector2d> withFinalApproach(const Costmap& costmap, const Footprint& footprint,
+                                               std::vector<Eigen::Vector2d> path, const Pose2D& goal, double length_m);
+
+/// How the robot approaches a goal again from where it settled outside the tolerances.
+struct Approach {
+  /// First leg: to `first_target` (the final approach's start, heading the goal's), driven backwards when `reverse`.
+  std::vector<Eigen::Vector2d> first_leg;
+  Pose2D first_target;
+  bool reverse = false;
+  /// Whether a second leg follows, straight from first_target to the goal.
+  bool then_to_goal = false;
+};
+
+/// Differential robot with a free final approach: back straight off to its start (no half turn on the spot, which
+/// would swing a long robot's rear round), then drive it again. Otherwise straight to the goal.
+Approach approachAgain(const Costmap& costmap, const Footprint& footprint, const Pose2D& pose, const Pose2D& goal,
+                       double final_approach_m, bool omnidirectional);
+
+struct ArrivalParams {
+  double xy_tolerance_m = 0.02;
+  double yaw_tolerance_rad = 0.015;
+  int max_corrections = 3;  ///< renewed approaches before the goal fails
+  std::string validate() const;
+};
+
+enum class ArrivalVerdict { kReached, kApproachAgain, kFailed };
+
+struct ArrivalJudgement {
+  ArrivalVerdict verdict = ArrivalVerdict::kFailed;
+  double xy_err_m = 0.0, yaw_err_rad = 0.0;  ///< settled pose against the goal
+  std::string reason;                        ///< for kFailed
+};
+
+/// Judges the pose the robot settled at against the goal's tolerances, counting the renewed approaches of one goal.
+class ArrivalJudge {
+ public:
+  explicit ArrivalJudge(const ArrivalParams& params) : params_(params) {}
+  /// A new goal: no correction made yet.
+  void reset() { corrections_ = 0; }
+  ArrivalJudgement judge(const Pose2D& settled, const Pose2D& goal);
+  int corrections() const { return corrections_; }
+
+ private:
+  ArrivalParams params_;
+  int corrections_ = 0;
+};
+
+}  // namespace thorvald_navigation
