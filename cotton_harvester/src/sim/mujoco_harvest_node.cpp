@@ -14,6 +14,7 @@
 #include <thorvald_state_machine/ros/status_publisher.h>
 
 #include "cotton_harvester/sim/harvest_run.h"
+#include "harvest_metrics_status.h"
 
 namespace {
 
@@ -49,31 +50,9 @@ diagnostic_msgs::DiagnosticStatus metricsMsg(const HarvestRunReport& report, con
   s.name = "harvest: " + run;
   s.level = report.error.empty() ? diagnostic_msgs::DiagnosticStatus::OK : diagnostic_msgs::DiagnosticStatus::ERROR;
   s.message = report.error.empty() ? report.outcome : report.error;
-  auto add = [&s](const std::string& key, double value) {
-    diagnostic_msgs::KeyValue kv;
-    kv.key = key;
-    char text[32];
-    std::snprintf(text, sizeof(text), "%.3f", value);
-    kv.value = text;
-    s.values.push_back(kv);
-  };
-  const auto& c = report.counts;
-  const auto& m = report.metrics;
-  add("bolls_present", c.bolls_present);
-  add("bolls_reachable", report.bolls_reachable);
-  add("detected", c.detected);
-  add("reached", c.reached);
-  add("picked", c.picked);
-  add("machine_picked", report.machine_picked);
-  add("time_s", c.time_s);
-  add("ov_cm_s", m.operation_velocity_cm_s);
-  add("pr_bolls_s", m.production_rate_bolls_s);
-  add("ct_s", m.cycle_time_s.value_or(0.0));
-  add("asr_pct", m.action_success_pct.value_or(0.0));
-  add("dp_pct", m.detection_performance_pct.value_or(0.0));
-  add("mrr_pct", m.reaching_ratio_pct.value_or(0.0));
-  add("rtf", report.wall_time_s > 0.0 ? report.sim_time_s / report.wall_time_s : 0.0);
-  add("frames", report.frames);
+  const auto add = [&s](const std::string& key, double value) { cotton_harvester::sim::addMetric(&s, key, value); };
+  cotton_harvester::sim::addRunMetrics(&s, report.counts, report.metrics, report.bolls_reachable, report.machine_picked,
+                                       report.sim_time_s, report.wall_time_s, report.frames);
   add("ee_fallback_frames", report.effector_from_calibration);
   add("picks_cleared", report.picks_cleared);
   add("hidden_from_row", report.misses.count[static_cast<int>(cotton_harvester::sim::MissCause::kHiddenFromRow)]);

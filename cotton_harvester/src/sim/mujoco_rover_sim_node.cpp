@@ -31,6 +31,7 @@
 #include "cotton_harvester/control/serial_port.h"
 #include "cotton_harvester/sim/harvest_run.h"
 #include "cotton_harvester/sim/rover_serial_bridge.h"
+#include "harvest_metrics_status.h"
 
 namespace cotton_harvester {
 namespace sim {
@@ -352,31 +353,10 @@ class MujocoRoverSimNode {
     s.name = "harvest: " + config_.run_name;
     s.level = outcome == "finished" ? diagnostic_msgs::DiagnosticStatus::OK : diagnostic_msgs::DiagnosticStatus::WARN;
     s.message = outcome;
-    const auto add = [&s](const std::string& key, double value) {
-      diagnostic_msgs::KeyValue kv;
-      kv.key = key;
-      char text[32];
-      std::snprintf(text, sizeof(text), "%.3f", value);
-      kv.value = text;
-      s.values.push_back(kv);
-    };
-    add("bolls_present", counts.bolls_present);
-    add("bolls_reachable", reachable);
+    const auto add = [&s](const std::string& key, double value) { addMetric(&s, key, value); };
+    addRunMetrics(&s, counts, m, reachable, machine_picked_, sim_s, wall_s, frames_);
     add("reachable_picked", reachable_picked);
-    add("detected", counts.detected);
-    add("reached", counts.reached);
-    add("picked", counts.picked);
-    add("machine_picked", machine_picked_);
-    add("time_s", counts.time_s);
     add("distance_m", counts.distance_m);
-    add("ov_cm_s", m.operation_velocity_cm_s);
-    add("pr_bolls_s", m.production_rate_bolls_s);
-    add("ct_s", m.cycle_time_s.value_or(0.0));
-    add("asr_pct", m.action_success_pct.value_or(0.0));
-    add("dp_pct", m.detection_performance_pct.value_or(0.0));
-    add("mrr_pct", m.reaching_ratio_pct.value_or(0.0));
-    add("rtf", wall_s > 0.0 ? sim_s / wall_s : 0.0);
-    add("frames", frames_);
     add("serial_rejected_bytes", static_cast<double>(bridge_.rejectedBytes()));
     add("lockstep_timeouts", lockstep_timeouts_);
     add("camera_lockstep_timeouts", camera_lockstep_timeouts_);
