@@ -197,7 +197,7 @@ void BaseDriver::update(double now_s) {
   for (size_t i = 0; i < status_.size(); ++i) {
     if (!drive_stop_ && (!status_[i].online || status_[i].fault)) {
       drive_stop_ = true;
-      drive_stop_text_ = "drive" + std::to_string(i) + ": " + (status_[i].online ? status_[i].text : "lost");
+      drive_stop_text_ = "drive" + std::to_string(i) + ": " + describe(status_[i]);
     }
   }
   for (auto& battery : batteries_) battery->update(now_s);
@@ -224,8 +224,7 @@ bool BaseDriver::clearDriveStop(std::string* message) {
   for (size_t i = 0; i < status_.size(); ++i) {
     if (!status_[i].online || status_[i].fault) {
       drives_[i]->clearFault();
-      bad += (bad.empty() ? "" : "; ") + ("drive" + std::to_string(i) + " still ") +
-             (status_[i].online ? status_[i].text : "lost");
+      bad += (bad.empty() ? "" : "; ") + ("drive" + std::to_string(i) + " still ") + describe(status_[i]);
     }
   }
   if (!bad.empty()) {

@@ -176,8 +176,11 @@ void CanBaseHardware::readBus(double now_s) {
 void CanBaseHardware::poll(double) {
   const double t = now();
   if (has_cia402_) {
-    bus_->send(encodeSync());  // the CiA 402 drives answer with their TPDOs
-    for (auto* axis : cia402_axes_) axis->syncSent();
+    if (t - last_sync_s_ >= kMinSyncPeriodS) {
+      last_sync_s_ = t;
+      bus_->send(encodeSync());  // the CiA 402 drives answer with their TPDOs
+      for (auto* axis : cia402_axes_) axis->syncSent();
+    }
     if (t - last_host_heartbeat_s_ >= kHostHeartbeatPeriodS) {
       last_host_heartbeat_s_ = t;
       bus_->send(makeFrame(canopen_ids::kHeartbeat + kHostNode, {0x05}));

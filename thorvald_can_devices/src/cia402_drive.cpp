@@ -270,13 +270,15 @@ thorvald_base::DriveStatus Cia402Drive::status() const {
     for (const Cia402Axis* a : axes)
       if (!a->operational()) s.online = false;
   }
+  // A silent axis is named alone: "operation enabled" beside it would hide why the drive is lost.
+  std::string silent;
   for (const Cia402Axis* a : axes) {
     if (a->operational() && a->feedbackSilent()) {
       s.online = false;
-      text += "; " + a->label() + ": no PDO answer to SYNC";
+      silent += (silent.empty() ? "" : "; ") + a->label() + ": no PDO answer to SYNC";
     }
   }
-  s.text = text;
+  s.text = silent.empty() ? text : silent;
   return s;
 }
 

@@ -132,7 +132,9 @@ TEST(ThorvaldDrive, FirstFeedbackMayTakeHalfASecondThenItIsLost) {
   for (int i = 0; i < 60 && lost_at < 0; ++i) {
     rig.spy->send(encodeHeartbeat(rig.config.drives[2].node, kHeartbeatOperational));
     rig.cycle();
-    if (i == 15) EXPECT_TRUE(rig.drives[2]->status().online) << rig.drives[2]->status().text;  // 0.32 s in
+    if (i == 15) {
+      EXPECT_TRUE(rig.drives[2]->status().online) << rig.drives[2]->status().text;  // 0.32 s in
+    }
     if (i > 15 && !rig.drives[2]->status().online) lost_at = i * 0.02;
   }
   ASSERT_GT(lost_at, 0.0) << "a drive that never fed back stayed online";
@@ -277,6 +279,7 @@ TEST(Cia402Drive, SilentDriveIsLostWithin100ms) {
   ASSERT_GT(lost_at, 0.0);
   EXPECT_LE(lost_at - silent_at, 0.1 + 1e-9) << rig.drives[0]->status().text;
   EXPECT_NE(rig.drives[0]->status().text.find("no PDO answer"), std::string::npos) << rig.drives[0]->status().text;
+  EXPECT_EQ(rig.drives[0]->status().text.find("operation enabled"), std::string::npos) << rig.drives[0]->status().text;
   EXPECT_TRUE(rig.drives[1]->status().online);
 }
 
@@ -310,6 +313,30 @@ TEST(CanBase, AFloodNeitherStallsThePollNorStarvesTheDrives) {
       reported = kv.second == std::to_string(rig.hw.framesPastReadBound());
   }
   EXPECT_TRUE(reported);
+}
+
+TEST(CanBase, SyncGoesOutEveryCycleButNeverFasterThanItsMinimumPeriod) {
+  Rig rig("robots/mixed.yaml");
+  const auto syncs = [&rig] {
+    int n = 0;
+    for (const auto& f : rig.spied())
+      if (f.stdId() == 0x080) ++n;
+    return n;
+  };
+  syncs();
+  rig.run(1.0);  // 50 host cycles of 20 ms: one SYNC each
+  EXPECT_EQ(syncs(), 50);
+  ASSERT_TRUE(allOnline(rig));
+  // Polls as fast as frames arrive (start-up does this): 200 polls in 50 ms give one SYNC per minimum period.
+  for (int k = 0; k < 200; ++k) {
+    rig.t += 0.00025;
+    rig.hw.poll(rig.t);
+  }
+  const int fast = syncs();
+  EXPECT_GE(fast, static_cast<int>(0.05 / kMinSyncPeriodS) - 1);
+  EXPECT_LE(fast, static_cast<int>(0.05 / kMinSyncPeriodS) + 1);
+  rig.run(0.2);
+  EXPECT_TRUE(allOnline(rig));  // fewer SYNCs in that burst did not make any axis look silent
 }
 
 TEST(CanBase, VirtualBusCountsTheFramesWaiting) {

@@ -134,7 +134,11 @@ TEST(HardwareBase, StartsAndPublishesBatteryStates) {
   EXPECT_NEAR(robot->battery.percentage, 0.87, 1e-6);
   EXPECT_EQ(robot->battery.cell_temperature.size(), 7u);
   EXPECT_EQ(robot->state.mode, "hardware");
-  EXPECT_FALSE(robot->state.drive_stop);
+  std::string drives;
+  for (const auto& d : robot->state.drives) drives += " drive" + std::to_string(d.index) + ": " + d.status + ";";
+  for (const auto& d : robot->diagnostics)
+    if (d.level == diagnostic_msgs::DiagnosticStatus::ERROR) drives += " [" + d.name + ": " + d.message + "]";
+  EXPECT_FALSE(robot->state.drive_stop) << drives;
   for (const auto& d : robot->state.drives) EXPECT_TRUE(d.online && !d.fault) << d.index << ": " << d.status;
 }
 

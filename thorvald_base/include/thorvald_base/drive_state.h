@@ -27,4 +27,11 @@ struct DriveStatus {
   std::string text = "ok";
 };
 
+/// "lost" for a drive that is not online, followed by its device's reason when it gives one
+/// ("lost (no feedback for 75 ms)"); the device's text otherwise.
+inline std::string describe(const DriveStatus& s) {
+  if (s.online) return s.text;
+  return s.text.empty() || s.text == "ok" ? "lost" : "lost (" + s.text + ")";
+}
+
 }  // namespace thorvald_base

@@ -67,7 +67,7 @@ void BaseDriverRos::diagnoseDrives(diagnostic_updater::DiagnosticStatusWrapper& 
     const auto& s = driver_->driveStatus()[i];
     const bool ok = s.online && !s.fault;
     bad += ok ? 0 : 1;
-    stat.add("drive" + std::to_string(i), s.online ? s.text : "lost");
+    stat.add("drive" + std::to_string(i), describe(s));
   }
   if (bad) {
     stat.summary(DiagnosticStatus::ERROR, std::to_string(bad) + " drive(s) lost or faulted");

@@ -28,6 +28,10 @@ struct CanBaseOptions {
   double feedback_timeout_s = 0.06;
 };
 
+/// SYNC (to which every CiA 402 axis answers with its PDOs) goes out once per poll, but never closer than this:
+/// start-up polls each time a frame arrives, and a SYNC per arrival made every answer trigger the next SYNC [s].
+constexpr double kMinSyncPeriodS = 0.005;
+
 /// The base's CAN hardware (paper §3.1 `base_handle`): one bus, one device per drive controller (Thorvald or
 /// CiA 402, by the drive's `protocol` key) and per battery; routes received frames to their device and all
 /// others to the relay; refuses relay frames aimed at base devices, NMT and SYNC. Its devices run on its own
@@ -86,6 +90,7 @@ class CanBaseHardware : public thorvald_base::BaseHardware {
   unsigned long relay_overflow_ = 0;
   bool has_cia402_ = false;
   double last_host_heartbeat_s_ = -1e9;
+  double last_sync_s_ = -1e9;
   std::vector<std::string> not_answering_;
   bool was_bus_ok_ = true;
   unsigned long bus_off_events_ = 0;
