@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <ctime>
 #include <cstdio>
 #include <filesystem>
@@ -64,6 +65,34 @@ void printScores(const std::string& name, const ScoreSummary& s) {
               ratio(s.end_effector_found, s.end_effector_expected), s.end_effector_false);
 }
 
+/// Why a boll may be hard: whole and alone, touching another boll in the image (split), or partly hidden.
+enum BollCase { kWhole = 0, kTouching = 1, kPartlyHidden = 2 };
+const char* const kCaseNames[] = {"whole, alone", "touching another boll", "partly hidden"};
+
+BollCase caseOf(const SceneLayout& truth, size_t b) {
+  const TrueBoll& boll = truth.bolls[b];
+  for (size_t o = 0; o < truth.bolls.size(); ++o) {
+    if (o == b || truth.bolls[o].visible_fraction <= 0.0) continue;
+    const cv::Point2d d = truth.bolls[o].pixel - boll.pixel;
+    if (std::hypot(d.x, d.y) <= boll.radius_px + truth.bolls[o].radius_px + 1.0) return kTouching;
+  }
+  return boll.visible_fraction >= 0.95 ? kWhole : kPartlyHidden;
+}
+
+/// Recall and 3D error per BollCase.
+struct CaseStats {
+  int found = 0, missed = 0;
+  ScoreSummary errors;  ///< only errors_3d_m is used
+  void add(const FrameScore& score, const SceneLayout& truth, BollCase which) {
+    for (size_t i = 0; i < score.matched_bolls.size(); ++i) {
+      if (caseOf(truth, score.matched_bolls[i]) != which) continue;
+      ++found;
+      errors.errors_3d_m.push_back(score.errors_3d_m[i]);
+    }
+    for (size_t b : score.missed_bolls) missed += caseOf(truth, b) == which;
+  }
+};
+
 const Lighting kLightings[] = {Lighting::kSunny, Lighting::kCloudy, Lighting::kShade};
 
 SceneParams sceneFor(int frame, const CameraIntrinsics& intrinsics) {
@@ -110,7 +139,8 @@ int main(int argc, char** argv) {
   };
   const Resolution resolutions[] = {{1280, 720, frames}, {640, 360, other_frames}, {1920, 1080, other_frames}};
 
-  ScoreSummary by_light[3], by_resolution[3], all, all_paper, all_rgb;
+  ScoreSummary by_light[3], by_resolution[3], all, all_paper, all_rgb, all_window, all_no_partial;
+  CaseStats by_case[3];
   Timing colour_time, colour_cpu, dnn_time, render_time;
   int total = 0;
   for (const Resolution& resolution : resolutions) total += resolution.frames;
@@ -126,6 +156,13 @@ int main(int argc, char** argv) {
     PerceptionParams rgb_params = params;
     rgb_params.end_effector.colour_space = EndEffectorColourSpace::kRgb;
     PerceptionPipeline colour_rgb(rgb_params, std::make_unique<ColourBollDetector>(ColourBollParams{}));
+    // Ablations: depth from the window at the visible centroid; partly hidden bolls not accepted.
+    PerceptionParams window_params = params;
+    window_params.locator.boll_surface = false;
+    PerceptionPipeline colour_window(window_params, std::make_unique<ColourBollDetector>(ColourBollParams{}));
+    ColourBollParams no_partial;
+    no_partial.partial_min_visible = 0.0;
+    PerceptionPipeline colour_no_partial(params, std::make_unique<ColourBollDetector>(no_partial));
     std::unique_ptr<PerceptionPipeline> dnn;
     if (r == 0 && dnn_frames > 0)
       dnn = std::make_unique<PerceptionPipeline>(params, std::make_unique<DarknetBollDetector>(darknet));
@@ -147,7 +184,10 @@ int main(int argc, char** argv) {
       by_light[i % 3].add(score);
       by_resolution[r].add(score);
       all.add(score);
+      for (int c = 0; c < 3; ++c) by_case[c].add(score, frame.layout, static_cast<BollCase>(c));
       all_paper.add(scoreFrame(colour_paper.process(frame.bgr, frame.cloud), frame.layout, ScoringParams{}));
+      all_window.add(scoreFrame(colour_window.process(frame.bgr, frame.cloud), frame.layout, ScoringParams{}));
+      all_no_partial.add(scoreFrame(colour_no_partial.process(frame.bgr, frame.cloud), frame.layout, ScoringParams{}));
       all_rgb.add(scoreFrame(colour_rgb.process(frame.bgr, frame.cloud), frame.layout, ScoringParams{}));
       if (dnn && i < dnn_frames) dnn_time.ms.push_back(timeMs([&] { dnn->process(frame.bgr, frame.cloud); }));
       if ((done + 1) % 10 == 0 || done + 1 == total) {
@@ -177,6 +217,16 @@ int main(int argc, char** argv) {
   printScores("all (depth: ray)", all);
   printScores("all (depth: paper)", all_paper);
   printScores("all (EE: paper's RGB)", all_rgb);
+  printScores("all (depth: 5x5 window)", all_window);
+  printScores("all (no partial bolls)", all_no_partial);
+  std::printf("\n%-26s %6s %6s %7s %10s %10s\n", "bolls by case (all sizes)", "found", "missed", "recall", "3D err m",
+              "p95 err m");
+  for (int c = 0; c < 3; ++c) {
+    const CaseStats& stats = by_case[c];
+    std::printf("%-26s %6d %6d %7.3f %10.4f %10.4f\n", kCaseNames[c], stats.found, stats.missed,
+                ratio(stats.found, stats.found + stats.missed), stats.errors.meanError3d(),
+                stats.errors.percentileError3d(0.95));
+  }
   std::printf(
       "\nScored against bolls at least half visible; 3D error to the visible surface point on the ray through the\n"
       "boll centre. The end-effector counts as expected when at least half of its top face is visible.\n"

@@ -1,6 +1,7 @@
 #include "cotton_harvester/perception/boll_locator.h"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <sstream>
 #include <vector>
@@ -90,6 +91,56 @@ std::optional<LocatedPoint> locateRegion(const cv::Mat& cloud, const cv::Mat& ma
   located.valid_points = static_cast<int>(depths.size());
   located.range_m = median(depths) * std::sqrt(ray_x * ray_x + ray_y * ray_y + 1.0);
   located.position = backProject(intrinsics, pixel, located.range_m, params.depth_model);
+  return located;
+}
+
+std::optional<LocatedPoint> locateBollSurface(const cv::Mat& cloud, const std::vector<cv::Point>& outline,
+                                              const cv::Point2d& centre, double radius_px,
+                                              const CameraIntrinsics& intrinsics, const LocatorParams& params) {
+  if (cloud.empty() || cloud.type() != CV_32FC3 || outline.size() < 3) return std::nullopt;
+  if (!std::isfinite(centre.x) || !std::isfinite(centre.y) || !(radius_px > 0.0) || !std::isfinite(radius_px))
+    return std::nullopt;
+  const cv::Rect box = cv::boundingRect(outline) & cv::Rect(0, 0, cloud.cols, cloud.rows);
+  if (box.area() == 0) return std::nullopt;
+  const auto ray = [&intrinsics](double u, double v) {
+    const cv::Vec3d r((u - intrinsics.cx) / intrinsics.fx, (v - intrinsics.cy) / intrinsics.fy, 1.0);
+    return r / cv::norm(r);
+  };
+  const cv::Vec3d axis = ray(centre.x, centre.y);
+  // Half angle the boll's disc subtends, averaged over two directions (off the optical axis the disc is stretched).
+  const double half_angle = 0.5 * (std::acos(std::min(1.0, axis.dot(ray(centre.x + radius_px, centre.y)))) +
+                                   std::acos(std::min(1.0, axis.dot(ray(centre.x, centre.y + radius_px)))));
+  const double sin_a = std::sin(half_angle);
+  if (!(sin_a > 0.0) || sin_a >= 1.0) return std::nullopt;
+
+  cv::Mat inside = cv::Mat::zeros(box.size(), CV_8U);
+  const std::vector<std::vector<cv::Point>> one{outline};
+  cv::drawContours(inside, one, 0, cv::Scalar(255), cv::FILLED, cv::LINE_8, cv::noArray(), INT_MAX, -box.tl());
+  // The outline's own pixels mix the boll with what borders it: one pixel in from it, when the region is not tiny.
+  if (radius_px > 4.0) cv::erode(inside, inside, cv::Mat());
+  const int stride = std::max(1, static_cast<int>(std::sqrt(box.area() / 2000.0)));
+  const double rim = 0.8 * sin_a;
+  std::vector<double> ranges;
+  for (int row = 0; row < box.height; row += stride) {
+    const uint8_t* in = inside.ptr<uint8_t>(row);
+    const cv::Vec3f* points = cloud.ptr<cv::Vec3f>(box.y + row);
+    for (int col = 0; col < box.width; col += stride) {
+      if (!in[col]) continue;
+      const double d = pointRange(points[box.x + col]);
+      if (!(d > 0.0)) continue;
+      const double cos_t = std::min(1.0, axis.dot(ray(box.x + col, box.y + row)));
+      const double sin_t = std::sqrt(std::max(0.0, 1.0 - cos_t * cos_t));
+      if (sin_t > rim) continue;
+      // Range of the sphere's near surface along this pixel's ray, per unit distance D of the sphere's centre.
+      const double per_distance = cos_t - std::sqrt(sin_a * sin_a - sin_t * sin_t);
+      ranges.push_back(d / per_distance * (1.0 - sin_a));
+    }
+  }
+  if (static_cast<int>(ranges.size()) < params.min_valid_points) return std::nullopt;
+  LocatedPoint located;
+  located.valid_points = static_cast<int>(ranges.size());
+  located.range_m = median(ranges);
+  located.position = backProject(intrinsics, centre, located.range_m, params.depth_model);
   return located;
 }
 

@@ -73,6 +73,12 @@ std::string validate(const ColourBollParams& p) {
     error << "opening_fraction must be in [0, 2] (got " << p.opening_fraction << "); ";
   if (!(p.closing_fraction >= 0.0 && p.closing_fraction <= 2.0))
     error << "closing_fraction must be in [0, 2] (got " << p.closing_fraction << "); ";
+  if (!(p.partial_min_visible >= 0.0 && p.partial_min_visible <= 1.0))
+    error << "partial_min_visible must be in [0, 1] (got " << p.partial_min_visible << "); ";
+  if (!(p.circle_max_rms_fraction > 0.0 && p.circle_max_rms_fraction <= 1.0))
+    error << "circle_max_rms_fraction must be in (0, 1] (got " << p.circle_max_rms_fraction << "); ";
+  if (!(p.circle_min_arc_deg >= 0.0 && p.circle_min_arc_deg <= 360.0))
+    error << "circle_min_arc_deg must be in [0, 360] (got " << p.circle_min_arc_deg << "); ";
   if (!(p.partial_min_fraction >= 0.0 && p.partial_min_fraction <= 1.0))
     error << "partial_min_fraction must be in [0, 1] (got " << p.partial_min_fraction << "); ";
   if (!(p.min_visible_fraction > 0.0 && p.min_visible_fraction <= 1.0))
@@ -158,14 +164,26 @@ void ColourBollDetector::detectRegion(const std::vector<cv::Point>& contour, con
       cv::minEnclosingCircle(contour, centre, radius);
       partial = radius <= scale_.radius_max_px;
     }
-    if (!whole && !partial) return;
+    // The boll's own silhouette: a circle through the outline's hull points (a leaf's cut runs inside the hull).
+    const std::optional<BollCircle> circle = roundOutline(contour);
+    const double disc_share = circle ? area / (CV_PI * circle->radius_px * circle->radius_px) : 0.0;
+    const bool hidden_boll = !whole && circle && params_.partial_min_visible > 0.0 &&
+                             disc_share >= params_.partial_min_visible && disc_share <= 1.15;
+    if (!whole && !partial && !hidden_boll) return;
     const cv::Moments m = cv::moments(contour);
     BollDetection boll;
     boll.box = box;
     boll.centroid = {m.m10 / m.m00, m.m01 / m.m00};
-    boll.confidence = std::clamp(circularity * solidity * brightness * (partial ? 0.3 : 1.0), 0.0, 1.0);
-    boll.partial = partial;
-    bolls->push_back(boll);
+    if (whole || hidden_boll) {
+      boll.confidence = std::clamp((whole ? circularity * solidity : disc_share) * brightness, 0.0, 1.0);
+    } else {
+      boll.confidence = std::clamp(circularity * solidity * brightness * 0.3, 0.0, 1.0);
+    }
+    boll.partial = !whole;
+    boll.centre = circle ? circle->centre : boll.centroid;
+    boll.radius_px = circle ? circle->radius_px : std::sqrt(area / CV_PI);
+    boll.outline = contour;
+    bolls->push_back(std::move(boll));
     return;
   }
 
@@ -175,8 +193,10 @@ void ColourBollDetector::detectRegion(const std::vector<cv::Point>& contour, con
     int u_min = INT_MAX, v_min = INT_MAX, u_max = -1, v_max = -1;
   };
   std::vector<Part> parts(peaks.size());
+  cv::Mat owner = cv::Mat::zeros(region.size(), CV_8U);  // 1 + the part's index, 0 outside the region
   for (int v = pad; v < pad + box.height; ++v) {
     const uint8_t* inside = region.ptr<uint8_t>(v);
+    uint8_t* owned = owner.ptr<uint8_t>(v);
     for (int u = pad; u < pad + box.width; ++u) {
       if (!inside[u]) continue;
       size_t best = 0;
@@ -188,6 +208,7 @@ void ColourBollDetector::detectRegion(const std::vector<cv::Point>& contour, con
           best = i;
         }
       }
+      owned[u] = static_cast<uint8_t>(best + 1);
       Part& part = parts[best];
       part.count += 1.0;
       part.sum_u += u;
@@ -208,8 +229,38 @@ void ColourBollDetector::detectRegion(const std::vector<cv::Point>& contour, con
     boll.centroid = {box.x + part.sum_u / part.count - pad, box.y + part.sum_v / part.count - pad};
     const double fill = part.count / (CV_PI * peaks[i].radius * peaks[i].radius);
     boll.confidence = std::clamp(std::min(1.0, fill) * brightness, 0.0, 1.0);
-    bolls->push_back(boll);
+    // The part's outline in image pixels; its circle when the part's own silhouette is round and agrees with the
+    // inscribed disc, else the inscribed disc (the distance transform's maximum: the boll's centre when the boll
+    // is whole, its neighbour only touching it).
+    std::vector<std::vector<cv::Point>> outlines;
+    cv::findContours(owner == static_cast<int>(i + 1), outlines, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE,
+                     cv::Point(box.x - pad, box.y - pad));
+    const auto largest = std::max_element(outlines.begin(), outlines.end(),
+                                          [](const auto& a, const auto& b) { return a.size() < b.size(); });
+    boll.centre = {box.x + peaks[i].centre.x - pad, box.y + peaks[i].centre.y - pad};
+    boll.radius_px = peaks[i].radius + 0.5;
+    if (largest != outlines.end()) {
+      boll.outline = std::move(*largest);
+      const std::optional<BollCircle> circle = roundOutline(boll.outline);
+      if (circle && cv::norm(circle->centre - boll.centre) <= 0.5 * boll.radius_px) {
+        boll.centre = circle->centre;
+        boll.radius_px = circle->radius_px;
+      }
+    }
+    bolls->push_back(std::move(boll));
   }
+}
+
+std::optional<BollCircle> ColourBollDetector::roundOutline(const std::vector<cv::Point>& outline) const {
+  std::optional<BollCircle> circle = fitOuterCircle(outline);
+  if (!circle) return std::nullopt;
+  const bool round = circle->rms_px <= std::max(0.75, params_.circle_max_rms_fraction * circle->radius_px) &&
+                     circle->arc_coverage_rad >= params_.circle_min_arc_deg * CV_PI / 180.0;
+  // A boll's radius at some allowed height (the white part of a boll ends a little inside its silhouette).
+  const bool boll_sized =
+      circle->radius_px >= 0.7 * scale_.radius_min_px && circle->radius_px <= 1.2 * scale_.radius_max_px;
+  if (!round || !boll_sized) return std::nullopt;
+  return circle;
 }
 
 int ColourBollDetector::valueThreshold(const cv::Mat& bgr) const {
@@ -265,7 +316,7 @@ std::vector<BollDetection> ColourBollDetector::detect(const cv::Mat& bgr, const 
   }
 
   std::vector<std::vector<cv::Point>> contours;
-  cv::findContours(mask, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_SIMPLE);
+  cv::findContours(mask, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
   for (const std::vector<cv::Point>& contour : contours) detectRegion(contour, bgr, mask, &bolls);
   return bolls;
 }

@@ -95,7 +95,12 @@ bool PerceptionPipeline::plausible(const BollDetection& detection, const cv::Poi
   // The visible extent at the measured depth must fit a boll: at least part of the smallest, at most the largest.
   const double focal = 0.5 * (params_.intrinsics.fx + params_.intrinsics.fy);
   const double extent_m = 0.5 * std::max(detection.box.width, detection.box.height) * position.z / focal;
-  return extent_m >= 0.4 * g.boll_radius_min_m && extent_m <= 1.5 * g.boll_radius_max_m;
+  if (!(extent_m >= 0.4 * g.boll_radius_min_m && extent_m <= 1.5 * g.boll_radius_max_m)) return false;
+  // A partly hidden boll is accepted for its disc, which must then be a boll's at the measured depth (the white part
+  // of a boll ends a little inside its silhouette: 0.75 of the smallest).
+  if (!detection.partial || !(detection.radius_px > 0.0)) return true;
+  const double radius_m = detection.radius_px * position.z / focal;
+  return radius_m >= 0.75 * g.boll_radius_min_m && radius_m <= 1.2 * g.boll_radius_max_m;
 }
 
 std::string validate(const EndEffectorPrior& prior) {
@@ -205,7 +210,13 @@ FrameResult PerceptionPipeline::process(const cv::Mat& bgr, const cv::Mat& cloud
   // Steps 4-5: depth of each centroid; step 7: its position.
   const double ground_depth_m = detections.empty() ? 0.0 : groundDepth(cloud);
   for (const BollDetection& detection : detections) {
-    const std::optional<LocatedPoint> located = locate(cloud, detection.centroid, params_.intrinsics, params_.locator);
+    // A detector that estimates the boll's disc: its depth from the visible surface, at its centre. Otherwise (or
+    // without enough valid points under the outline) the window around the centroid.
+    std::optional<LocatedPoint> located;
+    if (params_.locator.boll_surface && detection.radius_px > 0.0 && !detection.outline.empty())
+      located = locateBollSurface(cloud, detection.outline, detection.centre, detection.radius_px, params_.intrinsics,
+                                  params_.locator);
+    if (!located) located = locate(cloud, detection.centroid, params_.intrinsics, params_.locator);
     if (!located) {
       ++result.bolls_without_depth;
       continue;

@@ -29,13 +29,19 @@ FrameScore scoreFrame(const FrameResult& result, const SceneLayout& truth, const
       ++score.true_positives;
       const cv::Point3d error = result.bolls[d].position - truth.bolls[b].surface;
       score.errors_3d_m.push_back(std::sqrt(error.dot(error)));
+      score.matched_bolls.push_back(b);
     } else {
       ++score.matched_hidden;
     }
   }
   score.false_positives = static_cast<int>(std::count(detection_used.begin(), detection_used.end(), false));
+  for (size_t d = 0; d < detection_used.size(); ++d)
+    if (!detection_used[d]) score.false_detections.push_back(d);
   for (size_t b = 0; b < truth.bolls.size(); ++b) {
-    if (!boll_used[b] && truth.bolls[b].visible_fraction >= params.min_visible_fraction) ++score.false_negatives;
+    if (!boll_used[b] && truth.bolls[b].visible_fraction >= params.min_visible_fraction) {
+      ++score.false_negatives;
+      score.missed_bolls.push_back(b);
+    }
   }
 
   // The end-effector has to be found when at least half of its top face is in the image and not under leaves.

@@ -23,9 +23,16 @@ class HandMadeFrame {
  public:
   HandMadeFrame() : image(720, 1280, CV_8UC3, cv::Scalar(60, 100, 140)), depth(720, 1280, CV_64F, cv::Scalar(2.2)) {}
 
+  /// A boll is a sphere whose nearest point is at depth d.z: a pixel rho px from the disc's centre lies deeper by
+  /// the sphere's sagitta, (z / f) (R - sqrt(R^2 - rho^2)) with R the disc's radius [px].
   void addBoll(const Disc& d) {
     cv::circle(image, d.centre, d.radius_px, cv::Scalar(235, 238, 240), cv::FILLED);
-    cv::circle(depth, d.centre, d.radius_px, cv::Scalar(d.z), cv::FILLED);
+    const double f = CameraIntrinsics{}.fx, r = d.radius_px;
+    for (int v = d.centre.y - d.radius_px; v <= d.centre.y + d.radius_px; ++v)
+      for (int u = d.centre.x - d.radius_px; u <= d.centre.x + d.radius_px; ++u) {
+        const double rho2 = double(u - d.centre.x) * (u - d.centre.x) + double(v - d.centre.y) * (v - d.centre.y);
+        if (rho2 <= r * r) depth.at<double>(v, u) = d.z + d.z / f * (r - std::sqrt(r * r - rho2));
+      }
   }
   void addEndEffector(const cv::Rect& r, double z) {
     cv::rectangle(image, r, cv::Scalar(10, 120, 245), cv::FILLED);
@@ -73,7 +80,9 @@ TEST(PerceptionPipeline, LocatesBollsEndEffectorAndTheNearestReachable) {
   const CameraIntrinsics k;
   int reachable = 0;
   for (const LocatedBoll& boll : result.bolls) {
-    const double u = boll.detection.centroid.x, v = boll.detection.centroid.y;
+    // Located at the boll's disc centre (for these whole discs within half a pixel of the centroid).
+    EXPECT_LT(cv::norm(boll.detection.centre - boll.detection.centroid), 0.5);
+    const double u = boll.detection.centre.x, v = boll.detection.centre.y;
     const double z = boll.position.z;
     EXPECT_NEAR(boll.position.x, (u - k.cx) / k.fx * z, 1e-3);
     EXPECT_NEAR(boll.position.y, (v - k.cy) / k.fy * z, 1e-3);

@@ -18,6 +18,14 @@ struct BollDetection {
   /// Only part of a boll: a white region that fails the whole-boll shape tests (a leaf over it leaves a crescent);
   /// its centroid lies off the boll's centre towards the visible part.
   bool partial = false;
+  /// The whole boll's disc as estimated from what is visible: centre [px] and radius [px] of a circle fitted to the
+  /// region's own silhouette (ColourBollDetector; see fitOuterCircle). radius_px 0: not estimated (box detectors);
+  /// then centre is unused and the pipeline locates the centroid.
+  cv::Point2d centre;
+  double radius_px = 0.0;
+  /// The visible region's outline in image pixels (empty for box detectors): the pipeline reads the boll's depth from
+  /// the cloud points under it.
+  std::vector<cv::Point> outline;
 };
 
 /// Where bolls can be and how large they are: the size thresholds of the detectors follow from these and the focal

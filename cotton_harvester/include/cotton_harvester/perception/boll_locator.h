@@ -2,6 +2,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <opencv2/core.hpp>
 
@@ -18,6 +19,9 @@ struct LocatorParams {
   /// Fewest valid (finite, non-zero) points the window must hold [-].
   int min_valid_points = 3;
   DepthModel depth_model = DepthModel::kRay;
+  /// Bolls whose detector estimates their disc (ColourBollDetector) are located from their visible surface at the
+  /// disc's centre (locateBollSurface); false: the window around the visible centroid, as for box detectors.
+  bool boll_surface = true;
 };
 
 std::string validate(const LocatorParams& params);
@@ -42,6 +46,21 @@ std::optional<LocatedPoint> locate(const cv::Mat& cloud, const cv::Point2d& pixe
 /// std::nullopt when the mask holds fewer than min_valid_points valid points or does not fit the cloud.
 std::optional<LocatedPoint> locateRegion(const cv::Mat& cloud, const cv::Mat& mask, const cv::Point2d& pixel,
                                          const CameraIntrinsics& intrinsics, const LocatorParams& params);
+
+/// Locates a boll from the visible part of its surface: the boll is a sphere whose image is the disc (centre,
+/// radius_px) and of which the pixels inside `outline` (image pixels, a closed contour) are visible. Every valid
+/// cloud point under the outline, away from the rim (within 0.8 of the disc's radius), gives through the sphere's
+/// shape the range of the surface point on the ray through the disc's centre (a point seen at angle t from the
+/// centre's ray lies deeper than that point: its range is D (cos t - sqrt(sin^2 a - sin^2 t)) for a sphere at
+/// distance D whose disc subtends the half angle a); the median of these is taken, so points of a leaf edge or of
+/// the ground that the outline takes in do not matter. This reads the boll's depth where it is visible even when its
+/// centre is hidden, and averages the stereo noise of many points instead of a small window's. The returned
+/// position is that surface point on the centre's ray (the centre lies one boll radius deeper along it).
+/// std::nullopt when fewer than min_valid_points valid points lie under the outline, or on bad input (empty or
+/// non-CV_32FC3 cloud, non-finite centre, radius <= 0, outline outside the cloud).
+std::optional<LocatedPoint> locateBollSurface(const cv::Mat& cloud, const std::vector<cv::Point>& outline,
+                                              const cv::Point2d& centre, double radius_px,
+                                              const CameraIntrinsics& intrinsics, const LocatorParams& params);
 
 /// The manipulator's workspace as seen from the camera (paper §2.8).
 struct ReachParams {

@@ -1,8 +1,10 @@
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "cotton_harvester/perception/boll_circle.h"
 #include "cotton_harvester/perception/boll_detector.h"
 
 namespace cotton_harvester {
@@ -34,6 +36,14 @@ struct ColourBollParams {
   /// confidence scaled by 0.3) instead of dropped: a boll seen past a leaf, for a picker that can push the leaf aside
   /// and look again. 0: off (the default; in an open field a pale crescent is as likely to be glare on a leaf).
   double partial_min_fraction = 0.0;
+  /// A boll partly hidden by a leaf, a branch or the image border: a region that fails the whole-boll shape tests is
+  /// still a boll when its own silhouette (the outline on its convex hull, fitOuterCircle) is a circular arc (RMS
+  /// distance at most circle_max_rms_fraction of the radius, covering at least circle_min_arc_deg), the circle's
+  /// radius is a boll's at some allowed height, and the region covers at least this share of that circle's disc.
+  /// Reported with BollDetection::partial set and its full confidence. 0: off [0, 1].
+  double partial_min_visible = 0.35;
+  double circle_max_rms_fraction = 0.08;  ///< [-]
+  double circle_min_arc_deg = 135.0;      ///< [deg]
 };
 
 /// Returns an empty string when valid, otherwise the bad field and what was expected.
@@ -68,6 +78,8 @@ class ColourBollDetector : public BollDetector {
 
  private:
   int valueThreshold(const cv::Mat& bgr) const;
+  /// The circle of an outline's own silhouette when it is round and of a boll's size, else std::nullopt.
+  std::optional<BollCircle> roundOutline(const std::vector<cv::Point>& outline) const;
   cv::Mat whiteMask(const cv::Mat& bgr, int value_min) const;
   void detectRegion(const std::vector<cv::Point>& contour, const cv::Mat& bgr, const cv::Mat& mask,
                     std::vector<BollDetection>* bolls) const;
