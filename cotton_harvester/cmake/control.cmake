@@ -82,4 +82,8 @@ if(CATKIN_ENABLE_TESTING)
   add_rostest(test/control/control_serial.test DEPENDENCIES simulated_controller rover manipulator)
   add_rostest(test/control/harvest_sim.test
     DEPENDENCIES simulated_controller rover manipulator harvest_state_machine)
+  add_rostest_gtest(test_topic_harvest_plant test/control/topic_harvest_plant.test
+    test/control/test_topic_harvest_plant.cpp src/control/topic_harvest_plant.cpp)
+  target_link_libraries(test_topic_harvest_plant cotton_harvester_control ${catkin_LIBRARIES})
+  add_dependencies(test_topic_harvest_plant ${${PROJECT_NAME}_EXPORTED_TARGETS} ${catkin_EXPORTED_TARGETS})
 endif()

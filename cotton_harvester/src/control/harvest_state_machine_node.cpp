@@ -70,7 +70,12 @@ TopicPlantParams loadPlantParams(const NodeParams& params) {
   p.leaves.redetect_radius_m = readDouble(params, "redetect_radius_m", p.leaves.redetect_radius_m);
   p.leaves.effector_half_m = readPositive(params, "effector_half_m", p.leaves.effector_half_m);
   p.arm_extension_zero_x_m = readDouble(params, "arm_extension_zero_x_m", p.arm_extension_zero_x_m);
-  requireSound(params, p.leaves.check());
+  p.effector_stamp_tolerance_s = readPositive(params, "effector_stamp_tolerance_s", p.effector_stamp_tolerance_s);
+  p.effector_from_calibration = readBool(params, "effector_from_calibration", p.effector_from_calibration);
+  p.joint_max_age_s = readPositive(params, "joint_max_age_s", p.joint_max_age_s);
+  p.arm_y_m = readDouble(params, "arm_y_m", p.arm_y_m);
+  p.vacuum_while_retracting = readBool(params, "vacuum_while_retracting", p.vacuum_while_retracting);
+  requireSound(params, TopicHarvestPlant::check(p));
   return p;
 }
 
@@ -183,6 +188,8 @@ class HarvestNode {
     add("action_success_pct", number(m.action_success_pct));
     add("detection_performance_pct", number(m.detection_performance_pct));
     add("reaching_ratio_pct", number(m.reaching_ratio_pct));
+    add("ee_fallback_frames", std::to_string(plant_.effectorFromCalibration()));
+    add("frames_without_end_effector", std::to_string(machine_.rejectedFrames()));
     metrics_pub_.publish(msg);
   }
 
@@ -225,6 +232,7 @@ class HarvestNode {
     }
     status.add("frames rejected (NaN points)", plant_.rejectedFrames());
     status.add("frames without end effector", machine_.rejectedFrames());
+    status.add("end effector from the arm's calibration", plant_.effectorFromCalibration());
     status.add("transitions", machine.transitions);
   }
 

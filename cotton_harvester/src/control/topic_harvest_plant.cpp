@@ -101,7 +101,8 @@ void TopicHarvestPlant::onBolls(const cotton_harvester::BollArray::ConstPtr& msg
 
 void TopicHarvestPlant::onEffector(const geometry_msgs::PointStamped::ConstPtr& msg) {
   std::lock_guard<std::mutex> lock(mutex_);
-  effector_ = msg;
+  effectors_.push_back(msg);
+  while (effectors_.size() > 8) effectors_.pop_front();
   changed_.notify_all();
 }
 
@@ -118,6 +119,12 @@ void TopicHarvestPlant::onJoints(const sensor_msgs::JointState::ConstPtr& msg) {
     if (!std::isfinite(msg->position[i])) continue;
     if (msg->name[i] == "horizontal") arm_extension_ = msg->position[i];
     if (msg->name[i] == "vertical") arm_depth_ = msg->position[i];
+  }
+  if (arm_extension_ && arm_depth_) {
+    const ros::Time stamp = msg->header.stamp.isZero() ? ros::Time::now() : msg->header.stamp;
+    if (!joint_history_.empty() && stamp < joint_history_.back().stamp) joint_history_.clear();  // clock reset
+    joint_history_.push_back(JointSample{stamp, *arm_extension_, *arm_depth_});
+    while (joint_history_.size() > 64) joint_history_.pop_front();
   }
   changed_.notify_all();
 }
@@ -136,6 +143,28 @@ double TopicHarvestPlant::roverPositionM() const {
 std::size_t TopicHarvestPlant::rejectedFrames() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return rejected_frames_;
+}
+
+bool TopicHarvestPlant::hasArmState() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return arm_extension_ && arm_depth_;
+}
+
+std::size_t TopicHarvestPlant::effectorFromCalibration() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return effector_from_calibration_;
+}
+
+std::string TopicHarvestPlant::check(const TopicPlantParams& p) {
+  const std::pair<const char*, double> positive[] = {{"observe_timeout_s", p.observe_timeout_s},
+                                                     {"effector_max_age_s", p.effector_max_age_s},
+                                                     {"effector_stamp_tolerance_s", p.effector_stamp_tolerance_s},
+                                                     {"joint_max_age_s", p.joint_max_age_s}};
+  for (const auto& [key, v] : positive)
+    if (!(v > 0.0) || !std::isfinite(v)) return std::string(key) + ": expected > 0";
+  if (!std::isfinite(p.arm_y_m)) return "arm_y_m: expected a finite number";
+  if (!std::isfinite(p.arm_extension_zero_x_m)) return "arm_extension_zero_x_m: expected a finite number";
+  return p.leaves.check();
 }
 
 template <typename Done>
@@ -160,7 +189,21 @@ void TopicHarvestPlant::markActionEnd() {
   action_end_ = ros::Time::now();
 }
 
-HarvestObservation TopicHarvestPlant::makeObservation(bool with_effector) {
+geometry_msgs::PointStamped::ConstPtr TopicHarvestPlant::effectorOf(const ros::Time& stamp) const {
+  for (auto it = effectors_.rbegin(); it != effectors_.rend(); ++it)
+    if (std::abs(((*it)->header.stamp - stamp).toSec()) <= params_.effector_stamp_tolerance_s) return *it;
+  return nullptr;
+}
+
+std::optional<Point3> TopicHarvestPlant::calibratedEffector(const ros::Time& stamp) const {
+  const JointSample* best = nullptr;
+  for (const auto& j : joint_history_)
+    if (!best || std::abs((j.stamp - stamp).toSec()) < std::abs((best->stamp - stamp).toSec())) best = &j;
+  if (!best || std::abs((best->stamp - stamp).toSec()) > params_.joint_max_age_s) return std::nullopt;
+  return Point3{best->extension_m + params_.arm_extension_zero_x_m, params_.arm_y_m, best->depth_m};
+}
+
+HarvestObservation TopicHarvestPlant::makeObservation(const geometry_msgs::PointStamped::ConstPtr& effector) {
   HarvestObservation observation;
   observation.stamp_s = bolls_->header.stamp.toSec();
   observation.rover_position_m = rover_position_.value_or(0.0);
@@ -172,9 +215,12 @@ HarvestObservation TopicHarvestPlant::makeObservation(bool with_effector) {
     observation.bolls.push_back(BollSighting{Point3{boll.position.x, boll.position.y, boll.position.z}, boll.confidence,
                                              static_cast<bool>(boll.reachable)});
   }
-  if (with_effector && std::isfinite(effector_->point.x) && std::isfinite(effector_->point.y) &&
-      std::isfinite(effector_->point.z)) {
-    observation.end_effector = Point3{effector_->point.x, effector_->point.y, effector_->point.z};
+  if (effector && std::isfinite(effector->point.x) && std::isfinite(effector->point.y) &&
+      std::isfinite(effector->point.z)) {
+    observation.end_effector = Point3{effector->point.x, effector->point.y, effector->point.z};
+  } else if (params_.effector_from_calibration) {
+    observation.end_effector = calibratedEffector(bolls_->header.stamp);
+    if (observation.end_effector) ++effector_from_calibration_;
   }
   last_used_stamp_ = bolls_->header.stamp;
   return observation;
@@ -188,16 +234,24 @@ std::optional<HarvestObservation> TopicHarvestPlant::observe(const Preempted& pr
     fresh_after = std::max(action_end_ + ros::Duration(params_.settle_s), last_used_stamp_ + ros::Duration(1e-6));
   }
   const auto fresh = [&] { return bolls_ && bolls_->header.stamp >= fresh_after; };
-  const auto effector_matches = [&] {
-    return effector_ &&
-           std::abs((effector_->header.stamp - bolls_->header.stamp).toSec()) <= params_.effector_max_age_s;
-  };
-  const bool complete =
-      waitFor([&] { return fresh() && effector_matches(); }, params_.observe_timeout_s, preempted, &was_preempted);
+  if (!waitFor(fresh, params_.observe_timeout_s, preempted, &was_preempted)) return std::nullopt;
+  // The frame's own end effector follows its bolls; perception reports none when it did not find the housing,
+  // which the next frame's bolls (or the wait's end) show.
+  cotton_harvester::BollArray::ConstPtr frame;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    frame = bolls_;
+  }
+  const ros::Time stamp = frame->header.stamp;
+  waitFor([&] { return effectorOf(stamp) || bolls_ != frame; }, params_.effector_max_age_s, preempted, &was_preempted);
+  if (was_preempted) return std::nullopt;
   std::lock_guard<std::mutex> lock(mutex_);
-  if (complete) return makeObservation(true);
-  if (!was_preempted && fresh()) return makeObservation(false);  // bolls but no end effector: the machine decides
-  return std::nullopt;
+  const auto effector = effectorOf(stamp);
+  const cotton_harvester::BollArray::ConstPtr newest = bolls_;
+  bolls_ = frame;  // the observation is of the frame waited for
+  HarvestObservation observation = makeObservation(effector);
+  if (newest->header.stamp > frame->header.stamp) bolls_ = newest;
+  return observation;
 }
 
 MoveResult TopicHarvestPlant::moveRover(double distance_m, const Preempted& preempted) {
@@ -305,10 +359,17 @@ MoveResult TopicHarvestPlant::pick(double offset_m, const Preempted& preempted) 
   brush_pub_.publish(brush);
   bool was_preempted = false;
   waitFor([] { return false; }, params_.pick_dwell_s, preempted, &was_preempted);
-  brush.data = false;
-  brush_pub_.publish(brush);
+  if (!params_.vacuum_while_retracting || was_preempted) {
+    brush.data = false;
+    brush_pub_.publish(brush);
+    if (was_preempted) return MoveResult::kPreempted;
+  }
   result = moveArm(start, nan, preempted);
-  return was_preempted ? MoveResult::kPreempted : result;
+  if (params_.vacuum_while_retracting) {
+    brush.data = false;
+    brush_pub_.publish(brush);
+  }
+  return result;
 }
 
 }  // namespace control

@@ -8,6 +8,7 @@
 #include <deque>
 #include <mutex>
 #include <optional>
+#include <string>
 
 #include <geometry_msgs/PointStamped.h>
 #include <ros/ros.h>
@@ -26,7 +27,18 @@ namespace control {
 struct TopicPlantParams {
   double observe_timeout_s = 3.0;   ///< wait for a fresh frame at most this long
   double settle_s = 0.3;            ///< frames must be this much newer than the end of the last action
-  double effector_max_age_s = 0.5;  ///< end effector position this close to the frame's stamp
+  double effector_max_age_s = 0.5;  ///< wait at most this long (ROS time) for the frame's own end effector
+  /// The end effector must come from the frame the bolls came from (perception stamps both with the image's
+  /// stamp); an older frame's may show the arm where it was before its last move.
+  double effector_stamp_tolerance_s = 0.001;
+  /// When perception does not report the housing in a frame, the arm's calibrated position stands in: where
+  /// `manipulator/joint_states` (closest to the frame's stamp, within joint_max_age_s) puts the housing's top face,
+  /// camera-frame (extension + arm_extension_zero_x_m, arm_y_m, depth).
+  bool effector_from_calibration = false;
+  double joint_max_age_s = 0.15;
+  double arm_y_m = 0.0;  ///< camera-frame y of the housing's centre (the arm's plane) [m]
+  /// The vacuum stays on while the arm retracts from the boll (a boll caught late still follows the nozzle).
+  bool vacuum_while_retracting = true;
   double rover_tolerance_m = 0.05;  ///< a rover move is done within this of its target ...
   double rover_settle_s = 0.5;      ///< ... held this long
   double rover_timeout_s = 20.0;    ///< plus rover_timeout_per_m_s per metre: then the move failed
@@ -57,6 +69,12 @@ class TopicHarvestPlant : public HarvestPlant {
 
   /// Frames dropped: NaN points, frames without an end effector close in time.
   std::size_t rejectedFrames() const;
+  /// Observations whose end effector is the arm's calibrated position (perception did not report the housing).
+  std::size_t effectorFromCalibration() const;
+  /// True once the manipulator's joint states gave both axes.
+  bool hasArmState() const;
+  /// Checks the parameters; empty when sound, else "key: what is expected".
+  static std::string check(const TopicPlantParams& params);
 
  private:
   void onBolls(const cotton_harvester::BollArray::ConstPtr& msg);
@@ -74,14 +92,24 @@ class TopicHarvestPlant : public HarvestPlant {
   bool waitFor(Done done, double timeout_s, const Preempted& preempted, bool* was_preempted);
   MoveResult moveArm(double extension_m, double depth_m, const Preempted& preempted);
   void markActionEnd();
-  /// The current frame as an observation (mutex held); marks the frame used.
-  HarvestObservation makeObservation(bool with_effector);
+  /// The current frame as an observation (mutex held); marks the frame used. `effector`: the frame's own.
+  HarvestObservation makeObservation(const geometry_msgs::PointStamped::ConstPtr& effector);
+  /// The frame's end effector among the last few reported (mutex held), or null.
+  geometry_msgs::PointStamped::ConstPtr effectorOf(const ros::Time& stamp) const;
+  /// Where the arm's calibration puts the housing at `stamp` (mutex held), from the joint states.
+  std::optional<Point3> calibratedEffector(const ros::Time& stamp) const;
 
   TopicPlantParams params_;
   mutable std::mutex mutex_;
   std::condition_variable changed_;
   cotton_harvester::BollArray::ConstPtr bolls_;
-  geometry_msgs::PointStamped::ConstPtr effector_;
+  std::deque<geometry_msgs::PointStamped::ConstPtr> effectors_;  ///< the last few, to find a frame's own
+  struct JointSample {
+    ros::Time stamp;
+    double extension_m, depth_m;
+  };
+  std::deque<JointSample> joint_history_;  ///< the last second or so of complete joint states
+  std::size_t effector_from_calibration_ = 0;
   std::optional<double> rover_position_;
   std::optional<double> arm_extension_, arm_depth_;
   bool arm_busy_ = true;

@@ -333,6 +333,8 @@ class MujocoRoverSimNode {
       counts.skipped = static_cast<int>(value("skipped"));
       counts.pick_attempts = static_cast<int>(value("pick_attempts"));
       machine_picked_ = static_cast<int>(value("picked"));
+      stack_ee_fallback_ = value("ee_fallback_frames");
+      stack_no_effector_ = value("frames_without_end_effector");
       // The machine's own run time (its clock is the simulated /clock); at the time limit, since it started.
       const auto run_time = stack_.values.find("time_s");
       counts.time_s = outcome != "time_limit" && run_time != stack_.values.end()
@@ -360,15 +362,27 @@ class MujocoRoverSimNode {
     add("serial_rejected_bytes", static_cast<double>(bridge_.rejectedBytes()));
     add("lockstep_timeouts", lockstep_timeouts_);
     add("camera_lockstep_timeouts", camera_lockstep_timeouts_);
+    add("ee_fallback_frames", stack_ee_fallback_);  // the machine's frames with the arm's calibrated position
+    add("frames_without_end_effector", stack_no_effector_);
     metrics_pub_.publish(s);
     ROS_INFO(
         "mujoco_rover_sim: %s; bolls %d (reachable %d), detected %d, reached %d, picked %d (machine: %d); time %.1f s, "
         "CT %.1f s, ASR %.1f %%, DP %.1f %%, MRR %.1f %%, OV %.2f cm/s; %d frames; %.2fx real time; lockstep timeouts: "
-        "%d drive, %d camera",
+        "%d drive, %d camera; end effector from calibration %.0f, missing %.0f",
         outcome.c_str(), counts.bolls_present, reachable, counts.detected, counts.reached, counts.picked,
         machine_picked_, counts.time_s, m.cycle_time_s.value_or(0.0), m.action_success_pct.value_or(0.0),
         m.detection_performance_pct.value_or(0.0), m.reaching_ratio_pct.value_or(0.0), m.operation_velocity_cm_s,
-        frames_, wall_s > 0.0 ? sim_s / wall_s : 0.0, lockstep_timeouts_, camera_lockstep_timeouts_);
+        frames_, wall_s > 0.0 ? sim_s / wall_s : 0.0, lockstep_timeouts_, camera_lockstep_timeouts_, stack_ee_fallback_,
+        stack_no_effector_);
+    // Each boll the vacuum did not take, for comparing runs boll by boll (harvest_bench --verbose lists its own).
+    for (std::size_t i = 0; i < sim_.bolls().size(); ++i) {
+      const BollTruth& b = sim_.bolls()[i];
+      if (b.captured) continue;
+      ROS_INFO("mujoco_rover_sim: missed boll %zu (plant %d, x %.2f y %.2f z %.2f)%s; nozzle closest %.1f cm", i,
+               b.plant, b.centre.x(), b.centre.y(), b.centre.z(),
+               i < reachable_.size() && reachable_[i] ? "" : " unreachable",
+               std::isfinite(b.closest_vacuum_m) ? 100.0 * b.closest_vacuum_m : -1.0);
+    }
     std::string error;
     if (!config_.metrics_csv.empty() && !control::appendCsv(config_.metrics_csv, config_.run_name, counts, m, &error))
       ROS_ERROR("mujoco_rover_sim: %s", error.c_str());
@@ -389,6 +403,7 @@ class MujocoRoverSimNode {
   Eigen::Vector3d start_position_ = Eigen::Vector3d::Zero();
   int frames_ = 0;
   int machine_picked_ = 0;
+  double stack_ee_fallback_ = 0.0, stack_no_effector_ = 0.0;  ///< the machine's end-effector counts
 };
 
 }  // namespace

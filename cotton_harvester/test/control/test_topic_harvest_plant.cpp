@@ -1,0 +1,275 @@
+// TopicHarvestPlant against fake perception and manipulator topics: an observation takes the end effector of its
+// own frame only, the arm's calibrated position stands in when perception did not report the housing, and the
+// vacuum stays on while the arm retracts from the boll.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <functional>
+#include <future>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <geometry_msgs/PointStamped.h>
+#include <ros/ros.h>
+#include <sensor_msgs/JointState.h>
+#include <std_msgs/Bool.h>
+#include <std_msgs/Float64.h>
+
+#include "cotton_harvester/BollArray.h"
+#include "../../src/control/topic_harvest_plant.h"
+
+namespace cotton_harvester {
+namespace control {
+namespace {
+
+bool waitUntil(const std::function<bool()>& done, double timeout_s) {
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout_s);
+  while (ros::WallTime::now() < deadline) {
+    if (done()) return true;
+    ros::WallDuration(0.005).sleep();
+  }
+  return done();
+}
+
+const HarvestPlant::Preempted kNever = [] { return false; };
+
+/// A manipulator that goes to each target at once and reports it (joint states at 50 Hz of wall time), a
+/// perception that publishes what the test gives it, and a rover standing at 0.
+class FakeRover {
+ public:
+  explicit FakeRover(const std::string& ns) : nh_(ns) {
+    bolls_pub_ = nh_.advertise<cotton_harvester::BollArray>("bolls", 2);
+    effector_pub_ = nh_.advertise<geometry_msgs::PointStamped>("end_effector/position", 5);
+    joints_pub_ = nh_.advertise<sensor_msgs::JointState>("manipulator/joint_states", 5);
+    busy_pub_ = nh_.advertise<std_msgs::Bool>("manipulator/busy", 5);
+    rover_pub_ = nh_.advertise<std_msgs::Float64>("rover/position", 5);
+    target_sub_ = nh_.subscribe("manipulator/target", 5, &FakeRover::onTarget, this);
+    brush_sub_ = nh_.subscribe("manipulator/brush", 5, &FakeRover::onBrush, this);
+    timer_ = nh_.createWallTimer(ros::WallDuration(0.02), [this](const ros::WallTimerEvent&) { publishState(); });
+  }
+
+  bool connected() const {
+    return bolls_pub_.getNumSubscribers() > 0 && effector_pub_.getNumSubscribers() > 0 &&
+           joints_pub_.getNumSubscribers() > 0 && busy_pub_.getNumSubscribers() > 0 &&
+           target_sub_.getNumPublishers() > 0 && brush_sub_.getNumPublishers() > 0;
+  }
+
+  void publishFrame(const ros::Time& stamp, bool with_effector, double ee_x = 0.0, double ee_z = 0.0) {
+    cotton_harvester::BollArray bolls;
+    bolls.header.stamp = stamp;
+    cotton_harvester::Boll b;
+    b.position.x = -0.2;
+    b.position.y = 0.01;
+    b.position.z = 1.5;
+    b.confidence = 0.9f;
+    b.reachable = true;
+    bolls.bolls.push_back(b);
+    bolls_pub_.publish(bolls);
+    if (with_effector) publishEffector(stamp, ee_x, ee_z);
+  }
+
+  void publishEffector(const ros::Time& stamp, double x, double z) {
+    geometry_msgs::PointStamped p;
+    p.header.stamp = stamp;
+    p.point.x = x;
+    p.point.y = 0.0;
+    p.point.z = z;
+    effector_pub_.publish(p);
+  }
+
+  /// The arm's extension each time the brush was switched (true: on).
+  std::vector<std::pair<bool, double>> brushEvents() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return brush_events_;
+  }
+  double extension() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return extension_;
+  }
+  double depth() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return depth_;
+  }
+
+ private:
+  void onTarget(const geometry_msgs::PointStamped::ConstPtr& msg) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (std::isfinite(msg->point.x)) target_extension_ = msg->point.x;
+    if (std::isfinite(msg->point.z)) target_depth_ = msg->point.z;
+  }
+  void onBrush(const std_msgs::Bool::ConstPtr& msg) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    brush_events_.emplace_back(msg->data, extension_);
+  }
+  void publishState() {
+    sensor_msgs::JointState joints;
+    joints.header.stamp = ros::Time::now();
+    joints.name = {"horizontal", "vertical"};
+    bool moving = false;
+    {
+      // The axes move 1 cm per tick towards their targets, so a move of several centimetres takes several ticks.
+      std::lock_guard<std::mutex> lock(mutex_);
+      extension_ += std::clamp(target_extension_ - extension_, -kStep, kStep);
+      depth_ += std::clamp(target_depth_ - depth_, -kStep, kStep);
+      moving = extension_ != target_extension_ || depth_ != target_depth_;
+      joints.position = {extension_, depth_};
+    }
+    joints_pub_.publish(joints);
+    std_msgs::Bool busy;
+    busy.data = moving;
+    busy_pub_.publish(busy);
+    std_msgs::Float64 rover;
+    rover.data = 0.0;
+    rover_pub_.publish(rover);
+  }
+
+  ros::NodeHandle nh_;
+  ros::Publisher bolls_pub_, effector_pub_, joints_pub_, busy_pub_, rover_pub_;
+  ros::Subscriber target_sub_, brush_sub_;
+  ros::WallTimer timer_;
+  mutable std::mutex mutex_;
+  static constexpr double kStep = 0.01;
+  double extension_ = 0.35, depth_ = 1.2, target_extension_ = 0.35, target_depth_ = 1.2;
+  std::vector<std::pair<bool, double>> brush_events_;
+};
+
+std::string uniqueNamespace() {
+  static std::atomic<int> n{0};
+  return "plant_test_" + std::to_string(++n);
+}
+
+TopicPlantParams testParams() {
+  TopicPlantParams p;
+  p.settle_s = 0.0;
+  p.observe_timeout_s = 5.0;
+  p.effector_max_age_s = 0.5;
+  p.pick_dwell_s = 0.2;
+  p.arm_timeout_s = 10.0;
+  p.arm_extension_zero_x_m = -0.55;
+  p.arm_y_m = 0.02;
+  p.joint_max_age_s = 1.0;  // joint states at 50 Hz of wall time, however loaded the machine
+  return p;
+}
+
+struct Rig {
+  explicit Rig(const TopicPlantParams& params) : ns(uniqueNamespace()), fake(ns), nh(ns), plant(nh, params) {
+    EXPECT_TRUE(waitUntil([this] { return fake.connected(); }, 30.0)) << "topics did not connect";
+    // The plant has the arm's joint states before the test starts.
+    EXPECT_TRUE(waitUntil([this] { return plant.hasArmState(); }, 30.0)) << "no joint states";
+  }
+  std::string ns;
+  FakeRover fake;
+  ros::NodeHandle nh;
+  TopicHarvestPlant plant;
+};
+
+TEST(TopicHarvestPlant, ObservationTakesItsOwnFramesEndEffector) {
+  Rig rig(testParams());
+  const ros::Time now = ros::Time::now();
+  rig.fake.publishFrame(now, true, -0.20, 1.40);
+  ros::WallDuration(0.1).sleep();
+  auto first = rig.plant.observe(kNever);
+  ASSERT_TRUE(first);
+  ASSERT_TRUE(first->end_effector);
+  EXPECT_NEAR(first->end_effector->x, -0.20, 1e-9);
+  EXPECT_NEAR(first->end_effector->z, 1.40, 1e-9);
+
+  // A newer frame without its own end effector: the older frame's is not taken for it (the arm may have moved).
+  rig.fake.publishFrame(now + ros::Duration(0.25), false);
+  auto second = rig.plant.observe(kNever);
+  ASSERT_TRUE(second);
+  EXPECT_EQ(second->bolls.size(), 1u);
+  EXPECT_FALSE(second->end_effector);
+  EXPECT_EQ(rig.plant.effectorFromCalibration(), 0u);
+}
+
+TEST(TopicHarvestPlant, CalibratedPositionStandsInWhenPerceptionMissesTheHousing) {
+  TopicPlantParams params = testParams();
+  params.effector_from_calibration = true;
+  Rig rig(params);
+  rig.fake.publishFrame(ros::Time::now(), false);
+  auto obs = rig.plant.observe(kNever);
+  ASSERT_TRUE(obs);
+  ASSERT_TRUE(obs->end_effector);
+  // extension 0.35 and depth 1.2 (the fake arm's rest) through the calibration
+  EXPECT_NEAR(obs->end_effector->x, 0.35 - 0.55, 1e-9);
+  EXPECT_NEAR(obs->end_effector->y, 0.02, 1e-9);
+  EXPECT_NEAR(obs->end_effector->z, 1.2, 1e-9);
+  EXPECT_EQ(rig.plant.effectorFromCalibration(), 1u);
+
+  // Perception's own position wins when it reports one.
+  const ros::Time stamp = ros::Time::now();
+  rig.fake.publishFrame(stamp, true, -0.19, 1.22);
+  auto seen = rig.plant.observe(kNever);
+  ASSERT_TRUE(seen && seen->end_effector);
+  EXPECT_NEAR(seen->end_effector->x, -0.19, 1e-9);
+  EXPECT_EQ(rig.plant.effectorFromCalibration(), 1u);
+}
+
+TEST(TopicHarvestPlant, NoCalibratedPositionFromStaleJointStates) {
+  TopicPlantParams params = testParams();
+  params.effector_from_calibration = true;
+  Rig rig(params);
+  // A frame stamped 5 s back: no joint state near it.
+  rig.fake.publishFrame(ros::Time::now() - ros::Duration(5.0), false);
+  auto obs = rig.plant.observe(kNever);
+  ASSERT_TRUE(obs);
+  EXPECT_FALSE(obs->end_effector);
+  EXPECT_EQ(rig.plant.effectorFromCalibration(), 0u);
+}
+
+TEST(TopicHarvestPlant, VacuumStaysOnWhileTheArmRetracts) {
+  Rig rig(testParams());
+  const double start = rig.fake.extension();
+  EXPECT_EQ(rig.plant.pick(0.20, kNever), MoveResult::kDone);
+  ASSERT_TRUE(waitUntil([&] { return rig.fake.brushEvents().size() >= 2; }, 10.0));
+  const auto events = rig.fake.brushEvents();
+  ASSERT_EQ(events.size(), 2u);
+  EXPECT_TRUE(events[0].first);
+  EXPECT_NEAR(events[0].second, start + 0.20, 1e-9);  // on at the boll
+  EXPECT_FALSE(events[1].first);
+  EXPECT_NEAR(events[1].second, start, 1e-9);  // off only once the arm is back
+  EXPECT_NEAR(rig.fake.extension(), start, 1e-9);
+}
+
+TEST(TopicHarvestPlant, VacuumOffBeforeRetractingWhenAsked) {
+  TopicPlantParams params = testParams();
+  params.vacuum_while_retracting = false;
+  Rig rig(params);
+  const double start = rig.fake.extension();
+  EXPECT_EQ(rig.plant.pick(0.15, kNever), MoveResult::kDone);
+  ASSERT_TRUE(waitUntil([&] { return rig.fake.brushEvents().size() >= 2; }, 10.0));
+  const auto events = rig.fake.brushEvents();
+  ASSERT_EQ(events.size(), 2u);
+  EXPECT_FALSE(events[1].first);
+  EXPECT_GT(events[1].second, start + 0.10);  // off at the boll, before the arm has come far back
+}
+
+TEST(TopicHarvestPlant, ParametersAreChecked) {
+  TopicPlantParams p = testParams();
+  EXPECT_EQ(TopicHarvestPlant::check(p), "");
+  p.joint_max_age_s = 0.0;
+  EXPECT_NE(TopicHarvestPlant::check(p).find("joint_max_age_s"), std::string::npos);
+  p = testParams();
+  p.arm_y_m = std::nan("");
+  EXPECT_NE(TopicHarvestPlant::check(p).find("arm_y_m"), std::string::npos);
+  p = testParams();
+  p.effector_stamp_tolerance_s = -1.0;
+  EXPECT_NE(TopicHarvestPlant::check(p).find("effector_stamp_tolerance_s"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace control
+}  // namespace cotton_harvester
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_topic_harvest_plant");
+  ros::NodeHandle nh;
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  return RUN_ALL_TESTS();
+}
