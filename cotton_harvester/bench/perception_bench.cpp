@@ -104,6 +104,8 @@ SceneParams sceneFor(int frame, const CameraIntrinsics& intrinsics) {
     scene.leaves_per_plant = 34;
     scene.leaf_over_boll_probability = 0.5;
   }
+  // Every other frame: white things that are not bolls (labels, bags, aluminium, large stones).
+  if (frame % 2 == 1) scene.clutter_items = 3;
   // A camera a little higher or lower than the paper's 2.20 m (terrain, a re-mounted camera).
   scene.camera_height_m = 2.20 + 0.1 * ((frame % 5) - 2) / 2.0;
   return scene;
@@ -139,7 +141,7 @@ int main(int argc, char** argv) {
   };
   const Resolution resolutions[] = {{1280, 720, frames}, {640, 360, other_frames}, {1920, 1080, other_frames}};
 
-  ScoreSummary by_light[3], by_resolution[3], all, all_paper, all_rgb, all_window, all_no_partial;
+  ScoreSummary by_light[3], by_resolution[3], all, all_paper, all_rgb, all_window, all_no_partial, all_arc_test;
   CaseStats by_case[3];
   Timing colour_time, colour_cpu, dnn_time, render_time;
   int total = 0;
@@ -163,6 +165,9 @@ int main(int argc, char** argv) {
     ColourBollParams no_partial;
     no_partial.partial_min_visible = 0.0;
     PerceptionPipeline colour_no_partial(params, std::make_unique<ColourBollDetector>(no_partial));
+    ColourBollParams arc_test;
+    arc_test.whole_needs_arc = true;
+    PerceptionPipeline colour_arc_test(params, std::make_unique<ColourBollDetector>(arc_test));
     std::unique_ptr<PerceptionPipeline> dnn;
     if (r == 0 && dnn_frames > 0)
       dnn = std::make_unique<PerceptionPipeline>(params, std::make_unique<DarknetBollDetector>(darknet));
@@ -188,6 +193,7 @@ int main(int argc, char** argv) {
       all_paper.add(scoreFrame(colour_paper.process(frame.bgr, frame.cloud), frame.layout, ScoringParams{}));
       all_window.add(scoreFrame(colour_window.process(frame.bgr, frame.cloud), frame.layout, ScoringParams{}));
       all_no_partial.add(scoreFrame(colour_no_partial.process(frame.bgr, frame.cloud), frame.layout, ScoringParams{}));
+      all_arc_test.add(scoreFrame(colour_arc_test.process(frame.bgr, frame.cloud), frame.layout, ScoringParams{}));
       all_rgb.add(scoreFrame(colour_rgb.process(frame.bgr, frame.cloud), frame.layout, ScoringParams{}));
       if (dnn && i < dnn_frames) dnn_time.ms.push_back(timeMs([&] { dnn->process(frame.bgr, frame.cloud); }));
       if ((done + 1) % 10 == 0 || done + 1 == total) {
@@ -219,6 +225,7 @@ int main(int argc, char** argv) {
   printScores("all (EE: paper's RGB)", all_rgb);
   printScores("all (depth: 5x5 window)", all_window);
   printScores("all (no partial bolls)", all_no_partial);
+  printScores("all (whole: arc test)", all_arc_test);
   std::printf("\n%-26s %6s %6s %7s %10s %10s\n", "bolls by case (all sizes)", "found", "missed", "recall", "3D err m",
               "p95 err m");
   for (int c = 0; c < 3; ++c) {

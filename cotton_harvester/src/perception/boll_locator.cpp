@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <limits>
 #include <cmath>
 #include <sstream>
 #include <vector>
@@ -36,6 +37,84 @@ double median(std::vector<double>& values) {
   double m = values[middle];
   if (values.size() % 2 == 0) m = 0.5 * (m + *std::max_element(values.begin(), values.begin() + middle));
   return m;
+}
+
+/// A valid cloud point under a boll's outline: its pixel and its range [m].
+struct SurfaceSample {
+  cv::Vec3d ray;  ///< unit viewing ray of its pixel
+  double range_m = 0.0;
+};
+
+cv::Vec3d unitRay(const cv::Point2d& pixel, const CameraIntrinsics& k) {
+  const cv::Vec3d r((pixel.x - k.cx) / k.fx, (pixel.y - k.cy) / k.fy, 1.0);
+  return r / cv::norm(r);
+}
+
+/// The point of a sphere nearest the lens: its pixel and range.
+struct Apex {
+  cv::Point2d pixel;
+  double range_m = 0.0;
+};
+
+/// The sphere's range profile: a sphere of centre distance `distance` [m] and half angle asin(sin_a) whose centre
+/// lies along the unit ray `axis`, seen along the unit ray `ray`. NaN off the sphere.
+double sphereRange(const cv::Vec3d& ray, const cv::Vec3d& axis, double distance, double sin_a) {
+  const double cos_t = std::min(1.0, axis.dot(ray));
+  const double sin2_t = std::max(0.0, 1.0 - cos_t * cos_t);
+  if (sin2_t > sin_a * sin_a) return std::numeric_limits<double>::quiet_NaN();
+  return distance * (cos_t - std::sqrt(sin_a * sin_a - sin2_t));
+}
+
+/// Fits the apex pixel and the sphere's distance to the samples' ranges (Gauss-Newton on the sphere's range profile
+/// with the half angle fixed; samples more than 3 robust sigmas off the fit are left out after the first pass). The
+/// apex is the surface point on the ray through the sphere's centre wherever the boll's white part lies on it.
+/// std::nullopt when the fit does not settle within half the disc's radius of `start`.
+std::optional<Apex> fitApex(const std::vector<SurfaceSample>& samples, const cv::Point2d& start, double radius_px,
+                            double distance, double sin_a, const CameraIntrinsics& k) {
+  if (samples.size() < 12) return std::nullopt;
+  cv::Point2d apex = start;
+  std::vector<char> used(samples.size(), 1);
+  constexpr double kStep = 0.25;  // [px], numerical derivative
+  for (int iteration = 0; iteration < 5; ++iteration) {
+    const cv::Vec3d axis = unitRay(apex, k), axis_u = unitRay(apex + cv::Point2d(kStep, 0.0), k),
+                    axis_v = unitRay(apex + cv::Point2d(0.0, kStep), k);
+    cv::Matx33d normal = cv::Matx33d::zeros();
+    cv::Vec3d rhs(0.0, 0.0, 0.0);
+    std::vector<double> residuals;
+    residuals.reserve(samples.size());
+    for (size_t i = 0; i < samples.size(); ++i) {
+      const SurfaceSample& sample = samples[i];
+      const double model = sphereRange(sample.ray, axis, distance, sin_a);
+      const double du = sphereRange(sample.ray, axis_u, distance, sin_a);
+      const double dv = sphereRange(sample.ray, axis_v, distance, sin_a);
+      if (!std::isfinite(model) || !std::isfinite(du) || !std::isfinite(dv)) continue;
+      const double error = sample.range_m - model;
+      residuals.push_back(std::abs(error));
+      if (!used[i]) continue;
+      const cv::Vec3d j((du - model) / kStep, (dv - model) / kStep, model / distance);
+      for (int r = 0; r < 3; ++r) {
+        rhs[r] += j[r] * error;
+        for (int c = 0; c < 3; ++c) normal(r, c) += j[r] * j[c];
+      }
+    }
+    if (residuals.size() < 12) return std::nullopt;
+    cv::Vec3d step;
+    if (!cv::solve(normal, rhs, step, cv::DECOMP_CHOLESKY)) return std::nullopt;
+    apex += cv::Point2d(step[0], step[1]);
+    distance += step[2];
+    if (!std::isfinite(apex.x) || !std::isfinite(apex.y) || !(distance > 0.0)) return std::nullopt;
+    if (cv::norm(apex - start) > 0.5 * radius_px) return std::nullopt;
+    // Outliers (a leaf's edge, the ground past the rim) against the first fit's robust spread.
+    if (iteration == 0) {
+      const double sigma = 1.4826 * median(residuals);
+      const cv::Vec3d moved = unitRay(apex, k);
+      for (size_t i = 0; i < samples.size(); ++i) {
+        const double model = sphereRange(samples[i].ray, moved, distance, sin_a);
+        used[i] = std::isfinite(model) && std::abs(samples[i].range_m - model) <= 3.0 * sigma + 1e-4;
+      }
+    }
+  }
+  return Apex{apex, distance * (1.0 - sin_a)};
 }
 
 }  // namespace
@@ -121,6 +200,7 @@ std::optional<LocatedPoint> locateBollSurface(const cv::Mat& cloud, const std::v
   const int stride = std::max(1, static_cast<int>(std::sqrt(box.area() / 2000.0)));
   const double rim = 0.8 * sin_a;
   std::vector<double> ranges;
+  std::vector<SurfaceSample> samples;
   for (int row = 0; row < box.height; row += stride) {
     const uint8_t* in = inside.ptr<uint8_t>(row);
     const cv::Vec3f* points = cloud.ptr<cv::Vec3f>(box.y + row);
@@ -134,13 +214,30 @@ std::optional<LocatedPoint> locateBollSurface(const cv::Mat& cloud, const std::v
       // Range of the sphere's near surface along this pixel's ray, per unit distance D of the sphere's centre.
       const double per_distance = cos_t - std::sqrt(sin_a * sin_a - sin_t * sin_t);
       ranges.push_back(d / per_distance * (1.0 - sin_a));
+      samples.push_back({ray(box.x + col, box.y + row), d});
     }
   }
   if (static_cast<int>(ranges.size()) < params.min_valid_points) return std::nullopt;
   LocatedPoint located;
   located.valid_points = static_cast<int>(ranges.size());
   located.range_m = median(ranges);
-  located.position = backProject(intrinsics, centre, located.range_m, params.depth_model);
+  cv::Point2d apex = centre;
+  if (params.apex_fit) {
+    // The range of the surface at the disc's centre fixes the sphere's size; its apex is then fitted.
+    const double distance = located.range_m / (1.0 - sin_a);
+    // A few hundred points fix three parameters well; more only cost time.
+    constexpr size_t kFitSamples = 400;
+    if (samples.size() > kFitSamples) {
+      const size_t step = (samples.size() + kFitSamples - 1) / kFitSamples;
+      for (size_t i = 0; i * step < samples.size(); ++i) samples[i] = samples[i * step];
+      samples.resize((samples.size() + step - 1) / step);
+    }
+    if (const std::optional<Apex> fitted = fitApex(samples, centre, radius_px, distance, sin_a, intrinsics)) {
+      apex = fitted->pixel;
+      located.range_m = fitted->range_m;
+    }
+  }
+  located.position = backProject(intrinsics, apex, located.range_m, params.depth_model);
   return located;
 }
 

@@ -169,6 +169,7 @@ void ColourBollDetector::detectRegion(const std::vector<cv::Point>& contour, con
     const double disc_share = circle ? area / (CV_PI * circle->radius_px * circle->radius_px) : 0.0;
     const bool hidden_boll = !whole && circle && params_.partial_min_visible > 0.0 &&
                              disc_share >= params_.partial_min_visible && disc_share <= 1.15;
+    if (whole && params_.whole_needs_arc && !circle) return;
     if (!whole && !partial && !hidden_boll) return;
     const cv::Moments m = cv::moments(contour);
     BollDetection boll;

@@ -96,9 +96,9 @@ bool PerceptionPipeline::plausible(const BollDetection& detection, const cv::Poi
   const double focal = 0.5 * (params_.intrinsics.fx + params_.intrinsics.fy);
   const double extent_m = 0.5 * std::max(detection.box.width, detection.box.height) * position.z / focal;
   if (!(extent_m >= 0.4 * g.boll_radius_min_m && extent_m <= 1.5 * g.boll_radius_max_m)) return false;
-  // A partly hidden boll is accepted for its disc, which must then be a boll's at the measured depth (the white part
-  // of a boll ends a little inside its silhouette: 0.75 of the smallest).
-  if (!detection.partial || !(detection.radius_px > 0.0)) return true;
+  // A detector that estimates the boll's disc: it must be a boll's at the measured depth (the white part of a boll
+  // ends a little inside its silhouette: 0.75 of the smallest).
+  if (!(detection.radius_px > 0.0)) return true;
   const double radius_m = detection.radius_px * position.z / focal;
   return radius_m >= 0.75 * g.boll_radius_min_m && radius_m <= 1.2 * g.boll_radius_max_m;
 }

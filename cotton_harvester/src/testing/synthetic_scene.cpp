@@ -84,6 +84,7 @@ std::string validate(const SceneParams& p) {
   if (!(p.exposure_min > 0.0 && p.exposure_max >= p.exposure_min)) error << "exposure must satisfy 0 < min <= max; ";
   if (!(p.white_balance_jitter >= 0.0 && p.white_balance_jitter < 0.5))
     error << "white_balance_jitter must be in [0, 0.5); ";
+  if (p.clutter_items < 0 || p.clutter_items > 100) error << "clutter_items must be in [0, 100]; ";
   for (const double share : {p.end_effector_sheen_max, p.touching_probability, p.leaf_over_boll_probability})
     if (!(share >= 0.0 && share <= 1.0)) error << "end_effector_sheen_max and the probabilities must be in [0, 1]; ";
   return error.str();
@@ -214,6 +215,40 @@ SceneLayout generateLayout(const SceneParams& params, std::uint32_t seed) {
     layout.primitives.push_back(flat(Shape::kEllipse, Kind::kStone,
                                      {draw.uniform(-1.3, 1.3), draw.uniform(-0.8, 0.8), ground - 0.005}, r,
                                      r * draw.uniform(0.6, 1.0), draw.uniform(-CV_PI, CV_PI), {0.55f, 0.60f, 0.66f}));
+  }
+  // White clutter, drawn last so that the rest of the scene does not depend on it.
+  for (int i = 0; i < params.clutter_items; ++i) {
+    const cv::Point2d at(draw.uniform(-1.0, 1.0), draw.uniform(-0.6, 0.6));
+    const double angle = draw.uniform(-CV_PI, CV_PI);
+    const float white = static_cast<float>(draw.uniform(0.80, 0.95));
+    switch (draw.integer(0, 3)) {
+      case 0: {  // a plant label on a stake
+        const double a = draw.uniform(0.02, 0.05);
+        layout.primitives.push_back(flat(Shape::kRectangle, Kind::kClutter,
+                                         {at.x, at.y, ground - draw.uniform(0.3, 1.0)}, a, a * draw.uniform(0.4, 0.8),
+                                         angle, {white, white, white}));
+        break;
+      }
+      case 1: {  // a plastic bag caught in a plant
+        const double a = draw.uniform(0.04, 0.10);
+        layout.primitives.push_back(flat(Shape::kEllipse, Kind::kClutter, {at.x, at.y, ground - draw.uniform(0.2, 0.9)},
+                                         a, a * draw.uniform(0.5, 0.9), angle, {white, white, white}));
+        break;
+      }
+      case 2: {  // a piece of aluminium (a pipe, a frame's bar)
+        const float grey = 0.8f * white;
+        layout.primitives.push_back(flat(Shape::kRectangle, Kind::kClutter,
+                                         {at.x, at.y, ground - draw.uniform(0.02, 0.5)}, draw.uniform(0.10, 0.30),
+                                         draw.uniform(0.008, 0.02), angle, {grey, grey, grey * 0.98f}));
+        break;
+      }
+      default: {  // a large white stone
+        const double a = draw.uniform(0.02, 0.05);
+        layout.primitives.push_back(flat(Shape::kEllipse, Kind::kClutter, {at.x, at.y, ground - 0.01}, a,
+                                         a * draw.uniform(0.6, 1.0), angle, {white, white, white}));
+        break;
+      }
+    }
   }
   return layout;
 }

@@ -23,15 +23,23 @@ class HandMadeFrame {
  public:
   HandMadeFrame() : image(720, 1280, CV_8UC3, cv::Scalar(60, 100, 140)), depth(720, 1280, CV_64F, cv::Scalar(2.2)) {}
 
-  /// A boll is a sphere whose nearest point is at depth d.z: a pixel rho px from the disc's centre lies deeper by
-  /// the sphere's sagitta, (z / f) (R - sqrt(R^2 - rho^2)) with R the disc's radius [px].
+  /// A boll is a sphere whose nearest point to the lens lies on the ray through the disc's centre at depth d.z, its
+  /// radius the disc's at that distance; the depth of each pixel is where its ray meets the sphere.
   void addBoll(const Disc& d) {
     cv::circle(image, d.centre, d.radius_px, cv::Scalar(235, 238, 240), cv::FILLED);
-    const double f = CameraIntrinsics{}.fx, r = d.radius_px;
-    for (int v = d.centre.y - d.radius_px; v <= d.centre.y + d.radius_px; ++v)
-      for (int u = d.centre.x - d.radius_px; u <= d.centre.x + d.radius_px; ++u) {
-        const double rho2 = double(u - d.centre.x) * (u - d.centre.x) + double(v - d.centre.y) * (v - d.centre.y);
-        if (rho2 <= r * r) depth.at<double>(v, u) = d.z + d.z / f * (r - std::sqrt(r * r - rho2));
+    const CameraIntrinsics k;
+    const auto ray = [&k](double u, double v) {
+      const cv::Vec3d r((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
+      return r / cv::norm(r);
+    };
+    const cv::Vec3d axis = ray(d.centre.x, d.centre.y);
+    const double apex = d.z / axis[2], radius = apex * d.radius_px / k.fx;
+    const cv::Vec3d centre = axis * (apex + radius);
+    for (int v = d.centre.y - d.radius_px - 2; v <= d.centre.y + d.radius_px + 2; ++v)
+      for (int u = d.centre.x - d.radius_px - 2; u <= d.centre.x + d.radius_px + 2; ++u) {
+        const cv::Vec3d r = ray(u, v);
+        const double b = r.dot(centre), disc = b * b - (centre.dot(centre) - radius * radius);
+        if (disc >= 0.0) depth.at<double>(v, u) = (b - std::sqrt(disc)) * r[2];
       }
   }
   void addEndEffector(const cv::Rect& r, double z) {
@@ -90,7 +98,8 @@ TEST(PerceptionPipeline, LocatesBollsEndEffectorAndTheNearestReachable) {
       EXPECT_NEAR(z, 1.2, 1e-3);
     }
     if (std::abs(u - 1200) < 2) {
-      EXPECT_NEAR(z, 1.3, 1e-3);
+      // 36 degrees off the optical axis the sphere's image is an ellipse, not the fitted circle: 2 mm.
+      EXPECT_NEAR(z, 1.3, 2e-3);
       EXPECT_FALSE(boll.reachable);
     }
     reachable += boll.reachable;

@@ -22,6 +22,11 @@ struct LocatorParams {
   /// Bolls whose detector estimates their disc (ColourBollDetector) are located from their visible surface at the
   /// disc's centre (locateBollSurface); false: the window around the visible centroid, as for box detectors.
   bool boll_surface = true;
+  /// With boll_surface: the surface point nearest the lens (on the ray through the boll's centre) is fitted to the
+  /// visible surface's ranges instead of taken at the centre of the white disc, which lies off that ray where the
+  /// white lint covers the boll's top rather than the side facing the camera. Needs a depth noise that is not
+  /// correlated over the whole boll (see the package README).
+  bool apex_fit = true;
 };
 
 std::string validate(const LocatorParams& params);

@@ -44,6 +44,10 @@ struct ColourBollParams {
   double partial_min_visible = 0.35;
   double circle_max_rms_fraction = 0.08;  ///< [-]
   double circle_min_arc_deg = 135.0;      ///< [deg]
+  /// true: a region that passes the whole-boll shape tests must also show a boll's arc (as above), which refuses
+  /// straight-sided white things (labels, pieces of a bar) but also sunlit bolls whose lobes and shading make their
+  /// outline ragged (recall drops by several points on perception_bench's sunny frames). false: the shape tests alone.
+  bool whole_needs_arc = false;
 };
 
 /// Returns an empty string when valid, otherwise the bad field and what was expected.

@@ -53,12 +53,16 @@ struct SceneParams {
   double touching_probability = 0.3;
   /// Chance that a leaf lies just above a boll, hiding part of it [0, 1].
   double leaf_over_boll_probability = 0.3;
+  /// White and bright things that are not bolls, this many in view: plant labels on stakes, plastic bags caught in
+  /// the plants, pieces of aluminium, large white stones (kClutter). 0: none, and the rest of the scene is drawn
+  /// exactly as without the option [-].
+  int clutter_items = 0;
 };
 
 /// A shape of the scene. Planar shapes are horizontal (facing the camera) at depth centre.z.
 struct ScenePrimitive {
   enum class Shape { kEllipse, kRectangle, kSphere };
-  enum class Kind { kLeaf, kStem, kBoll, kArm, kPost, kEndEffector, kGlint, kStone };
+  enum class Kind { kLeaf, kStem, kBoll, kArm, kPost, kEndEffector, kGlint, kStone, kClutter };
   Shape shape = Shape::kEllipse;
   Kind kind = Kind::kLeaf;
   cv::Point3d centre;                  ///< [m]
