@@ -75,6 +75,10 @@ TopicPlantParams loadPlantParams(const NodeParams& params) {
   p.joint_max_age_s = readPositive(params, "joint_max_age_s", p.joint_max_age_s);
   p.arm_y_m = readDouble(params, "arm_y_m", p.arm_y_m);
   p.vacuum_while_retracting = readBool(params, "vacuum_while_retracting", p.vacuum_while_retracting);
+  p.horizontal_min_m = readDouble(params, "horizontal_min_m", p.horizontal_min_m);
+  p.horizontal_max_m = readDouble(params, "horizontal_max_m", p.horizontal_max_m);
+  p.vertical_min_m = readDouble(params, "vertical_min_m", p.vertical_min_m);
+  p.vertical_max_m = readDouble(params, "vertical_max_m", p.vertical_max_m);
   requireSound(params, TopicHarvestPlant::check(p));
   return p;
 }

@@ -127,7 +127,17 @@ class ManipulatorNode {
       a.position = report.position_steps;
       a.moving = report.moving;
       if (!report.moving) a.awaiting = false;
-      if (report.limit && !report.moving) ++a.limit_hits;
+      if (report.limit && !report.moving) {
+        // The axis stopped at its end stop short of the target: the move ends there (sending it again would only
+        // hit the stop again and keep the arm busy for ever).
+        ++a.limit_hits;
+        if (a.target && a.position && *a.target != *a.position) {
+          ROS_WARN("manipulator: %s axis at its end stop (%d steps) short of the target (%d steps): target dropped",
+                   report.target == ManipulatorReport::Target::kHorizontal ? "horizontal" : "vertical", *a.position,
+                   *a.target);
+          a.target = a.position;
+        }
+      }
     }
     for (Axis which : {Axis::kHorizontal, Axis::kVertical}) {
       AxisState& a = axis(which);

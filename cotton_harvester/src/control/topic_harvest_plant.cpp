@@ -163,6 +163,10 @@ std::string TopicHarvestPlant::check(const TopicPlantParams& p) {
   for (const auto& [key, v] : positive)
     if (!(v > 0.0) || !std::isfinite(v)) return std::string(key) + ": expected > 0";
   if (!std::isfinite(p.arm_y_m)) return "arm_y_m: expected a finite number";
+  if (!(p.horizontal_min_m >= 0.0 && p.horizontal_min_m < p.horizontal_max_m && std::isfinite(p.horizontal_max_m)))
+    return "horizontal_min_m, horizontal_max_m: expected 0 <= min < max";
+  if (!(p.vertical_min_m >= 0.0 && p.vertical_min_m < p.vertical_max_m && std::isfinite(p.vertical_max_m)))
+    return "vertical_min_m, vertical_max_m: expected 0 <= min < max";
   if (!std::isfinite(p.arm_extension_zero_x_m)) return "arm_extension_zero_x_m: expected a finite number";
   return p.leaves.check();
 }
@@ -234,7 +238,11 @@ std::optional<HarvestObservation> TopicHarvestPlant::observe(const Preempted& pr
     fresh_after = std::max(action_end_ + ros::Duration(params_.settle_s), last_used_stamp_ + ros::Duration(1e-6));
   }
   const auto fresh = [&] { return bolls_ && bolls_->header.stamp >= fresh_after; };
-  if (!waitFor(fresh, params_.observe_timeout_s, preempted, &was_preempted)) return std::nullopt;
+  if (!waitFor(fresh, params_.observe_timeout_s, preempted, &was_preempted)) {
+    if (!was_preempted)
+      ROS_WARN("harvest plant: no frame from perception (bolls) within %.1f s", params_.observe_timeout_s);
+    return std::nullopt;
+  }
   // The frame's own end effector follows its bolls; perception reports none when it did not find the housing,
   // which the next frame's bolls (or the wait's end) show.
   cotton_harvester::BollArray::ConstPtr frame;
@@ -295,10 +303,18 @@ MoveResult TopicHarvestPlant::moveRover(double distance_m, const Preempted& pree
       timeout, preempted, &was_preempted);
   markActionEnd();
   if (was_preempted) return MoveResult::kPreempted;
+  if (!arrived) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ROS_WARN("harvest plant: the rover did not settle at %.3f m within %.1f s: at %.3f m%s", target, timeout,
+             rover_position_.value_or(std::nan("")), raise_arm && arm_busy_ ? ", the arm still rising" : "");
+  }
   return arrived ? MoveResult::kDone : MoveResult::kFailed;
 }
 
 MoveResult TopicHarvestPlant::moveArm(double extension_m, double depth_m, const Preempted& preempted) {
+  if (std::isfinite(extension_m))
+    extension_m = std::clamp(extension_m, params_.horizontal_min_m, params_.horizontal_max_m);
+  if (std::isfinite(depth_m)) depth_m = std::clamp(depth_m, params_.vertical_min_m, params_.vertical_max_m);
   geometry_msgs::PointStamped target;
   target.header.stamp = ros::Time::now();
   target.header.frame_id = "manipulator";
@@ -322,6 +338,12 @@ MoveResult TopicHarvestPlant::moveArm(double extension_m, double depth_m, const 
       params_.arm_timeout_s, preempted, &was_preempted);
   markActionEnd();
   if (was_preempted) return MoveResult::kPreempted;
+  if (!arrived) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ROS_WARN("harvest plant: the arm did not reach (%.3f, %.3f) within %.1f s: at (%.3f, %.3f)%s", extension_m, depth_m,
+             params_.arm_timeout_s, arm_extension_.value_or(std::nan("")), arm_depth_.value_or(std::nan("")),
+             arm_busy_ ? ", still busy" : "");
+  }
   return arrived ? MoveResult::kDone : MoveResult::kFailed;
 }
 

@@ -37,6 +37,10 @@ struct TopicPlantParams {
   bool effector_from_calibration = false;
   double joint_max_age_s = 0.15;
   double arm_y_m = 0.0;  ///< camera-frame y of the housing's centre (the arm's plane) [m]
+  /// The arm's travel (the manipulator's calibration limits): targets are clamped into it, so a move the
+  /// manipulator would clamp is waited for where the axis can go [m].
+  double horizontal_min_m = 0.0, horizontal_max_m = 0.70;
+  double vertical_min_m = 0.30, vertical_max_m = 1.93;
   /// The vacuum stays on while the arm retracts from the boll (a boll caught late still follows the nozzle).
   bool vacuum_while_retracting = true;
   double rover_tolerance_m = 0.05;  ///< a rover move is done within this of its target ...
