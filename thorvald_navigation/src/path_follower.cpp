@@ -15,6 +15,10 @@ std::string FollowerParams::validate() const {
   if (!(position_gain > 0.0) || !(yaw_gain > 0.0)) return "gains must be > 0";
   if (!(min_speed_mps >= 0.0 && min_speed_mps <= max_speed_mps)) return "min_speed must be in [0, max_speed]";
   if (!(arrive_fraction > 0.0 && arrive_fraction <= 1.0)) return "arrive_fraction must be in (0, 1]";
+  if (!(command_latency_s >= 0.0 && command_latency_s <= 2.0)) return "command_latency must be in [0, 2] s";
+  if (!(min_yaw_rate_radps > 0.0 && min_yaw_rate_radps <= max_yaw_rate_radps))
+    return "min_yaw_rate must be in (0, max_yaw_rate]";
+  if (max_turn_reversals < 0) return "max_turn_reversals must be >= 0";
   return {};
 }
 
@@ -44,6 +48,17 @@ void PathFollower::setPath(const std::vector<Eigen::Vector2d>& path, const Pose2
   reverse_ = reverse && !params_.omnidirectional;
   turning_ = false;
   passed_corner_ = 0;
+  turn_reversals_ = 0;
+}
+
+void PathFollower::turnTo(const Pose2D& goal) {
+  setPath({}, goal);
+  state_ = FollowState::kFinalTurn;
+}
+
+double PathFollower::coastDistance(double speed, double accel) const {
+  const double v = std::abs(speed);
+  return v * params_.command_latency_s + v * v / (2.0 * accel);
 }
 
 double PathFollower::distanceToCorner(const Eigen::Vector2d& p) const {
@@ -140,16 +155,20 @@ Twist2D PathFollower::step(const Pose2D& pose_in, double dt) {
   };
   // A yaw rate that the acceleration limit can still bring to zero within `angle` [rad/s].
   auto turnRate = [&](double angle) {
-    const double w = std::min({params_.max_yaw_rate_radps, std::max(params_.yaw_gain * std::abs(angle), 0.05),
-                               std::sqrt(2.0 * params_.max_yaw_accel_radps2 * 0.8 * std::abs(angle))});
+    const double w =
+        std::min({params_.max_yaw_rate_radps, std::max(params_.yaw_gain * std::abs(angle), params_.min_yaw_rate_radps),
+                  std::sqrt(2.0 * params_.max_yaw_accel_radps2 * 0.8 * std::abs(angle))});
     return std::copysign(w, angle);
   };
   const double near_m = params_.arrive_fraction * params_.xy_tolerance_m;
   if (state_ == FollowState::kFollowing && dist < params_.xy_tolerance_m) {
     // Inside the tolerance: an omnidirectional robot closes in to near_m; a differential one creeps straight on
     // (no turn on the spot for a sideways offset it cannot remove) until the goal is less than near_m ahead.
+    // The base goes on for a moment after the stop command: stop that much early, so that it halts near the goal.
+    const double coast = coastDistance(std::hypot(last_.vx, last_.vy), params_.max_accel_mps2);
     const double ahead = toBody(goal - p).x();
-    if (dist < near_m || (!params_.omnidirectional && ahead < near_m)) {
+    if (dist < near_m + (params_.omnidirectional ? coast : 0.0) ||
+        (!params_.omnidirectional && ahead < near_m + coast)) {
       state_ = FollowState::kFinalTurn;
     } else if (!params_.omnidirectional) {
       phase_ = FollowPhase::kCreep;
@@ -160,14 +179,29 @@ Twist2D PathFollower::step(const Pose2D& pose_in, double dt) {
   }
   if (state_ == FollowState::kFinalTurn) {
     phase_ = FollowPhase::kFinalTurn;
-    if (std::abs(yaw_err) < params_.yaw_tolerance_rad) {
+    // The turn rate falls along a braking profile that includes the base's delay, down to the slowest rate its
+    // wheels still turn at; the stop command goes out when what the base turns after it (delay, then braking) brings
+    // the heading to within arrive_fraction of the tolerance. After repeated reversals it stops as soon as it is
+    // inside the tolerance.
+    const double aim = params_.arrive_fraction * params_.yaw_tolerance_rad;
+    const double a = kBrakeShare * params_.max_yaw_accel_radps2, lat = params_.command_latency_s;
+    const double left = std::max(0.0, std::abs(yaw_err) - aim);
+    const double profile =
+        std::clamp(a * (std::sqrt(lat * lat + 2.0 * left / a) - lat), params_.min_yaw_rate_radps,
+                   std::min(params_.max_yaw_rate_radps, std::max(params_.yaw_gain * left, params_.min_yaw_rate_radps)));
+    const bool turning_towards = last_.wz * yaw_err > 0.0;
+    const double coast =
+        turning_towards ? coastDistance(std::min(std::abs(last_.wz), profile), params_.max_yaw_accel_radps2) : 0.0;
+    const bool dithering = turn_reversals_ >= params_.max_turn_reversals;
+    if (std::abs(yaw_err) <= aim + coast || (dithering && std::abs(yaw_err) < params_.yaw_tolerance_rad)) {
       state_ = FollowState::kArrived;
       phase_ = FollowPhase::kIdle;
       last_ = Twist2D{};
       return last_;
     }
     Twist2D t;
-    t.wz = turnRate(yaw_err);
+    t.wz = std::copysign(profile, yaw_err);
+    if (last_.wz * t.wz < 0.0) ++turn_reversals_;
     if (params_.omnidirectional) {  // keep correcting small position drift while turning
       const Eigen::Vector2d b = toBody(goal - p) * params_.position_gain;
       t.vx = b.x();
@@ -177,8 +211,12 @@ Twist2D PathFollower::step(const Pose2D& pose_in, double dt) {
   }
   const Eigen::Vector2d target = carrot(p);
   const Eigen::Vector2d to_target = target - p;
-  // Speed that can still stop at the goal with the acceleration limit, and slows linearly in the last metres.
-  const double stop_speed = std::sqrt(2.0 * params_.max_accel_mps2 * 0.8 * dist);
+  // Speed that can still stop at the goal after the base's delay, and slows linearly in the last metres. The braking
+  // profile uses kBrakeShare of the acceleration limit: where it meets the linear part, that part's deceleration
+  // (position_gain times the speed) is then within the limit, so the ramp-limited command follows the profile
+  // instead of lagging behind it and overshooting the goal.
+  const double acc = kBrakeShare * params_.max_accel_mps2, lat = params_.command_latency_s;
+  const double stop_speed = acc * (std::sqrt(lat * lat + 2.0 * dist / acc) - lat);
   double speed =
       std::clamp(std::min(params_.position_gain * dist, stop_speed), params_.min_speed_mps, params_.max_speed_mps);
   phase_ = dist < params_.xy_tolerance_m ? FollowPhase::kCreep : FollowPhase::kDrive;

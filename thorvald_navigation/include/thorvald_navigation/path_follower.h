@@ -26,6 +26,15 @@ struct FollowerParams {
   /// tolerance once the goal is no longer ahead (a differential robot cannot close a sideways offset by driving on):
   /// stopping at the first point inside the tolerance would leave every goal about xy_tolerance_m short [0..1].
   double arrive_fraction = 0.4;
+  /// Time from a command to the base's response (drive controllers, the mux, the control cycle). The last
+  /// centimetres and the final turn are ended early by what the base still moves after the stop command: this delay
+  /// at the current speed, then the braking at the acceleration limit [s].
+  double command_latency_s = 0.1;
+  /// Slowest turn rate of the final turn: the base's wheels must still turn at it [rad/s].
+  double min_yaw_rate_radps = 0.03;
+  /// Turn direction changes in the final turn after which the robot stops as soon as it is inside the yaw tolerance
+  /// (an overshooting base would otherwise dither round the target).
+  int max_turn_reversals = 2;
   std::string validate() const;
 };
 
@@ -59,6 +68,13 @@ class PathFollower {
   /// `reverse`: a differential robot drives the path backwards (its rear first), e.g. backing straight off a goal to
   /// approach it again; ignored by an omnidirectional robot.
   void setPath(const std::vector<Eigen::Vector2d>& path, const Pose2D& goal, bool reverse = false);
+  /// Only the final turn to `goal`'s heading where the robot stands (its position is already within the tolerance).
+  void turnTo(const Pose2D& goal);
+  /// How far the base still moves after a stop command at `speed`: command_latency_s at that speed, then braking
+  /// at `accel` [m or rad].
+  double coastDistance(double speed, double accel) const;
+  /// Direction changes of the current final turn (a measure of dithering).
+  int turnReversals() const { return turn_reversals_; }
   /// One control step: `pose` of base_link in the path's frame, `dt` since the last step [s].
   Twist2D step(const Pose2D& pose, double dt);
   FollowState state() const { return state_; }
@@ -89,9 +105,13 @@ class PathFollower {
   FollowPhase phase_ = FollowPhase::kIdle;
   bool reverse_ = false;
   bool turning_ = false;           ///< differential: turning on the spot towards the carrot
+  int turn_reversals_ = 0;         ///< direction changes of the final turn's command
   std::size_t passed_corner_ = 0;  ///< the last sharp corner the robot reached (0: none)
   /// A differential robot's turn on the spot ends when the carrot is this close to straight ahead [rad].
   static constexpr double kTurnDoneRad = 0.05;
+  /// Share of the acceleration limits that the stops at the goal (position and final turn) brake with: below one
+  /// half, their braking profile meets the linear slow-down (gain times distance) where that is within the limits.
+  static constexpr double kBrakeShare = 0.45;
   Twist2D last_;
 };
 

@@ -345,6 +345,14 @@ class HeadlandNavigatorNode {
       }
       arrived_at_ = ros::Time();
       const ArrivalJudgement j = arrival_.judge(pose, goal_);
+      if (j.verdict == ArrivalVerdict::kApproachAgain && j.xy_err_m <= s_.follower.xy_tolerance_m) {
+        // Only the heading is off: turn again where the robot stands (backing off would cost the position).
+        ROS_INFO("headland_navigator: settled %.3f m, %.3f rad off the goal: turning again (%d of %d)", j.xy_err_m,
+                 j.yaw_err_rad, arrival_.corrections(), s_.goal_corrections);
+        follower_.turnTo(goal_);
+        to_pre_goal_ = false;
+        return;
+      }
       if (j.verdict == ArrivalVerdict::kApproachAgain) {
         const Approach a =
             approachAgain(*costmap_, footprint_, pose, goal_, s_.final_approach, s_.follower.omnidirectional);

@@ -65,6 +65,9 @@ bool loadSettings(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, Setting
     f.lookahead_m = r.number("lookahead", f.lookahead_m, R::above(0.0), "m");
     f.rotate_in_place_rad = r.number("rotate_in_place_angle", f.rotate_in_place_rad, R::closed(0.0, 3.1416), "rad");
     f.arrive_fraction = r.number("arrive_fraction", f.arrive_fraction, R::closed(0.05, 1.0));
+    f.command_latency_s = r.number("command_latency", f.command_latency_s, R::closed(0.0, 2.0), "s");
+    f.min_yaw_rate_radps = r.number("min_vel_theta", f.min_yaw_rate_radps, R::above(0.0), "rad/s");
+    f.max_turn_reversals = r.integer("max_turn_reversals", f.max_turn_reversals, 0, 20);
     r.finish();
     if (!s->footprint.empty() && (s->footprint.size() < 6 || s->footprint.size() % 2 != 0))
       check("~footprint must be a flat list x0 y0 x1 y1 ... of at least 3 points, got " +
