@@ -1,5 +1,6 @@
 #include "thorvald_navigation/goal_approach.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -67,6 +68,88 @@ Approach approachAgain(const Costmap& costmap, const Footprint& footprint, const
   a.first_leg = {here, g};
   a.first_target = goal;
   return a;
+}
+
+namespace {
+
+/// Whether turning on the spot at `p` from `from` to `to` sweeps the footprint over a wall, the keep-out zone or
+/// unknown space that it does not already overlap at `from`; names what it meets.
+Blocker turnMeets(const Costmap& costmap, const Footprint& footprint, const Eigen::Vector2d& p, double from,
+                  double to) {
+  const double step = std::max(0.05, costmap.geometry().resolution_m);
+  for (Blocker b : {Blocker::kWall, Blocker::kKeepOut, Blocker::kUnknown}) {
+    if (costmap.footprintTouches({p.x(), p.y(), from}, footprint, b)) continue;
+    if (turnTouches(costmap, footprint, p, from, to, b, step)) return b;
+  }
+  return Blocker::kNone;
+}
+
+/// The first turn on the spot that meets a blocker on `legs` (driven backwards when `reverse`), as text; empty when
+/// both are clear: at the start, from the robot's heading to the way to the first point 0.3 m along (the follower
+/// turns on the spot when far off its path), and at the end, from the way the last 0.3 m run to `end_yaw`.
+std::string firstBlockedTurn(const Costmap& costmap, const Footprint& footprint, const Pose2D& start,
+                             const std::vector<Eigen::Vector2d>& legs, double end_yaw, bool reverse) {
+  constexpr double kChord = 0.3;
+  const auto way = [reverse](const Eigen::Vector2d& from, const Eigen::Vector2d& to) {
+    const Eigen::Vector2d d = to - from;
+    return normalizeAngle(std::atan2(d.y(), d.x()) + (reverse ? kPi : 0.0));
+  };
+  const auto describe = [](const char* which, const Eigen::Vector2d& p, double from, double to, Blocker b) {
+    char text[128];
+    std::snprintf(text, sizeof(text), "the %s at (%.2f, %.2f) from %.2f to %.2f rad sweeps over ", which, p.x(), p.y(),
+                  from, to);
+    return std::string(text) + blockerName(b);
+  };
+  const Eigen::Vector2d& first = legs.front();
+  const Eigen::Vector2d& last = legs.back();
+  std::size_t a = 1;
+  while (a + 1 < legs.size() && (legs[a] - first).norm() < kChord) ++a;
+  std::size_t z = legs.size() - 2;
+  while (z > 0 && (last - legs[z]).norm() < kChord) --z;
+  const double out_way = way(first, legs[a]), in_way = way(legs[z], last);
+  Blocker b = turnMeets(costmap, footprint, first, start.yaw, out_way);
+  if (b != Blocker::kNone) return describe("first turn", first, start.yaw, out_way, b);
+  b = turnMeets(costmap, footprint, last, in_way, end_yaw);
+  if (b != Blocker::kNone) return describe("final turn", last, in_way, end_yaw, b);
+  return {};
+}
+
+}  // namespace
+
+PathDirection choosePathDirection(const Costmap& costmap, const Footprint& footprint, const Pose2D& start,
+                                  const std::vector<Eigen::Vector2d>& path, const Pose2D& goal, bool omnidirectional) {
+  PathDirection out;
+  out.approach.first_leg = path;
+  out.approach.first_target = goal;
+  if (omnidirectional || path.size() < 2) return out;
+  const std::string forward = firstBlockedTurn(costmap, footprint, start, path, goal.yaw, false);
+  if (forward.empty()) return out;
+  // Backwards as far as the final approach's start (the path's last segment runs along the goal's heading when it
+  // has one), then forward along it: the robot then never turns its rear through the goal's side.
+  std::vector<Eigen::Vector2d> back = path;
+  const Eigen::Vector2d heading(std::cos(goal.yaw), std::sin(goal.yaw));
+  const Eigen::Vector2d last = path.end()[-1] - path.end()[-2];
+  const bool has_final_approach =
+      path.size() >= 3 && last.norm() > 1e-3 && std::abs(last.normalized().dot(heading) - 1.0) < 1e-6;
+  if (has_final_approach) back.pop_back();
+  const Pose2D target = has_final_approach ? Pose2D{back.back().x(), back.back().y(), goal.yaw} : goal;
+  std::string backward = firstBlockedTurn(costmap, footprint, start, back, target.yaw, true);
+  if (backward.empty() && has_final_approach) {
+    // The last stretch forward along the goal's heading needs no turn.
+    out.approach.first_leg = back;
+    out.approach.first_target = target;
+    out.approach.reverse = true;
+    out.approach.then_to_goal = true;
+    return out;
+  }
+  if (backward.empty()) {
+    out.approach.reverse = true;
+    return out;
+  }
+  out.ok = false;
+  out.error = "no way to drive the path without sweeping the robot over the map: forward, " + forward +
+              "; backwards, " + backward;
+  return out;
 }
 
 std::string ArrivalParams::validate() const {

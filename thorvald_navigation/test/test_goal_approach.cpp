@@ -121,3 +121,80 @@ TEST(GoalApproach, ArrivalJudgeCountsCorrectionsThenFails) {
 }
 
 }  // namespace
+
+namespace {
+
+// The greenhouse robot's frame: 1.05 m long behind and in front of its front axle (base_link), 0.92 m wide.
+const tn::Footprint kFrame = tn::rectangleFootprint(-0.85, 0.2, -0.46, 0.46);
+
+// An 8 m x 5 m floor, walled round, plus walls along y = from_y..to_y (rows) between x = 0.5 and 7.5 if asked.
+tn::Costmap walledFloor(double corridor_low = -1.0, double corridor_high = -1.0) {
+  tn::Grid2D map{160, 100, 0.05, 0.0, 0.0, tn::kFree};
+  for (int x = 0; x < map.width; ++x) map.at(x, 0) = map.at(x, map.height - 1) = tn::kOccupied;
+  for (int y = 0; y < map.height; ++y) map.at(0, y) = map.at(map.width - 1, y) = tn::kOccupied;
+  for (double wy : {corridor_low, corridor_high}) {
+    if (wy < 0.0) continue;
+    for (int x = 10; x < 150; ++x) map.at(x, static_cast<int>(wy / 0.05)) = tn::kOccupied;
+  }
+  return tn::Costmap(map, tn::Grid2D{}, tn::CostmapParams{});
+}
+
+}  // namespace
+
+// Beside a wall 0.8 m from its front axle, the robot must not turn its rear (0.97 m round) towards the wall: it backs
+// along the path instead (a quarter turn away from the wall), then turns to the goal's heading at the final approach's
+// start and drives that stretch forward.
+TEST(GoalApproach, BesideAWallADifferentialRobotBacksAlongThePathRatherThanTurnItsRearIntoTheWall) {
+  const tn::Costmap cm = walledFloor();
+  const tn::Pose2D start{3.0, 4.15, 0.0}, goal{3.0, 2.55, 0.0};  // the wall's cells begin at y = 4.95
+  const tn::GoalPlan plan = tn::planToGoal(cm, kFrame, start, goal, tn::PlannerParams{}, 0.3);
+  ASSERT_TRUE(plan.ok) << plan.error;
+  const tn::PathDirection d = tn::choosePathDirection(cm, kFrame, start, plan.path, goal, false);
+  ASSERT_TRUE(d.ok) << d.error;
+  EXPECT_TRUE(d.approach.reverse);
+  EXPECT_TRUE(d.approach.then_to_goal);
+  EXPECT_NEAR(d.approach.first_target.x, 2.7, 1e-6);
+  EXPECT_NEAR(d.approach.first_target.y, 2.55, 1e-6);
+  EXPECT_DOUBLE_EQ(d.approach.first_target.yaw, goal.yaw);
+  // The forward way's first turn is the one that meets the wall.
+  EXPECT_TRUE(tn::turnTouches(cm, kFrame, {3.0, 4.15}, 0.0, -tn::kPi / 2, tn::Blocker::kWall));
+  EXPECT_FALSE(tn::turnTouches(cm, kFrame, {3.0, 4.15}, 0.0, tn::kPi / 2, tn::Blocker::kWall));
+  // Omnidirectional robots are not checked here.
+  const tn::PathDirection omni = tn::choosePathDirection(cm, kFrame, start, plan.path, goal, true);
+  EXPECT_TRUE(omni.ok);
+  EXPECT_FALSE(omni.approach.reverse);
+}
+
+// In the open, every path is driven forward, whole, over random starts and goals.
+TEST(GoalApproach, InTheOpenPathsAreDrivenForward) {
+  const tn::Costmap cm = walledFloor();
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> x(2.0, 6.0), y(1.8, 3.2), yaw(-tn::kPi, tn::kPi);
+  int checked = 0;
+  for (int trial = 0; trial < 20; ++trial) {
+    const tn::Pose2D start{x(rng), y(rng), yaw(rng)}, goal{x(rng), y(rng), yaw(rng)};
+    const tn::GoalPlan plan = tn::planToGoal(cm, kFrame, start, goal, tn::PlannerParams{}, 0.3);
+    if (!plan.ok) continue;
+    const tn::PathDirection d = tn::choosePathDirection(cm, kFrame, start, plan.path, goal, false);
+    EXPECT_TRUE(d.ok) << d.error;
+    EXPECT_FALSE(d.approach.reverse) << "trial " << trial;
+    EXPECT_EQ(d.approach.first_leg.size(), plan.path.size());
+    ++checked;
+  }
+  EXPECT_GE(checked, 10);
+}
+
+// A corridor 1.6 m wide: the final quarter turn sweeps a wall whichever way the robot drives: refused, naming it.
+TEST(GoalApproach, ATurnNoDirectionClearsIsRefusedWithTheReason) {
+  const tn::Costmap cm = walledFloor(2.0, 3.6);
+  const tn::Pose2D start{2.0, 2.8, 0.0}, goal{5.0, 2.8, tn::kPi / 2};
+  const tn::PathDirection d = tn::choosePathDirection(cm, kFrame, start, {{2.0, 2.8}, {5.0, 2.8}}, goal, false);
+  EXPECT_FALSE(d.ok);
+  EXPECT_NE(d.error.find("final turn"), std::string::npos) << d.error;
+  EXPECT_NE(d.error.find("wall"), std::string::npos) << d.error;
+  // Standing where its footprint already overlaps the wall, that overlap is not held against a turn.
+  const tn::Pose2D squeezed{2.0, 2.4, 0.0};  // the frame reaches y = 1.94
+  const tn::PathDirection s =
+      tn::choosePathDirection(cm, kFrame, squeezed, {{2.0, 2.4}, {2.0, 3.05}, {4.0, 3.05}}, {4.0, 3.05, 0.0}, false);
+  EXPECT_TRUE(s.ok) << s.error;
+}

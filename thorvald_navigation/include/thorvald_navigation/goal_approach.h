@@ -48,6 +48,27 @@ struct Approach {
 Approach approachAgain(const Costmap& costmap, const Footprint& footprint, const Pose2D& pose, const Pose2D& goal,
                        double final_approach_m, bool omnidirectional);
 
+/// How a differential robot drives a planned path: forward, or backwards (its rear first) as far as the final
+/// approach's start, so that no turn on the spot sweeps its footprint over a wall, the keep-out zone or unknown space.
+/// A robot that pivots about its front axle sweeps its rear round a circle as large as the frame is long: beside a
+/// wall a turn one way can be free where the other way is not.
+struct PathDirection {
+  bool ok = true;
+  std::string error;  ///< when !ok: no direction clears the turns
+  /// The legs to drive: the whole path forward (reverse false, then_to_goal false), or backwards to `first_target`
+  /// (the final approach's start, heading the goal's) and then forward to the goal.
+  Approach approach;
+};
+
+/// Checks the turns on the spot a differential robot makes on `path` (from its heading to the way along the path's
+/// first 0.3 m, and from the way along its last 0.3 m to the goal's heading) against walls, the keep-out zone and
+/// unknown space; forward first, then backwards. The path's corners are the planner's (its clearance radius). A path
+/// whose turns all clear forward is driven forward. Turns the start pose's footprint already overlaps are not held
+/// against either direction (the robot stands there already). Omnidirectional robots and paths of fewer than 2 points:
+/// forward, unchecked.
+PathDirection choosePathDirection(const Costmap& costmap, const Footprint& footprint, const Pose2D& start,
+                                  const std::vector<Eigen::Vector2d>& path, const Pose2D& goal, bool omnidirectional);
+
 struct ArrivalParams {
   double xy_tolerance_m = 0.02;
   double yaw_tolerance_rad = 0.015;
