@@ -65,6 +65,26 @@ cv::Mat planeCloud(const CameraIntrinsics& k, double z) {
   return points;
 }
 
+/// Puts a boll into a cloud: a sphere whose point nearest the lens lies on the ray through pixel `centre` at depth
+/// z, its radius the disc's (radius_px) at that distance; each pixel whose ray meets it takes that point.
+void addSphere(cv::Mat* points, const CameraIntrinsics& k, const cv::Point& centre, int radius_px, double z) {
+  const auto ray = [&k](double u, double v) {
+    const cv::Vec3d r((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
+    return r / cv::norm(r);
+  };
+  const cv::Vec3d axis = ray(centre.x, centre.y);
+  const double apex = z / axis[2], radius = apex * radius_px / k.fx;
+  const cv::Vec3d c = axis * (apex + radius);
+  for (int v = centre.y - radius_px - 2; v <= centre.y + radius_px + 2; ++v)
+    for (int u = centre.x - radius_px - 2; u <= centre.x + radius_px + 2; ++u) {
+      const cv::Vec3d r = ray(u, v);
+      const double b = r.dot(c), disc = b * b - (c.dot(c) - radius * radius);
+      if (disc < 0.0) continue;
+      const cv::Vec3d p = r * (b - std::sqrt(disc));
+      points->at<cv::Vec3f>(v, u) = cv::Vec3f(float(p[0]), float(p[1]), float(p[2]));
+    }
+}
+
 /// A 128x128 network with a known answer: a detection at the centre of every 32-pixel cell (of the input) whose
 /// brightest pixel is white, box 32x32 input pixels, confidence sigmoid(2) x sigmoid(1) = 0.64.
 DarknetNet knownNet() {
@@ -172,7 +192,8 @@ TEST(HarvestPerceptionVariants, CameraInfoReplacesTheIntrinsics) {
   // One boll 100 px right of the centre at 1.4 m: x = 100 * 1.4 / 350 = 0.4 m with the camera_info focal length.
   cv::Mat image(360, 640, CV_8UC3, cv::Scalar(40, 120, 50));
   cv::circle(image, {420, 180}, 12, cv::Scalar(235, 238, 240), cv::FILLED);
-  const cv::Mat points = planeCloud(half, 1.4);
+  cv::Mat points = planeCloud(half, 2.0);
+  addSphere(&points, half, {420, 180}, 12, 1.4);
   // The info is latched but may arrive after the first frames: send until a frame is accepted.
   double stamp = 3000.0;
   const bool got = waitFor(
