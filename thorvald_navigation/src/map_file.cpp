@@ -37,9 +37,63 @@ bool readPgmNumber(std::istream& in, long* value) {
   return static_cast<bool>(in >> *value);
 }
 
+constexpr const char* kSurfaceHeader = "# thorvald_navigation wall surface: cell_x cell_y mean_x mean_y hits";
+
+std::string saveSurface(const Grid2D& grid, const WallSurface& surface, const std::string& path) {
+  const std::string bad = surface.check(grid.data.size());
+  if (!bad.empty()) return "cannot save wall surface: " + bad;
+  std::ofstream out(path);
+  if (!out) return "cannot write " + path;
+  out.precision(9);
+  out << kSurfaceHeader << "\nsize " << grid.width << " " << grid.height << "\n";
+  for (int y = 0; y < grid.height; ++y)
+    for (int x = 0; x < grid.width; ++x) {
+      const std::size_t i = grid.index(x, y);
+      if (surface.hits[i] > 0.0f)
+        out << x << " " << y << " " << surface.mean_m[i].x() << " " << surface.mean_m[i].y() << " " << surface.hits[i]
+            << "\n";
+    }
+  if (!out) return "write failed: " + path;
+  return {};
+}
+
+std::string loadSurface(const Grid2D& grid, const std::string& path, WallSurface* surface) {
+  std::ifstream in(path);
+  if (!in) return "cannot open wall surface " + path;
+  std::string line, word;
+  long w = 0, h = 0;
+  std::getline(in, line);
+  if (line != kSurfaceHeader) return path + ": not a wall surface file (header)";
+  std::getline(in, line);
+  std::istringstream size_line(line);
+  if (!(size_line >> word >> w >> h) || word != "size" || w != grid.width || h != grid.height)
+    return path + ": line 2 must be 'size " + std::to_string(grid.width) + " " + std::to_string(grid.height) + "'";
+  WallSurface s;
+  s.hits.assign(grid.data.size(), 0.0f);
+  s.mean_m.assign(grid.data.size(), Eigen::Vector2f::Zero());
+  const double res = grid.resolution_m, slack = 1e-4;
+  for (int n = 3; std::getline(in, line); ++n) {
+    if (line.empty()) continue;
+    std::istringstream ls(line);
+    long x = 0, y = 0;
+    double mx = 0.0, my = 0.0, hits = 0.0;
+    if (!(ls >> x >> y >> mx >> my >> hits) || !grid.inside(static_cast<int>(x), static_cast<int>(y)) ||
+        !std::isfinite(mx) || !std::isfinite(my) || !(hits > 0.0 && hits < 1e9))
+      return path + ":" + std::to_string(n) + ": expected 'cell_x cell_y mean_x mean_y hits' inside the map";
+    const double x0 = grid.origin_x_m + x * res, y0 = grid.origin_y_m + y * res;
+    if (mx < x0 - slack || mx > x0 + res + slack || my < y0 - slack || my > y0 + res + slack)
+      return path + ":" + std::to_string(n) + ": mean end point outside its cell";
+    const std::size_t i = grid.index(static_cast<int>(x), static_cast<int>(y));
+    s.mean_m[i] = Eigen::Vector2f(static_cast<float>(mx), static_cast<float>(my));
+    s.hits[i] = static_cast<float>(hits);
+  }
+  *surface = std::move(s);
+  return {};
+}
+
 }  // namespace
 
-std::string saveMap(const Grid2D& grid, const std::string& stem) {
+std::string saveMap(const Grid2D& grid, const std::string& stem, const WallSurface* surface) {
   const std::string problem = grid.check();
   if (!problem.empty()) return "cannot save map: " + problem;
   const std::string pgm_path = stem + ".pgm";
@@ -62,18 +116,23 @@ std::string saveMap(const Grid2D& grid, const std::string& stem) {
   yaml << "image: " << baseName(pgm_path) << "\nresolution: " << grid.resolution_m << "\norigin: [" << grid.origin_x_m
        << ", " << grid.origin_y_m << ", 0.0]\nnegate: 0\noccupied_thresh: 0.65\n"
        << "free_thresh: 0.196\n";
+  if (surface) {
+    const std::string e = saveSurface(grid, *surface, stem + ".surface");
+    if (!e.empty()) return e;
+    yaml << "wall_surface: " << baseName(stem + ".surface") << "\n";
+  }
   if (!yaml) return "write failed: " + yaml_path;
   return {};
 }
 
-std::string loadMap(const std::string& yaml_path, Grid2D* grid) {
+std::string loadMap(const std::string& yaml_path, Grid2D* grid, WallSurface* surface) {
   YAML::Node root;
   try {
     root = YAML::LoadFile(yaml_path);
   } catch (const std::exception& e) {
     return yaml_path + ": cannot read YAML: " + e.what();
   }
-  std::string image;
+  std::string image, surface_file;
   double resolution = 0.0, occ = 0.65, free_t = 0.196;
   int negate = 0;
   std::vector<double> origin;
@@ -86,6 +145,7 @@ std::string loadMap(const std::string& yaml_path, Grid2D* grid) {
     if (root["negate"]) negate = root["negate"].as<int>();
     if (root["occupied_thresh"]) occ = root["occupied_thresh"].as<double>();
     if (root["free_thresh"]) free_t = root["free_thresh"].as<double>();
+    if (root["wall_surface"]) surface_file = root["wall_surface"].as<std::string>();
     if (root["mode"] && root["mode"].as<std::string>() != "trinary")
       return yaml_path + ": only mode 'trinary' is supported, got '" + root["mode"].as<std::string>() + "'";
   } catch (const std::exception& e) {
@@ -123,6 +183,14 @@ std::string loadMap(const std::string& yaml_path, Grid2D* grid) {
       if (negate) p = 1.0 - p;
       g.at(static_cast<int>(col), static_cast<int>(h - 1 - row)) =
           p > occ ? kOccupied : (p < free_t ? kFree : kUnknown);
+    }
+  }
+  if (surface) {
+    *surface = WallSurface{};
+    if (!surface_file.empty()) {
+      const std::string path = surface_file[0] == '/' ? surface_file : directoryOf(yaml_path) + surface_file;
+      const std::string e = loadSurface(g, path, surface);
+      if (!e.empty()) return yaml_path + ": " + e;
     }
   }
   *grid = std::move(g);

@@ -39,10 +39,14 @@ const char* statusName(LocalizationStatus s) {
   return "?";
 }
 
-std::string MapLocalizer::setMap(const Grid2D& map) {
+std::string MapLocalizer::setMap(const Grid2D& map, const WallSurface* surface) {
   const std::string problem = map.check();
   if (!problem.empty()) return problem;
-  DistanceField field(map, params_.field_max_distance_m, 65, true);
+  if (surface) {
+    const std::string bad = surface->check(map.data.size());
+    if (!bad.empty()) return bad;
+  }
+  DistanceField field(map, params_.field_max_distance_m, 65, true, surface);
   if (field.occupiedCells() < 10) return "map has fewer than 10 occupied cells: nothing to localise against";
   map_ = map;
   field_ = std::move(field);

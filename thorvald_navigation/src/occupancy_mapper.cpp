@@ -5,6 +5,17 @@
 #include <limits>
 
 namespace thorvald_navigation {
+namespace {
+
+constexpr int kWallValue = 65;  // cells at or above are walls for matching (map_server's occupied_thresh 0.65)
+
+std::int8_t occupancyValue(float log_odds) {
+  if (log_odds == 0.0f) return kUnknown;
+  const double p = 1.0 - 1.0 / (1.0 + std::exp(static_cast<double>(log_odds)));
+  return static_cast<std::int8_t>(std::lround(100.0 * p));
+}
+
+}  // namespace
 
 std::string MapperParams::validate() const {
   if (!(resolution_m >= 0.01 && resolution_m <= 1.0)) return "resolution must be in [0.01, 1] m";
@@ -42,11 +53,23 @@ void OccupancyMapper::ensureInside(const Eigen::Vector2d& p) {
   const double new_ox = geometry_.origin_x_m - dx * res, new_oy = geometry_.origin_y_m - dy * res;
   const int w = std::max(dx + geometry_.width, static_cast<int>(std::ceil((x1 - new_ox) / res)));
   const int h = std::max(dy + geometry_.height, static_cast<int>(std::ceil((y1 - new_oy) / res)));
-  std::vector<float> grown(static_cast<std::size_t>(w) * h, 0.0f);
-  for (int y = 0; y < geometry_.height; ++y)
-    std::copy_n(log_odds_.begin() + static_cast<std::ptrdiff_t>(y) * geometry_.width, geometry_.width,
-                grown.begin() + static_cast<std::ptrdiff_t>(y + dy) * w + dx);
+  std::vector<float> grown(static_cast<std::size_t>(w) * h, 0.0f), grown_hits(grown.size(), 0.0f);
+  std::vector<Eigen::Vector2f> grown_mean(grown.size(), Eigen::Vector2f::Zero());
+  for (int y = 0; y < geometry_.height; ++y) {
+    const std::ptrdiff_t from = static_cast<std::ptrdiff_t>(y) * geometry_.width;
+    const std::ptrdiff_t to = static_cast<std::ptrdiff_t>(y + dy) * w + dx;
+    std::copy_n(log_odds_.begin() + from, geometry_.width, grown.begin() + to);
+    std::copy_n(surface_.hits.begin() + from, geometry_.width, grown_hits.begin() + to);
+    std::copy_n(surface_.mean_m.begin() + from, geometry_.width, grown_mean.begin() + to);
+  }
   log_odds_.swap(grown);
+  Grid2D occupancy(w, h, res, geometry_.origin_x_m - dx * res, geometry_.origin_y_m - dy * res, kUnknown);
+  for (int y = 0; y < geometry_.height; ++y)
+    std::copy_n(occupancy_.data.begin() + static_cast<std::ptrdiff_t>(y) * geometry_.width, geometry_.width,
+                occupancy.data.begin() + static_cast<std::ptrdiff_t>(y + dy) * w + dx);
+  occupancy_ = std::move(occupancy);
+  surface_.hits.swap(grown_hits);
+  surface_.mean_m.swap(grown_mean);
   geometry_.width = w;
   geometry_.height = h;
   geometry_.origin_x_m -= dx * res;
@@ -60,6 +83,7 @@ bool OccupancyMapper::update(const Eigen::Vector2i& c, double log_odds) {
   scan_stamp_[i] = scan_counter_;
   const float clamp = static_cast<float>(params_.clamp_log_odds);
   log_odds_[i] = std::clamp(log_odds_[i] + static_cast<float>(log_odds), -clamp, clamp);
+  touched_.push_back(static_cast<int>(i));
   return true;
 }
 
@@ -113,6 +137,9 @@ MapperUpdate OccupancyMapper::addScan(const Pose2D& odom, const Eigen::Vector2d&
     geometry_ = Grid2D(n, n, params_.resolution_m, odom.x - half, odom.y - half, kUnknown);
     geometry_.data.clear();
     log_odds_.assign(static_cast<std::size_t>(n) * n, 0.0f);
+    occupancy_ = Grid2D(n, n, params_.resolution_m, geometry_.origin_x_m, geometry_.origin_y_m, kUnknown);
+    surface_.hits.assign(log_odds_.size(), 0.0f);
+    surface_.mean_m.assign(log_odds_.size(), Eigen::Vector2f::Zero());
     map_to_odom_ = Pose2D{};
   } else {
     const Pose2D delta = last_integrated_odom_.inverse() * odom;
@@ -123,11 +150,8 @@ MapperUpdate OccupancyMapper::addScan(const Pose2D& odom, const Eigen::Vector2d&
   }
   Pose2D pose = map_to_odom_ * odom;
   if (!first_) {
-    if (field_stale_) {
-      Grid2D g = occupancyGrid();
-      field_ = DistanceField(g, params_.field_max_distance_m, 65, true);
-      field_stale_ = false;
-    }
+    // Matched at cell centres, rebuilt for every scan (README, Limits: matching at the wall surface is not done).
+    field_ = DistanceField(occupancyGrid(), params_.field_max_distance_m, kWallValue, true);
     ScanMatcherParams matcher = params_.matcher;
     const Pose2D moved = last_integrated_odom_.inverse() * odom;
     if (params_.odom_sigma_xy_m > 0.0)
@@ -143,7 +167,6 @@ MapperUpdate OccupancyMapper::addScan(const Pose2D& odom, const Eigen::Vector2d&
     }
   }
   insert(pose, sensor_base, points_base, free_ends_base);
-  field_stale_ = true;
   first_ = false;
   last_integrated_odom_ = odom;
   ++scans_used_;
@@ -182,13 +205,24 @@ void OccupancyMapper::insert(const Pose2D& pose, const Eigen::Vector2d& sensor_b
     std::fill(scan_stamp_.begin(), scan_stamp_.end(), 0);
     scan_counter_ = 1;
   }
-  for (const auto& p : hits) update(geometry_.cellOf(p), params_.hit_log_odds);
+  for (const auto& p : hits) {
+    const Eigen::Vector2i c = geometry_.cellOf(p);
+    update(c, params_.hit_log_odds);
+    if (!geometry_.inside(c.x(), c.y())) continue;
+    // Every end point counts towards its cell's mean (the once-per-scan rule is for the occupancy only).
+    const std::size_t i = geometry_.index(c.x(), c.y());
+    const float h = ++surface_.hits[i];
+    surface_.mean_m[i] += (p.cast<float>() - surface_.mean_m[i]) / h;
+  }
   for (const auto& p : hits) traceFree(origin, p, false);
   for (const auto& p : free_ends) traceFree(origin, p, true);
+  // The occupancy values of the cells this scan updated.
+  for (const int i : touched_)
+    occupancy_.data[static_cast<std::size_t>(i)] = occupancyValue(log_odds_[static_cast<std::size_t>(i)]);
+  touched_.clear();
 }
 
-Grid2D OccupancyMapper::occupancyGrid() const {
-  if (log_odds_.empty()) return Grid2D(1, 1, params_.resolution_m, 0.0, 0.0, kUnknown);
+Eigen::Vector4i OccupancyMapper::observedBounds() const {
   int x0 = geometry_.width, y0 = geometry_.height, x1 = -1, y1 = -1;
   for (int y = 0; y < geometry_.height; ++y)
     for (int x = 0; x < geometry_.width; ++x)
@@ -198,21 +232,47 @@ Grid2D OccupancyMapper::occupancyGrid() const {
         x1 = std::max(x1, x);
         y1 = std::max(y1, y);
       }
+  if (x1 < 0) return {0, 0, -1, -1};
+  return {std::max(0, x0 - 2), std::max(0, y0 - 2), std::min(geometry_.width - 1, x1 + 2),
+          std::min(geometry_.height - 1, y1 + 2)};
+}
+
+Grid2D OccupancyMapper::occupancyGrid() const {
+  if (log_odds_.empty()) return Grid2D(1, 1, params_.resolution_m, 0.0, 0.0, kUnknown);
+  const Eigen::Vector4i b = observedBounds();
+  const int x0 = b[0], y0 = b[1], x1 = b[2], y1 = b[3];
   if (x1 < 0) return Grid2D(1, 1, params_.resolution_m, geometry_.origin_x_m, geometry_.origin_y_m, kUnknown);
-  x0 = std::max(0, x0 - 2);
-  y0 = std::max(0, y0 - 2);
-  x1 = std::min(geometry_.width - 1, x1 + 2);
-  y1 = std::min(geometry_.height - 1, y1 + 2);
   Grid2D g(x1 - x0 + 1, y1 - y0 + 1, params_.resolution_m, geometry_.origin_x_m + x0 * params_.resolution_m,
            geometry_.origin_y_m + y0 * params_.resolution_m, kUnknown);
   for (int y = y0; y <= y1; ++y)
-    for (int x = x0; x <= x1; ++x) {
-      const float l = log_odds_[geometry_.index(x, y)];
-      if (l == 0.0f) continue;
-      const double p = 1.0 - 1.0 / (1.0 + std::exp(static_cast<double>(l)));
-      g.at(x - x0, y - y0) = static_cast<std::int8_t>(std::lround(100.0 * p));
-    }
+    std::copy_n(occupancy_.data.begin() + static_cast<std::ptrdiff_t>(geometry_.index(x0, y)), x1 - x0 + 1,
+                g.data.begin() + static_cast<std::ptrdiff_t>(g.index(0, y - y0)));
   return g;
+}
+
+WallSurface OccupancyMapper::wallSurface() const {
+  WallSurface s;
+  if (log_odds_.empty()) {
+    s.hits.assign(1, 0.0f);
+    s.mean_m.assign(1, Eigen::Vector2f::Zero());
+    return s;
+  }
+  const Eigen::Vector4i b = observedBounds();
+  if (b[2] < 0) {
+    s.hits.assign(1, 0.0f);
+    s.mean_m.assign(1, Eigen::Vector2f::Zero());
+    return s;
+  }
+  const int w = b[2] - b[0] + 1, h = b[3] - b[1] + 1;
+  s.hits.reserve(static_cast<std::size_t>(w) * h);
+  s.mean_m.reserve(static_cast<std::size_t>(w) * h);
+  for (int y = b[1]; y <= b[3]; ++y)
+    for (int x = b[0]; x <= b[2]; ++x) {
+      const std::size_t i = geometry_.index(x, y);
+      s.hits.push_back(surface_.hits[i]);
+      s.mean_m.push_back(surface_.mean_m[i]);
+    }
+  return s;
 }
 
 double OccupancyMapper::knownAreaM2() const {

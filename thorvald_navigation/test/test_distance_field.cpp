@@ -1,4 +1,5 @@
 #include <cmath>
+#include <random>
 
 #include <gtest/gtest.h>
 
@@ -47,6 +48,61 @@ TEST(DistanceField, EmptyAndWallFreeGrids) {
   EXPECT_NEAR(free_only.cellDistance(5, 5), 0.7, 1e-6);
   const DistanceField unknown_only(Grid2D(10, 10, 0.1, 0, 0, -1), 0.7);  // unknown is not a wall
   EXPECT_EQ(unknown_only.occupiedCells(), 0);
+}
+
+}  // namespace
+
+namespace {
+
+// The field updated cell by cell equals the field built anew from the same grid, with and without a wall surface:
+// random walls drawn and erased over several rounds.
+TEST(DistanceField, UpdateEqualsRebuild) {
+  std::mt19937 rng(5);
+  Grid2D g(150, 120, 0.025, -1.0, 2.0, 0);
+  thorvald_navigation::WallSurface s;
+  s.hits.assign(g.data.size(), 0.0f);
+  s.mean_m.assign(g.data.size(), Eigen::Vector2f::Zero());
+  std::uniform_int_distribution<int> ux(0, 149), uy(0, 119), len(3, 40);
+  std::uniform_real_distribution<double> sub(0.0, 1.0);
+  auto draw = [&](std::vector<int>* changed, std::vector<int>* moved, std::int8_t value) {
+    const int x0 = ux(rng), y0 = uy(rng), n = len(rng);
+    const bool horizontal = sub(rng) < 0.5;
+    for (int k = 0; k < n; ++k) {
+      const int x = horizontal ? x0 + k : x0, y = horizontal ? y0 : y0 + k;
+      if (!g.inside(x, y)) break;
+      const std::size_t i = g.index(x, y);
+      if (g.data[i] != value) changed->push_back(static_cast<int>(i));
+      g.data[i] = value;
+      if (value == 100) {
+        const Eigen::Vector2d c = g.centerOf(x, y);
+        s.mean_m[i] = Eigen::Vector2f(static_cast<float>(c.x() + (sub(rng) - 0.5) * 0.025),
+                                      static_cast<float>(c.y() + (sub(rng) - 0.5) * 0.025));
+        s.hits[i] += 1.0f;
+        moved->push_back(static_cast<int>(i));
+      }
+    }
+  };
+  std::vector<int> changed, moved;
+  for (int k = 0; k < 6; ++k) draw(&changed, &moved, 100);
+  for (const bool with_surface : {false, true}) {
+    DistanceField f(g, 0.3, 65, true, with_surface ? &s : nullptr);
+    for (int round = 0; round < 5; ++round) {
+      changed.clear();
+      moved.clear();
+      for (int k = 0; k < 3; ++k) draw(&changed, &moved, 100);
+      draw(&changed, &moved, 0);
+      f.update(g, with_surface ? &s : nullptr, changed, moved);
+      const DistanceField fresh(g, 0.3, 65, true, with_surface ? &s : nullptr);
+      ASSERT_EQ(f.occupiedCells(), fresh.occupiedCells());
+      for (int y = 0; y < g.height; ++y)
+        for (int x = 0; x < g.width; ++x)
+          ASSERT_NEAR(f.cellDistance(x, y), fresh.cellDistance(x, y), 1e-6) << x << "," << y << " round " << round;
+      for (int k = 0; k < 2000; ++k) {
+        const Eigen::Vector2d p(-1.0 + 3.75 * sub(rng), 2.0 + 3.0 * sub(rng));
+        ASSERT_NEAR(f.distance(p), fresh.distance(p), 1e-6) << p.transpose() << " round " << round;
+      }
+    }
+  }
 }
 
 }  // namespace

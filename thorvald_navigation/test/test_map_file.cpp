@@ -54,6 +54,39 @@ TEST(MapFile, ImageRowsAreFlippedAsMapServerExpects) {
   EXPECT_EQ(first_pixel, 0);  // black = occupied
 }
 
+TEST(MapFile, WallSurfaceRoundTripAndBadSurfaceFile) {
+  Grid2D g(4, 3, 0.05, -1.0, 2.0, 0);
+  g.at(2, 1) = 100;
+  thorvald_navigation::WallSurface s;
+  s.hits.assign(12, 0.0f);
+  s.mean_m.assign(12, Eigen::Vector2f::Zero());
+  s.hits[g.index(2, 1)] = 7.0f;
+  s.mean_m[g.index(2, 1)] = Eigen::Vector2f(-0.8887f, 2.0612f);  // inside cell (2, 1): x -0.9..-0.85, y 2.05..2.1
+  const std::string stem = tempStem("surface");
+  ASSERT_EQ(saveMap(g, stem, &s), "");
+  Grid2D back;
+  thorvald_navigation::WallSurface sb;
+  ASSERT_EQ(loadMap(stem + ".yaml", &back, &sb), "");
+  ASSERT_EQ(sb.size(), 12u);
+  EXPECT_EQ(sb.hits[g.index(2, 1)], 7.0f);
+  EXPECT_NEAR(sb.mean_m[g.index(2, 1)].x(), -0.8887, 1e-6);
+  EXPECT_NEAR(sb.mean_m[g.index(2, 1)].y(), 2.0612, 1e-6);
+  EXPECT_EQ(sb.hits[g.index(0, 0)], 0.0f);
+  // A map without a surface file leaves the surface empty.
+  ASSERT_EQ(saveMap(g, tempStem("no_surface")), "");
+  ASSERT_EQ(loadMap(tempStem("no_surface") + ".yaml", &back, &sb), "");
+  EXPECT_TRUE(sb.empty());
+  // A mean outside its cell, or a cell outside the map, is refused with the line.
+  std::ofstream(stem + ".surface") << "# thorvald_navigation wall surface: cell_x cell_y mean_x mean_y hits\n"
+                                   << "size 4 3\n2 1 -0.5 2.06 3\n";
+  EXPECT_NE(loadMap(stem + ".yaml", &back, &sb).find("outside its cell"), std::string::npos);
+  std::ofstream(stem + ".surface") << "# thorvald_navigation wall surface: cell_x cell_y mean_x mean_y hits\n"
+                                   << "size 4 3\n9 1 -0.5 2.06 3\n";
+  EXPECT_NE(loadMap(stem + ".yaml", &back, &sb).find(":3:"), std::string::npos);
+  std::ofstream(stem + ".surface") << "something else\n";
+  EXPECT_NE(loadMap(stem + ".yaml", &back, &sb).find("header"), std::string::npos);
+}
+
 TEST(MapFile, BadInputNamesTheProblem) {
   Grid2D g;
   EXPECT_NE(saveMap(g, tempStem("empty")), "");

@@ -61,8 +61,9 @@ class MapLocalizer {
  public:
   explicit MapLocalizer(const LocalizerParams& params) : params_(params) {}
 
-  /// Sets the map; an empty string on success, else what is wrong with it.
-  std::string setMap(const Grid2D& map);
+  /// Sets the map; an empty string on success, else what is wrong with it. `surface` (optional, the mapper's
+  /// per-cell mean beam ends): scans are matched to the walls' sub-cell surface instead of the cell centres.
+  std::string setMap(const Grid2D& map, const WallSurface* surface = nullptr);
   bool hasMap() const { return !field_.empty(); }
   /// Sets the pose of base_link in the map at the moment odometry read `odom`.
   void setPose(const Pose2D& map_pose, const Pose2D& odom);

@@ -10,6 +10,7 @@
 #include "thorvald_navigation/grid2d.h"
 #include "thorvald_navigation/pose2d.h"
 #include "thorvald_navigation/scan_matcher.h"
+#include "thorvald_navigation/wall_surface.h"
 
 namespace thorvald_navigation {
 
@@ -61,6 +62,8 @@ class OccupancyMapper {
 
   /// The map as occupancy values (0 free, 100 occupied, -1 unknown), cropped to the observed area.
   Grid2D occupancyGrid() const;
+  /// Where the beams ended inside each cell of occupancyGrid() (same crop): the walls' sub-cell surface.
+  WallSurface wallSurface() const;
   int scansUsed() const { return scans_used_; }
   /// Area observed as free or occupied [m^2].
   double knownAreaM2() const;
@@ -69,6 +72,8 @@ class OccupancyMapper {
 
  private:
   void ensureInside(const Eigen::Vector2d& p);
+  /// Cells of the observed area plus a margin: x0, y0, x1, y1 (inclusive); x1 < 0 when nothing was observed.
+  Eigen::Vector4i observedBounds() const;
   /// Traces one scan into the grid: hits first, then the free space of every beam.
   void insert(const Pose2D& pose, const Eigen::Vector2d& sensor_base, const std::vector<Eigen::Vector2d>& points_base,
               const std::vector<Eigen::Vector2d>& free_ends_base);
@@ -79,11 +84,14 @@ class OccupancyMapper {
 
   MapperParams params_;
   std::vector<float> log_odds_;
+  Grid2D occupancy_;     ///< occupancy values of log_odds_ (same geometry), kept up to date cell by cell
+  WallSurface surface_;  ///< per cell of log_odds_: mean beam end and count
   std::vector<std::uint32_t> scan_stamp_;  ///< per cell: the scan that last updated it
   std::uint32_t scan_counter_ = 0;
   Grid2D geometry_;  ///< size and origin of log_odds_ (its data is unused)
+  /// The matching field: the cropped grid's walls at their cell centres, rebuilt for every scan.
   DistanceField field_;
-  bool field_stale_ = true;
+  std::vector<int> touched_;  ///< cells updated by the scan being inserted
   bool first_ = true;
   Pose2D map_to_odom_;
   Pose2D last_integrated_odom_;

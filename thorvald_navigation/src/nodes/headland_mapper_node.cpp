@@ -1,6 +1,7 @@
 // headland_mapper: occupancy mapping of the headland from lidar scans and fused odometry by scan matching to the
 // map built so far (gmapping's topics and the parameter names that apply); saves map_server YAML + PGM on
 // ~save_map and at shutdown. Thin shell around OccupancyMapper.
+#include <chrono>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -148,7 +149,18 @@ class HeadlandMapperNode {
       return;
     }
     std::lock_guard<std::mutex> lock(mutex_);
+    // Scans the publisher sent that never reached this callback (the subscriber queue overflowed while a scan was
+    // being integrated): gaps in the header's sequence number.
+    if (have_seq_ && msg->header.seq > last_seq_) missed_ += msg->header.seq - last_seq_ - 1;
+    have_seq_ = true;
+    last_seq_ = msg->header.seq;
+    const auto t0 = std::chrono::steady_clock::now();
     const MapperUpdate u = mapper_.addScan(odom, {sensor.x, sensor.y}, pts.hits, pts.free_ends);
+    if (u.integrated) {
+      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      integrate_ms_sum_ += ms;
+      integrate_ms_max_ = std::max(integrate_ms_max_, ms);
+    }
     if (!u.rejected.empty()) {
       ++rejected_;
       ROS_WARN_STREAM_THROTTLE(5.0, "headland_mapper: scan rejected: " << u.rejected);
@@ -201,8 +213,12 @@ class HeadlandMapperNode {
       return;
     }
     std::lock_guard<std::mutex> lock(mutex_);
-    ROS_INFO("headland_mapper: %.1f m2 mapped, %d scans used (%ld placed by odometry alone), last match %.0f%%",
-             mapper_.knownAreaM2(), mapper_.scansUsed(), unmatched_, 100.0 * last_inliers_);
+    const int used = mapper_.scansUsed();
+    ROS_INFO(
+        "headland_mapper: %.1f m2 mapped, %d scans used (%ld placed by odometry alone), %ld missed (queue "
+        "full), last match %.0f%%, %.1f ms per integrated scan (max %.1f)",
+        mapper_.knownAreaM2(), used, unmatched_, missed_, 100.0 * last_inliers_, integrate_ms_sum_ / used,
+        integrate_ms_max_);
   }
 
   std::string save() {
@@ -246,6 +262,7 @@ class HeadlandMapperNode {
     st.add("area mapped [m2]", mapper_.knownAreaM2());
     st.add("scans rejected", rejected_);
     st.add("scans placed by odometry alone", unmatched_);
+    st.add("scans missed (queue full)", missed_);
   }
 
   Settings s_;
@@ -261,7 +278,10 @@ class HeadlandMapperNode {
   ros::ServiceServer save_srv_, get_map_srv_;
   ros::Timer map_timer_, tf_timer_, progress_timer_;
   ros::Time last_stamp_;
-  long rejected_ = 0, unmatched_ = 0;
+  long rejected_ = 0, unmatched_ = 0, missed_ = 0;
+  bool have_seq_ = false;
+  std::uint32_t last_seq_ = 0;
+  double integrate_ms_sum_ = 0.0, integrate_ms_max_ = 0.0;
   double last_inliers_ = 0.0;
 };
 

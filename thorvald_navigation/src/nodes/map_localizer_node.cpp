@@ -120,16 +120,20 @@ class MapLocalizerNode {
       return true;
     }
     Grid2D g;
-    *error = loadMap(s_.map_file, &g);
-    if (error->empty()) *error = setMap(g);
+    WallSurface surface;
+    *error = loadMap(s_.map_file, &g, &surface);
+    if (error->empty()) *error = setMap(g, surface.empty() ? nullptr : &surface);
     return error->empty();
   }
 
  private:
-  std::string setMap(const Grid2D& g) {
+  /// `surface`: the map file's wall surface (scans matched to the walls' sub-cell surface), or none.
+  std::string setMap(const Grid2D& g, const WallSurface* surface = nullptr) {
     std::lock_guard<std::mutex> lock(mutex_);
-    const std::string e = loc_.setMap(g);
-    if (e.empty()) ROS_INFO("map_localizer: map %d x %d at %.3f m", g.width, g.height, g.resolution_m);
+    const std::string e = loc_.setMap(g, surface);
+    if (e.empty())
+      ROS_INFO("map_localizer: map %d x %d at %.3f m, walls matched at %s", g.width, g.height, g.resolution_m,
+               surface ? "their sub-cell surface (wall_surface file)" : "cell centres (no wall_surface file)");
     return e;
   }
 
