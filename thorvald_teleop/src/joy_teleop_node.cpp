@@ -171,7 +171,7 @@ int main(int argc, char** argv) {
     params.finish();  // warns about unread (misspelt) parameters, logs the effective values
     ros::spin();
   } catch (const std::exception& e) {
-    if (ros::isShuttingDown()) return 0;  // stopped during start-up
+    if (thorvald_teleop::StopSignals::requested() || !ros::ok()) return 0;  // stopped during start-up
     ROS_FATAL("joy_teleop cannot start: %s", e.what());
     return 1;
   }

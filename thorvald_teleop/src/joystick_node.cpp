@@ -193,7 +193,7 @@ int main(int argc, char** argv) {
     thorvald_teleop::JoystickNode node(nh, pnh);
     node.run();
   } catch (const std::exception& e) {
-    if (ros::isShuttingDown()) return 0;  // stopped during start-up
+    if (thorvald_teleop::StopSignals::requested() || !ros::ok()) return 0;  // stopped during start-up
     ROS_FATAL("joystick cannot start: %s", e.what());
     return 1;
   }

@@ -20,7 +20,9 @@ int main(int argc, char** argv) {
     params.finish();  // warns about unread (misspelt) parameters, logs the effective values
     ros::spin();
   } catch (const std::exception& e) {
-    if (ros::isShuttingDown()) return 0;  // stopped during start-up: the parameters could not be read
+    // Stopped during start-up (the parameters could not be read): roscpp's isShuttingDown() is false again once
+    // its shutdown has finished, so the signal itself is what tells.
+    if (thorvald_teleop::StopSignals::requested() || !ros::ok()) return 0;
     ROS_FATAL("twist_mux cannot start: %s", e.what());
     return 1;
   }
