@@ -270,6 +270,8 @@ std::string UvMission::Impl::skip(tsm::ExecutionContext& ctx) {
 
 void UvMission::Impl::build(tsm::StateMachine& sm) {
   const std::string P = tsm::kPreempted;
+  sm.add("RESUME", state({"clear", "unsafe", P}, [this](tsm::ExecutionContext& c) { return resume(c); }),
+         {{"clear", "SELECT"}, {"unsafe", "aborted"}});
   sm.add("SELECT", state({"next", "skip", "finished"}, [this](tsm::ExecutionContext&) { return select(); }),
          {{"next", "NAVIGATE"}, {"skip", "SKIP"}, {"finished", "done"}});
   sm.add("NAVIGATE", state({"arrived", "failed", P}, [this](tsm::ExecutionContext& c) { return navigate(c); }),
@@ -310,6 +312,9 @@ UvMission::UvMission(MissionIO& io, const UvMissionParams& params, std::vector<M
 UvMission::~UvMission() = default;
 
 std::string UvMission::run() {
+  // A run reports what it did: sets skipped in an earlier run are tried again, treated ones stay done.
+  reports_.clear();
+  stop_reason_.clear();
   tsm::UserData ud;
   return machine_->run(ud);
 }

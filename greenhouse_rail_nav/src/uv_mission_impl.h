@@ -72,6 +72,13 @@ class UvMission::Impl {
   std::string backOut(tsm::ExecutionContext& ctx);
   std::string treat(tsm::ExecutionContext& ctx);
   std::string comeBack(tsm::ExecutionContext& ctx);
+  /// First state of every run: a robot that the last run left after it began entering a set's rails reverses to
+  /// the pose stored before the entry (RETURN's motion) before anything else; "clear", "unsafe" or preempted.
+  std::string resume(tsm::ExecutionContext& ctx);
+  /// Reverses along the rails to the stored entry pose until the wheels read floor there (slowing after
+  /// slow_fraction of driven_in_m_); kDone (localisation reset to the stored map pose), kFailed or kEdge with
+  /// `why`, kPreempted.
+  Loop reverseToEntry(tsm::ExecutionContext& ctx, std::string* why);
   std::string skip(tsm::ExecutionContext& ctx);
   Safety secure(tsm::ExecutionContext& ctx, std::string* note);
   Safety reverseToFloor(tsm::ExecutionContext& ctx, std::string* note);

@@ -180,31 +180,25 @@ std::string UvMission::Impl::treat(tsm::ExecutionContext& ctx) {
   return outcome;
 }
 
-std::string UvMission::Impl::comeBack(tsm::ExecutionContext& ctx) {
+UvMission::Impl::Loop UvMission::Impl::reverseToEntry(tsm::ExecutionContext& ctx, std::string* why) {
   Pose2D pose;
-  if (!io_.odomPose(&pose)) {
-    addReason("return: no odometry");
-    return "failed";
-  }
   const double yaw_ref = entry_odom_.yaw;
   double v = 0.0, t_last = io_.now();
   const double extra_m = 0.5;  // beyond the stored pose, to find the floor if odometry came up short
-  log("reversing to the headland");
   while (io_.ok()) {
     if (ctx.preemptRequested()) {
       stop();
-      return tsm::kPreempted;
+      return Loop::kPreempted;
     }
-    std::string why;
-    if (io_.safetyStopped(&why)) {
+    std::string stop_why;
+    if (io_.safetyStopped(&stop_why)) {
       v = 0.0;
-      if (!holdWhileStopped(ctx)) return tsm::kPreempted;
+      if (!holdWhileStopped(ctx)) return Loop::kPreempted;
     }
     if (surfaceStale() || !io_.odomPose(&pose)) {
       stop();
-      addReason("return: surface readings or odometry lost");
-      log(skip_reason_);
-      return "failed";
+      *why = "surface readings or odometry lost";
+      return Loop::kFailed;
     }
     const double now = io_.now();
     const double dt = now - t_last;
@@ -214,16 +208,14 @@ std::string UvMission::Impl::comeBack(tsm::ExecutionContext& ctx) {
     const SurfaceReading s = io_.surface();
     if (s.wheels == Surface::kEdge) {
       stop();
-      addReason("return: edge under a wheel");
-      log(skip_reason_);
-      return "failed";
+      *why = "edge under a wheel";
+      return Loop::kEdge;
     }
     if (along <= 0.0 && s.wheels == Surface::kFloor) break;  // back at the stored pose, on the floor
     if (along < -extra_m) {
       stop();
-      addReason("return: no floor sensed at the stored pose");
-      log(skip_reason_);
-      return "failed";
+      *why = "no floor sensed at the stored pose";
+      return Loop::kFailed;
     }
     v = returnSpeed(p_.rail_run, v, reversed, driven_in_m_, dt);
     if (along <= 0.0) v = std::min(v, p_.rail_run.slow_speed_mps);
@@ -231,7 +223,26 @@ std::string UvMission::Impl::comeBack(tsm::ExecutionContext& ctx) {
     io_.waitTick();
   }
   stop();
+  if (!io_.ok()) return Loop::kPreempted;
   if (entry_map_known_) io_.resetLocalisation(entry_map_);
+  return Loop::kDone;
+}
+
+std::string UvMission::Impl::comeBack(tsm::ExecutionContext& ctx) {
+  Pose2D pose;
+  if (!io_.odomPose(&pose)) {
+    addReason("return: no odometry");
+    return "failed";
+  }
+  log("reversing to the headland");
+  std::string why;
+  const Loop l = reverseToEntry(ctx, &why);
+  if (l == Loop::kPreempted) return tsm::kPreempted;
+  if (l != Loop::kDone) {
+    addReason("return: " + why);
+    log(skip_reason_);
+    return "failed";
+  }
   if (!treat_complete_) {
     log("back on the headland floor; the rails were not treated to their end");
     return "back_untreated";
@@ -243,6 +254,55 @@ std::string UvMission::Impl::comeBack(tsm::ExecutionContext& ctx) {
   owner_.done_.insert(current_->index);
   log("back on the headland floor; rail set treated");
   return "back";
+}
+
+std::string UvMission::Impl::resume(tsm::ExecutionContext& ctx) {
+  if (!rail_phase_) return "clear";  // the last run did not stop after entering a set's rails
+  // The last run was stopped (preempted or aborted) after the robot began to enter a set's rails: it may stand on
+  // them, and no navigation goal may be sent from there. Wait for a fresh, decided reading at the wheels.
+  const double deadline = io_.now() + p_.secure_wait_s;
+  while (surfaceStale() || io_.surface().wheels == Surface::kUnknown) {
+    if (!io_.ok() || ctx.preemptRequested()) return tsm::kPreempted;
+    if (io_.now() >= deadline) {
+      owner_.stop_reason_ =
+          "resuming after a stop at the rails: no fresh, decided reading of the range finders "
+          "at the wheels";
+      log(owner_.stop_reason_);
+      return "unsafe";
+    }
+    stop();
+    io_.waitTick();
+  }
+  const Surface wheels = io_.surface().wheels;
+  if (wheels == Surface::kEdge) {
+    owner_.stop_reason_ = "resuming after a stop at the rails: an edge under a wheel";
+    log(owner_.stop_reason_);
+    return "unsafe";
+  }
+  if (wheels == Surface::kRail) {
+    Pose2D pose;
+    if (!io_.odomPose(&pose)) {
+      owner_.stop_reason_ = "resuming on the rails: no odometry to reverse on";
+      log(owner_.stop_reason_);
+      return "unsafe";
+    }
+    driven_in_m_ = std::max(0.0, (pose.position() - entry_odom_.position()).dot(entry_odom_.heading()));
+    std::ostringstream l;
+    l << "resuming: the last run stopped on the rails, " << driven_in_m_
+      << " m from the stored pose; reversing to it before anything else";
+    log(l.str());
+    std::string why;
+    const Loop r = reverseToEntry(ctx, &why);
+    if (r == Loop::kPreempted) return tsm::kPreempted;
+    if (r != Loop::kDone) {
+      owner_.stop_reason_ = "resuming on the rails: " + why;
+      log(owner_.stop_reason_);
+      return "unsafe";
+    }
+    log("resuming: back on the headland floor at the stored pose");
+  }
+  rail_phase_ = false;
+  return "clear";
 }
 
 UvMission::Impl::Safety UvMission::Impl::reverseToFloor(tsm::ExecutionContext& ctx, std::string* note) {

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <set>
 
 #include "greenhouse_rail_nav/uv_mission.h"
 
@@ -32,7 +33,10 @@ class SimulatedGreenhouse : public grn::MissionIO {
   double bumper_from = -1.0, bumper_to = -1.0;  ///< sim time of a bumper press and of the person's reset
   /// Odometry gain while reversing on the rails (> 1: odometry runs ahead of the robot, as when the wheels slip).
   double odom_reverse_gain_on_rails = 1.0;
-  double silent_after_lights_s = -1.0;  ///< the range finders stop reporting after the lights were on this long
+  double silent_after_lights_s = -1.0;        ///< the range finders stop reporting after the lights were on this long
+  int failing_nav_goals = 0;                  ///< this many navigation goals (the first ones) end in failure
+  grn::UvMission* preempt_mission = nullptr;  ///< preempted once the robot has driven preempt_on_rails_x onto the rails
+  double preempt_on_rails_x = -1.0;
 
   // What the tests check.
   bool wheel_past_edge = false;
@@ -41,6 +45,7 @@ class SimulatedGreenhouse : public grn::MissionIO {
   double lights_on_time = 0.0;
   double first_lights_on_x = std::numeric_limits<double>::quiet_NaN();  ///< base_link's x when the lights first went on
   int nav_goals = 0;
+  bool nav_goal_on_rails = false;  ///< a navigation goal was sent while the wheels read rail
   int localisation_resets = 0;
   std::vector<std::string> lines;
 
@@ -49,12 +54,17 @@ class SimulatedGreenhouse : public grn::MissionIO {
   void waitTick() override { step(0.02); }
   void sendNavGoal(const grn::Pose2D& goal) override {
     ++nav_goals;
+    if (surface_.wheels == grn::Surface::kRail) nav_goal_on_rails = true;
     goal_ = goal;
     nav_done_at_ = t_ + 5.0;
   }
   grn::NavState navState(std::string*) override {
     if (nav_done_at_ < 0.0) return grn::NavState::kIdle;
     if (t_ < nav_done_at_) return grn::NavState::kActive;
+    if (nav_done_at_ > 0.0 && nav_goals <= failing_nav_goals) {
+      nav_done_at_ = 0.0;
+      return grn::NavState::kFailed;
+    }
     if (nav_done_at_ > 0.0) {
       std::normal_distribution<double> exy(0.0, nav_xy_error), eyaw(0.0, nav_yaw_error);
       pose_ = grn::Pose2D(goal_.x + exy(rng_), goal_.y + exy(rng_), goal_.yaw + eyaw(rng_));
@@ -128,6 +138,10 @@ class SimulatedGreenhouse : public grn::MissionIO {
         if (std::fabs(pose_.y - set.y) < 0.05) pose_.y = set.y, pose_.yaw = 0.0;
     }
     t_ += dt;
+    if (preempt_mission && preempt_on_rails_x >= 0.0 && pose_.x > preempt_on_rails_x) {
+      preempt_mission->requestPreempt();
+      preempt_on_rails_x = -1.0;
+    }
     updateSensors();
     if (lights_on) lights_on_time += dt;
   }
@@ -278,6 +292,59 @@ TEST(UvMission, PausesForTheBumperAndPreemptsAndResumes) {
   ASSERT_EQ(second.reports().size(), 1u);
   EXPECT_EQ(second.reports()[0].index, 1);
   EXPECT_EQ(world2.nav_goals, 1);
+}
+
+// Run after run on the same mission object, as the node's ~start does: a set skipped in one run is tried again by
+// the next, a treated one is not.
+TEST(UvMission, ASetSkippedInOneRunIsTriedAgainByTheNext) {
+  const std::vector<RailSetTruth> sets = {{0.0}, {1.6}};
+  SimulatedGreenhouse world(sets, 5);
+  grn::UvMissionParams p;
+  world.failing_nav_goals = p.nav_attempts;  // every attempt at set 0 fails in the first run
+  grn::UvMission mission(world, p, targetsFor(sets, -1.2));
+  EXPECT_EQ(mission.run(), "done");
+  ASSERT_EQ(mission.reports().size(), 2u);
+  EXPECT_FALSE(mission.reports()[0].treated);
+  EXPECT_EQ(mission.done(), std::set<int>({1}));
+
+  EXPECT_EQ(mission.run(), "done");
+  ASSERT_EQ(mission.reports().size(), 1u) << "the second run reports only what it did";
+  EXPECT_EQ(mission.reports()[0].index, 0);
+  EXPECT_TRUE(mission.reports()[0].treated) << mission.reports()[0].result;
+  EXPECT_EQ(mission.done(), std::set<int>({0, 1}));
+  EXPECT_FALSE(world.wheel_past_edge);
+  EXPECT_FALSE(world.lights_on_off_rails);
+}
+
+// Preempted 4 m onto 12 m rails (lights on): the robot stays there, stopped with its lights off. The next run first
+// reverses it to the pose stored before the entry, on the floor, and only then navigates: it treats that set again
+// from its start, then the other one.
+TEST(UvMission, ARunPreemptedOnTheRailsResumesByReversingOffThemFirst) {
+  const std::vector<RailSetTruth> sets = {{0.0}, {1.6}};
+  SimulatedGreenhouse world(sets, 7);
+  grn::UvMissionParams p;
+  grn::UvMission mission(world, p, targetsFor(sets, -1.2));
+  world.preempt_mission = &mission;
+  world.preempt_on_rails_x = 4.0;
+  EXPECT_EQ(mission.run(), thorvald_state_machine::kPreempted);
+  EXPECT_TRUE(mission.done().empty());
+  EXPECT_GT(world.truePose().x, 3.5) << "left on the rails by the preemption";
+  EXPECT_FALSE(world.lights_on) << "lights off when preempted";
+  const int goals_before = world.nav_goals;
+
+  EXPECT_EQ(mission.run(), "done");
+  EXPECT_TRUE(mission.stopReason().empty()) << mission.stopReason();
+  EXPECT_EQ(mission.done(), std::set<int>({0, 1}));
+  EXPECT_EQ(world.nav_goals, goals_before + 2) << "one goal per set";
+  EXPECT_FALSE(world.nav_goal_on_rails) << "a navigation goal was sent with the robot on the rails";
+  bool said = false;
+  for (const auto& l : world.lines)
+    said = said || l.find("resuming: the last run stopped on the rails") != std::string::npos;
+  EXPECT_TRUE(said);
+  EXPECT_FALSE(world.wheel_past_edge);
+  EXPECT_FALSE(world.lights_on_off_rails);
+  if (HasFailure())
+    for (const auto& l : world.lines) std::cout << l << "\n";
 }
 
 TEST(UvMission, RefusesBadParameters) {

@@ -364,10 +364,9 @@ int main(int argc, char** argv) {
         report_pub.publish(r);
         if (!mission.stopReason().empty())
           ROS_ERROR("uv_mission: stopped before the end, the robot needs a person: %s", mission.stopReason().c_str());
-        int treated = 0;
-        for (const auto& rep : mission.reports()) treated += rep.treated ? 1 : 0;
-        ROS_INFO("uv_mission: finished with '%s': %d of %zu rail sets treated\n%s", outcome.c_str(), treated,
-                 targets.size(), r.data.c_str());
+        // The report covers this run; done() also holds the sets treated by earlier runs.
+        ROS_INFO("uv_mission: finished with '%s': %zu of %zu rail sets treated\n%s", outcome.c_str(),
+                 mission.done().size(), targets.size(), r.data.c_str());
         running = false;
         if (exit_when_done && outcome != thorvald_state_machine::kPreempted) ros::shutdown();
       });
