@@ -110,7 +110,8 @@ std::string UvMission::Impl::treat(tsm::ExecutionContext& ctx) {
   const double yaw_ref = pose.yaw;
   const Pose2D rail_start = pose;
   double v = 0.0, t_last = io_.now(), lights_since = t_last;
-  double sum = 0.0, sum2 = 0.0;
+  double sum = 0.0, sum2 = 0.0, window_m = 0.0, window_s = 0.0;
+  constexpr double kSpeedWindowS = 0.5;
   int n = 0;
   io_.setLights(true);
   log("UV lights on, driving along the rails");
@@ -145,11 +146,20 @@ std::string UvMission::Impl::treat(tsm::ExecutionContext& ctx) {
     const double dt = now - t_last;
     t_last = now;
     const double along = (pose.position() - rail_start.position()).dot(rail_start.heading());
+    // The speed at cruise, over windows of kSpeedWindowS: odometry comes at its own rate, so over one control tick
+    // the pose may not have moved at all, or moved twice.
     if (dt > 0.0 && std::fabs(v - p_.rail_run.treat_speed_mps) < 1e-9) {
-      const double speed = (pose.position() - last.position()).norm() / dt;
-      sum += speed;
-      sum2 += speed * speed;
-      ++n;
+      window_m += (pose.position() - last.position()).norm();
+      window_s += dt;
+      if (window_s >= kSpeedWindowS) {
+        const double speed = window_m / window_s;
+        sum += speed;
+        sum2 += speed * speed;
+        ++n;
+        window_m = window_s = 0.0;
+      }
+    } else {
+      window_m = window_s = 0.0;
     }
     last = pose;
     if (along > p_.rail_run.max_rail_length_m) {

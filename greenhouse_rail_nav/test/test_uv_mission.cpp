@@ -22,7 +22,7 @@ struct RailSetTruth {
 class SimulatedGreenhouse : public grn::MissionIO {
  public:
   explicit SimulatedGreenhouse(std::vector<RailSetTruth> sets, unsigned seed = 1) : sets_(std::move(sets)), rng_(seed) {
-    pose_ = grn::Pose2D(-3.0, 0.0, 0.0);
+    pose_ = odom_ = grn::Pose2D(-3.0, 0.0, 0.0);
   }
 
   // World settings the tests change.
@@ -34,6 +34,7 @@ class SimulatedGreenhouse : public grn::MissionIO {
   /// Odometry gain while reversing on the rails (> 1: odometry runs ahead of the robot, as when the wheels slip).
   double odom_reverse_gain_on_rails = 1.0;
   double silent_after_lights_s = -1.0;        ///< the range finders stop reporting after the lights were on this long
+  double odom_period_s = 0.0;                 ///< odometry comes at this period (0: every control tick)
   int failing_nav_goals = 0;                  ///< this many navigation goals (the first ones) end in failure
   grn::UvMission* preempt_mission = nullptr;  ///< preempted once the robot has driven preempt_on_rails_x onto the rails
   double preempt_on_rails_x = -1.0;
@@ -68,6 +69,7 @@ class SimulatedGreenhouse : public grn::MissionIO {
     if (nav_done_at_ > 0.0) {
       std::normal_distribution<double> exy(0.0, nav_xy_error), eyaw(0.0, nav_yaw_error);
       pose_ = grn::Pose2D(goal_.x + exy(rng_), goal_.y + exy(rng_), goal_.yaw + eyaw(rng_));
+      odom_ = grn::Pose2D(pose_.x + odom_extra_x_, pose_.y, pose_.yaw);
       v_ = w_ = 0.0;
       nav_done_at_ = 0.0;
     }
@@ -75,8 +77,7 @@ class SimulatedGreenhouse : public grn::MissionIO {
   }
   void cancelNav() override { nav_done_at_ = -1.0; }
   bool odomPose(grn::Pose2D* p) override {
-    *p = pose_;
-    p->x += odom_extra_x_;
+    *p = odom_;
     return true;
   }
   bool mapPose(grn::Pose2D* p) override {
@@ -138,6 +139,11 @@ class SimulatedGreenhouse : public grn::MissionIO {
         if (std::fabs(pose_.y - set.y) < 0.05) pose_.y = set.y, pose_.yaw = 0.0;
     }
     t_ += dt;
+    if (t_ - last_odom_ >= odom_period_s - 1e-9) {
+      odom_ = pose_;
+      odom_.x += odom_extra_x_;
+      last_odom_ = t_;
+    }
     if (preempt_mission && preempt_on_rails_x >= 0.0 && pose_.x > preempt_on_rails_x) {
       preempt_mission->requestPreempt();
       preempt_on_rails_x = -1.0;
@@ -181,6 +187,8 @@ class SimulatedGreenhouse : public grn::MissionIO {
   std::mt19937 rng_;
   grn::Pose2D pose_, goal_;
   double odom_extra_x_ = 0.0;
+  grn::Pose2D odom_;         ///< the last odometry message's pose
+  double last_odom_ = -1.0;  ///< when it came
   double t_ = 0.0, v_ = 0.0, w_ = 0.0, v_cmd_ = 0.0, w_cmd_ = 0.0, nav_done_at_ = -1.0, last_cloud_ = -1.0;
   grn::RailObservation obs_;
   grn::SurfaceReading surface_;
@@ -345,6 +353,21 @@ TEST(UvMission, ARunPreemptedOnTheRailsResumesByReversingOffThemFirst) {
   EXPECT_FALSE(world.lights_on_off_rails);
   if (HasFailure())
     for (const auto& l : world.lines) std::cout << l << "\n";
+}
+
+// Odometry at 30 Hz under the 50 Hz control loop: the report's speed on the rails is the robot's (0.5 m/s, steady at
+// cruise), not the tick-to-tick jitter of poses that did not move on some ticks and moved twice on others.
+TEST(UvMission, TheReportedRailSpeedDoesNotDependOnTheOdometryRate) {
+  const std::vector<RailSetTruth> sets = {{0.0}};
+  SimulatedGreenhouse world(sets, 3);
+  world.odom_period_s = 1.0 / 30.0;
+  grn::UvMissionParams p;
+  grn::UvMission mission(world, p, targetsFor(sets, -1.2));
+  EXPECT_EQ(mission.run(), "done");
+  ASSERT_EQ(mission.reports().size(), 1u);
+  EXPECT_TRUE(mission.reports()[0].treated) << mission.reports()[0].result;
+  EXPECT_NEAR(mission.reports()[0].speed_mean_mps, 0.5, 0.02);
+  EXPECT_LT(mission.reports()[0].speed_std_mps, 0.03);
 }
 
 TEST(UvMission, RefusesBadParameters) {
