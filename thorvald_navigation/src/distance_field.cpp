@@ -70,7 +70,7 @@ std::string WallSurface::check(std::size_t cells) const {
 }
 
 DistanceField::DistanceField(const Grid2D& grid, double max_distance_m, int occupied_threshold, bool faces_only,
-                             const WallSurface* surface)
+                             const WallSurface* surface, double line_half_length_m)
     : width_(grid.width),
       height_(grid.height),
       resolution_m_(grid.resolution_m),
@@ -83,6 +83,9 @@ DistanceField::DistanceField(const Grid2D& grid, double max_distance_m, int occu
     return;
   }
   const std::size_t n = grid.data.size();
+  line_half_length_m_ = line_half_length_m < 0.0    ? static_cast<float>(0.5 * resolution_m_)
+                        : line_half_length_m == 0.0 ? std::numeric_limits<float>::infinity()
+                                                    : static_cast<float>(line_half_length_m);
   reach_cells_ = static_cast<int>(std::ceil(max_distance_m_ / resolution_m_)) + 1;
   // A grid without any face cell (nothing seen from the inside) keeps every wall cell.
   faces_ = false;
@@ -231,12 +234,12 @@ void DistanceField::computeSurfel(const WallSurface& surface, int sx, int sy) {
     const Eigen::Matrix2d cov = sum_sq / w - point * point.transpose();
     const double a = cov(0, 0), b = cov(0, 1), c = cov(1, 1);
     const double l1 = 0.5 * (a + c) + std::sqrt(0.25 * (a - c) * (a - c) + b * b), l2 = a + c - l1;
-    // A clear line (one direction much wider than the other): a segment one cell long; else a point.
+    // A clear line (one direction much wider than the other): a segment (by default one cell long); else a point.
     if (l1 > 4.0 * std::max(l2, 0.0) && l1 > 0.01 * resolution_m_ * resolution_m_) {
       const Eigen::Vector2d t = std::abs(b) > 1e-15 ? Eigen::Vector2d(l1 - c, b).normalized()
                                                     : (a >= c ? Eigen::Vector2d::UnitX() : Eigen::Vector2d::UnitY());
       s.tangent = t.cast<float>();
-      s.half_length = static_cast<float>(0.5 * resolution_m_);
+      s.half_length = line_half_length_m_;
     }
   }
   s.point = point.cast<float>();

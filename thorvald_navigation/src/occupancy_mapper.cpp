@@ -30,6 +30,7 @@ std::string MapperParams::validate() const {
   if (!(min_inlier_fraction >= 0.0 && min_inlier_fraction <= 1.0)) return "min_inlier_fraction must be in [0, 1]";
   if (!(odom_sigma_xy_m >= 0.0) || !(odom_sigma_yaw_rad >= 0.0) || !(odom_sigma_fraction >= 0.0))
     return "odom_sigma_xy, odom_sigma_yaw and odom_sigma_fraction must be >= 0";
+  if (!(surfel_half_length_m >= 0.0)) return "surfel_half_length must be >= 0 (0: the whole line)";
   return matcher.validate();
 }
 
@@ -150,8 +151,14 @@ MapperUpdate OccupancyMapper::addScan(const Pose2D& odom, const Eigen::Vector2d&
   }
   Pose2D pose = map_to_odom_ * odom;
   if (!first_) {
-    // Matched at cell centres, rebuilt for every scan (README, Limits: matching at the wall surface is not done).
-    field_ = DistanceField(occupancyGrid(), params_.field_max_distance_m, kWallValue, true);
+    // Rebuilt for every scan (README, Limits).
+    if (params_.match_surface) {
+      const WallSurface surface = wallSurface();
+      field_ = DistanceField(occupancyGrid(), params_.field_max_distance_m, kWallValue, true, &surface,
+                             params_.surfel_half_length_m);
+    } else {
+      field_ = DistanceField(occupancyGrid(), params_.field_max_distance_m, kWallValue, true);
+    }
     ScanMatcherParams matcher = params_.matcher;
     const Pose2D moved = last_integrated_odom_.inverse() * odom;
     if (params_.odom_sigma_xy_m > 0.0)

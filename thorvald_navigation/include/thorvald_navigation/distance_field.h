@@ -18,7 +18,10 @@ namespace thorvald_navigation {
 /// where the beams ended: each wall cell (site) stands for a short line segment through the mean of the end points
 /// in its 3x3 neighbourhood, along their principal direction, one cell long; the distance at a point is the smallest
 /// to the segments of the sites nearest to its cell and its 8 neighbours (exact feature transform), so its zero is
-/// at the surface wherever it lies inside a cell, not at cell centres.
+/// at the surface wherever it lies inside a cell, not at cell centres. `line_half_length_m` sets how far a wall
+/// cell's segment reaches either way (default half a cell); 0 makes it the whole line (a point-to-line distance),
+/// so that a wall seen at a grazing angle, whose cells hold beam ends only here and there, has no bumps along its
+/// length for scan matching to slide into: along a straight wall only its ends and corners fix a position.
 class DistanceField {
  public:
   DistanceField() = default;
@@ -28,7 +31,7 @@ class DistanceField {
   /// slides into; a grid without any free cell keeps every wall cell.
   /// `surface` (optional, same size as the grid): where the beams ended inside each cell.
   DistanceField(const Grid2D& grid, double max_distance_m, int occupied_threshold = 65, bool faces_only = false,
-                const WallSurface* surface = nullptr);
+                const WallSurface* surface = nullptr, double line_half_length_m = -1.0);
 
   bool empty() const { return width_ == 0; }
   double maxDistance() const { return max_distance_m_; }
@@ -74,6 +77,7 @@ class DistanceField {
   bool faces_ = false;     ///< sites are the face cells only
   bool sub_cell_ = false;  ///< distances to the surfels (a WallSurface was given)
   int reach_cells_ = 1;    ///< max distance in cells, rounded up, plus one
+  float line_half_length_m_ = 0.0f;  ///< reach of a line surfel either way [m] (infinite: the whole line)
   std::vector<float> dist_;
   std::vector<std::uint8_t> site_;  ///< per cell: is a site
   std::vector<int> site_of_;        ///< per cell: the nearest site's cell index (sub-cell mode), -1 none
