@@ -141,7 +141,8 @@ int main(int argc, char** argv) {
   };
   const Resolution resolutions[] = {{1280, 720, frames}, {640, 360, other_frames}, {1920, 1080, other_frames}};
 
-  ScoreSummary by_light[3], by_resolution[3], all, all_paper, all_rgb, all_window, all_no_partial, all_arc_test;
+  ScoreSummary by_light[3], by_resolution[3], all, all_paper, all_rgb, all_window, all_no_partial, all_arc_test,
+      all_no_dome;
   CaseStats by_case[3];
   Timing colour_time, colour_cpu, dnn_time, render_time;
   int total = 0;
@@ -168,6 +169,10 @@ int main(int argc, char** argv) {
     ColourBollParams arc_test;
     arc_test.whole_needs_arc = true;
     PerceptionPipeline colour_arc_test(params, std::make_unique<ColourBollDetector>(arc_test));
+    // Without the dome test (flat white things that are boll-sized at their depth pass as bolls).
+    PerceptionParams no_dome_params = params;
+    no_dome_params.boll_min_dome_fraction = 0.0;
+    PerceptionPipeline colour_no_dome(no_dome_params, std::make_unique<ColourBollDetector>(ColourBollParams{}));
     std::unique_ptr<PerceptionPipeline> dnn;
     if (r == 0 && dnn_frames > 0)
       dnn = std::make_unique<PerceptionPipeline>(params, std::make_unique<DarknetBollDetector>(darknet));
@@ -194,6 +199,7 @@ int main(int argc, char** argv) {
       all_window.add(scoreFrame(colour_window.process(frame.bgr, frame.cloud), frame.layout, ScoringParams{}));
       all_no_partial.add(scoreFrame(colour_no_partial.process(frame.bgr, frame.cloud), frame.layout, ScoringParams{}));
       all_arc_test.add(scoreFrame(colour_arc_test.process(frame.bgr, frame.cloud), frame.layout, ScoringParams{}));
+      all_no_dome.add(scoreFrame(colour_no_dome.process(frame.bgr, frame.cloud), frame.layout, ScoringParams{}));
       all_rgb.add(scoreFrame(colour_rgb.process(frame.bgr, frame.cloud), frame.layout, ScoringParams{}));
       if (dnn && i < dnn_frames) dnn_time.ms.push_back(timeMs([&] { dnn->process(frame.bgr, frame.cloud); }));
       if ((done + 1) % 10 == 0 || done + 1 == total) {
@@ -226,6 +232,7 @@ int main(int argc, char** argv) {
   printScores("all (depth: 5x5 window)", all_window);
   printScores("all (no partial bolls)", all_no_partial);
   printScores("all (whole: arc test)", all_arc_test);
+  printScores("all (no dome test)", all_no_dome);
   std::printf("\n%-26s %6s %6s %7s %10s %10s\n", "bolls by case (all sizes)", "found", "missed", "recall", "3D err m",
               "p95 err m");
   for (int c = 0; c < 3; ++c) {

@@ -139,6 +139,8 @@ static bool loadPerceptionNodeConfigOrThrow(const ros::NodeHandle& pnh, Percepti
   r.read("geometry/boll_height_max_m", &p.geometry.boll_height_max_m, "a number >= boll_height_min_m [m]");
 
   r.read("check_plausibility", &p.check_plausibility, "true or false");
+  r.read("boll_min_dome_fraction", &p.boll_min_dome_fraction, "a number in [0, 1] (0: no dome test)");
+  r.read("boll_dome_sigmas", &p.boll_dome_sigmas, "a number >= 0");
 
   r.read("reach/max_depth_m", &p.reach.max_depth_m, "a positive number [m]");
   r.read("reach/horizontal_arm_length_m", &p.reach.horizontal_arm_length_m, "a number >= 0 [m]");

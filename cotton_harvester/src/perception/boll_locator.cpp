@@ -117,6 +117,61 @@ std::optional<Apex> fitApex(const std::vector<SurfaceSample>& samples, const cv:
   return Apex{apex, distance * (1.0 - sin_a)};
 }
 
+/// A point of the visible surface for the dome fit: its pixel's offset from the disc's centre in disc radii (s, t)
+/// and its depth [m].
+struct DomeSample {
+  double s = 0.0, t = 0.0, z = 0.0;
+};
+
+/// Least squares z = z0 + b s + c t + h (s^2 + t^2) over the used samples: h and its standard error, the residuals
+/// of every sample in `residuals`. false when the fit is singular.
+bool fitDomeOnce(const std::vector<DomeSample>& samples, const std::vector<char>& used, double* height, double* sigma,
+                 std::vector<double>* residuals) {
+  cv::Matx44d normal = cv::Matx44d::zeros();
+  cv::Vec4d rhs(0.0, 0.0, 0.0, 0.0);
+  int n = 0;
+  for (size_t i = 0; i < samples.size(); ++i) {
+    if (!used[i]) continue;
+    const DomeSample& p = samples[i];
+    const cv::Vec4d f(1.0, p.s, p.t, p.s * p.s + p.t * p.t);
+    for (int r = 0; r < 4; ++r) {
+      rhs[r] += f[r] * p.z;
+      for (int c = r; c < 4; ++c) normal(r, c) += f[r] * f[c];
+    }
+    ++n;
+  }
+  if (n < 12) return false;
+  for (int r = 1; r < 4; ++r)
+    for (int c = 0; c < r; ++c) normal(r, c) = normal(c, r);
+  cv::Matx44d inverse;
+  if (cv::invert(normal, inverse, cv::DECOMP_CHOLESKY) == 0.0) return false;
+  const cv::Vec4d x = inverse * rhs;
+  double squares = 0.0;
+  residuals->resize(samples.size());
+  for (size_t i = 0; i < samples.size(); ++i) {
+    const DomeSample& p = samples[i];
+    const double r = p.z - (x[0] + x[1] * p.s + x[2] * p.t + x[3] * (p.s * p.s + p.t * p.t));
+    (*residuals)[i] = r;
+    if (used[i]) squares += r * r;
+  }
+  *height = x[3];
+  *sigma = std::sqrt(squares / (n - 4) * std::max(0.0, inverse(3, 3)));
+  return std::isfinite(*height) && std::isfinite(*sigma);
+}
+
+/// The dome of a boll's visible surface (see locateBollSurface): a fit over every sample, then again without the
+/// samples more than 3 robust sigmas off it (a twig or a leaf's edge inside the outline, the ground past the rim).
+bool fitDome(const std::vector<DomeSample>& samples, double* height, double* sigma) {
+  std::vector<char> used(samples.size(), 1);
+  std::vector<double> residuals;
+  if (!fitDomeOnce(samples, used, height, sigma, &residuals)) return false;
+  std::vector<double> spread(residuals.size());
+  std::transform(residuals.begin(), residuals.end(), spread.begin(), [](double r) { return std::abs(r); });
+  const double limit = 3.0 * 1.4826 * median(spread) + 1e-4;
+  for (size_t i = 0; i < samples.size(); ++i) used[i] = std::abs(residuals[i]) <= limit;
+  return fitDomeOnce(samples, used, height, sigma, &residuals);
+}
+
 }  // namespace
 
 std::optional<LocatedPoint> locate(const cv::Mat& cloud, const cv::Point2d& pixel, const CameraIntrinsics& intrinsics,
@@ -201,6 +256,8 @@ std::optional<LocatedPoint> locateBollSurface(const cv::Mat& cloud, const std::v
   const double rim = 0.8 * sin_a;
   std::vector<double> ranges;
   std::vector<SurfaceSample> samples;
+  std::vector<DomeSample> dome;
+  const double to_disc = 1.0 / radius_px;
   for (int row = 0; row < box.height; row += stride) {
     const uint8_t* in = inside.ptr<uint8_t>(row);
     const cv::Vec3f* points = cloud.ptr<cv::Vec3f>(box.y + row);
@@ -208,6 +265,10 @@ std::optional<LocatedPoint> locateBollSurface(const cv::Mat& cloud, const std::v
       if (!in[col]) continue;
       const double d = pointRange(points[box.x + col]);
       if (!(d > 0.0)) continue;
+      // The dome is measured on the boll's disc out to its rim (where its depth differs most from the centre's), not
+      // on what else the outline takes in (a touching boll's part beyond the split).
+      const double s = (box.x + col - centre.x) * to_disc, t = (box.y + row - centre.y) * to_disc;
+      if (s * s + t * t <= 1.0) dome.push_back({s, t, points[box.x + col][2]});
       const double cos_t = std::min(1.0, axis.dot(ray(box.x + col, box.y + row)));
       const double sin_t = std::sqrt(std::max(0.0, 1.0 - cos_t * cos_t));
       if (sin_t > rim) continue;
@@ -221,6 +282,11 @@ std::optional<LocatedPoint> locateBollSurface(const cv::Mat& cloud, const std::v
   LocatedPoint located;
   located.valid_points = static_cast<int>(ranges.size());
   located.range_m = median(ranges);
+  double dome_m = 0.0, dome_sigma_m = 0.0;
+  if (fitDome(dome, &dome_m, &dome_sigma_m)) {
+    located.dome_m = dome_m;
+    located.dome_sigma_m = dome_sigma_m;
+  }
   cv::Point2d apex = centre;
   if (params.apex_fit) {
     // The range of the surface at the disc's centre fixes the sphere's size; its apex is then fitted.

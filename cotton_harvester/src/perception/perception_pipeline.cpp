@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 
 namespace cotton_harvester {
 namespace perception {
@@ -42,6 +43,10 @@ std::string validate(const PerceptionParams& params) {
   add("depth: ", validate(params.locator));
   add("reach: ", validate(params.reach));
   add("geometry: ", validate(params.geometry));
+  if (!(params.boll_min_dome_fraction >= 0.0 && params.boll_min_dome_fraction <= 1.0))
+    error += "boll_min_dome_fraction must be in [0, 1] (got " + std::to_string(params.boll_min_dome_fraction) + "); ";
+  if (!(params.boll_dome_sigmas >= 0.0 && params.boll_dome_sigmas <= 10.0))
+    error += "boll_dome_sigmas must be in [0, 10] (got " + std::to_string(params.boll_dome_sigmas) + "); ";
   return error;
 }
 
@@ -85,9 +90,10 @@ double groundDepth(const cv::Mat& cloud) {
 
 }  // namespace
 
-bool PerceptionPipeline::plausible(const BollDetection& detection, const cv::Point3d& position,
+bool PerceptionPipeline::plausible(const BollDetection& detection, const LocatedPoint& located,
                                    double ground_depth_m) const {
   const BollGeometry& g = params_.geometry;
+  const cv::Point3d& position = located.position;
   // Nothing lower than half the lowest boll's height (stones, pale soil): above the measured ground when the cloud
   // shows it (terrain and the camera's height vary), else above the nominal one.
   const double ground = std::isfinite(ground_depth_m) ? ground_depth_m : g.camera_height_m;
@@ -100,7 +106,11 @@ bool PerceptionPipeline::plausible(const BollDetection& detection, const cv::Poi
   // ends a little inside its silhouette: 0.75 of the smallest).
   if (!(detection.radius_px > 0.0)) return true;
   const double radius_m = detection.radius_px * position.z / focal;
-  return radius_m >= 0.75 * g.boll_radius_min_m && radius_m <= 1.2 * g.boll_radius_max_m;
+  if (!(radius_m >= 0.75 * g.boll_radius_min_m && radius_m <= 1.2 * g.boll_radius_max_m)) return false;
+  // Its visible surface must bulge towards the camera as a boll's does; a flat white thing does not.
+  return !(
+      params_.boll_min_dome_fraction > 0.0 && std::isfinite(located.dome_m) && std::isfinite(located.dome_sigma_m) &&
+      located.dome_m + params_.boll_dome_sigmas * located.dome_sigma_m < params_.boll_min_dome_fraction * radius_m);
 }
 
 std::string validate(const EndEffectorPrior& prior) {
@@ -221,7 +231,7 @@ FrameResult PerceptionPipeline::process(const cv::Mat& bgr, const cv::Mat& cloud
       ++result.bolls_without_depth;
       continue;
     }
-    if (params_.check_plausibility && !plausible(detection, located->position, ground_depth_m)) {
+    if (params_.check_plausibility && !plausible(detection, *located, ground_depth_m)) {
       ++result.bolls_implausible;
       continue;
     }
@@ -230,6 +240,8 @@ FrameResult PerceptionPipeline::process(const cv::Mat& bgr, const cv::Mat& cloud
     boll.position = located->position;
     boll.range_m = located->range_m;
     boll.reachable = isReachable(located->position, params_.reach);
+    boll.dome_m = located->dome_m;
+    boll.dome_sigma_m = located->dome_sigma_m;
     result.bolls.push_back(boll);
   }
 

@@ -229,6 +229,59 @@ TEST(BollSurface, BadInput) {
   EXPECT_FALSE(locateBollSurface(cloud, square, {110, 110}, 10, k, p).has_value());
 }
 
+// The dome of the visible surface: a sphere's rim lies about half its radius deeper than its centre, a flat patch's
+// (facing the camera or tilted 35 degrees, a label on a leaning stake) does not, with the synthetic frames' stereo
+// noise; too few valid points leave the dome unmeasured (NaN) without losing the location.
+TEST(BollSurface, DomeOfASphereAndOfFlatPatches) {
+  const CameraIntrinsics k;
+  const cv::Point3d centre(0.15, -0.10, 1.60);
+  const double R = 0.035;
+  cv::Mat visible;
+  const cv::Mat sphere = sphereCloud(k, centre, R, {0, 0, 0.5}, 0.0, 2.2, 0.002, &visible);
+  const std::vector<cv::Point> outline = largestOutline(visible);
+  const auto circle = fitOuterCircle(outline);
+  ASSERT_TRUE(circle.has_value());
+  const auto domed = locateBollSurface(sphere, outline, circle->centre, circle->radius_px, k, LocatorParams{});
+  ASSERT_TRUE(domed.has_value());
+  const double radius_m = circle->radius_px * domed->position.z / k.fx;
+  EXPECT_GT(domed->dome_m, 0.35 * radius_m);
+  EXPECT_LT(domed->dome_m, 0.8 * radius_m);
+  EXPECT_LT(domed->dome_sigma_m, 0.1 * radius_m);
+
+  // The same disc in the image, its points on a plane at the sphere's apex depth: facing the camera, then tilted.
+  const double apex_z = centre.z - R;
+  for (const double tilt_deg : {0.0, 35.0}) {
+    cv::RNG rng(11);
+    cv::Mat flat(k.height, k.width, CV_32FC3);
+    const double slope = std::tan(tilt_deg * CV_PI / 180.0);
+    for (int v = 0; v < k.height; ++v)
+      for (int u = 0; u < k.width; ++u) {
+        // The plane z = apex_z + slope (x - centre.x), met by the pixel's ray (x = rx z).
+        const double rx = (u - k.cx) / k.fx, ry = (v - k.cy) / k.fy;
+        double z = (apex_z - slope * centre.x) / (1.0 - slope * rx);
+        z += 0.002 * z * z * rng.gaussian(1.0);
+        flat.at<cv::Vec3f>(v, u) = cv::Vec3f(float(rx * z), float(ry * z), float(z));
+      }
+    const auto patch = locateBollSurface(flat, outline, circle->centre, circle->radius_px, k, LocatorParams{});
+    ASSERT_TRUE(patch.has_value()) << tilt_deg;
+    EXPECT_LT(std::abs(patch->dome_m), 0.1 * radius_m) << tilt_deg;
+    EXPECT_LT(patch->dome_sigma_m, 0.1 * radius_m) << tilt_deg;
+  }
+
+  // Only a few valid points under the outline: located, dome not measured.
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  cv::Mat sparse(k.height, k.width, CV_32FC3, cv::Scalar::all(nan));
+  const cv::Point c(cvRound(circle->centre.x), cvRound(circle->centre.y));
+  for (int i = -2; i <= 2; ++i) {
+    sparse.at<cv::Vec3f>(c.y + i, c.x) = sphere.at<cv::Vec3f>(c.y + i, c.x);
+    sparse.at<cv::Vec3f>(c.y, c.x + i) = sphere.at<cv::Vec3f>(c.y, c.x + i);
+  }
+  const auto few = locateBollSurface(sparse, outline, circle->centre, circle->radius_px, k, LocatorParams{});
+  ASSERT_TRUE(few.has_value());
+  EXPECT_TRUE(std::isnan(few->dome_m));
+  EXPECT_TRUE(std::isnan(few->dome_sigma_m));
+}
+
 // Crescents past a leaf fail the whole-boll shape tests (solidity, circularity) but their own silhouette is a boll's
 // arc: accepted with their centre and radius; a glint on a leaf is not round and stays out.
 TEST(ColourBollDetector, PartlyHiddenBollAcceptedForItsRoundSilhouette) {

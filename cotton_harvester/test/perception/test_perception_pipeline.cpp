@@ -42,16 +42,29 @@ class HandMadeFrame {
         if (disc >= 0.0) depth.at<double>(v, u) = (b - std::sqrt(disc)) * r[2];
       }
   }
+  /// A flat white disc (a label, a fold of a bag) of a boll's size: the plane z = d.z + slope (x - x of its centre).
+  void addFlatPatch(const Disc& d, double slope = 0.0) {
+    cv::circle(image, d.centre, d.radius_px, cv::Scalar(235, 238, 240), cv::FILLED);
+    const CameraIntrinsics k;
+    const double x0 = (d.centre.x - k.cx) / k.fx * d.z;
+    for (int v = d.centre.y - d.radius_px - 2; v <= d.centre.y + d.radius_px + 2; ++v)
+      for (int u = d.centre.x - d.radius_px - 2; u <= d.centre.x + d.radius_px + 2; ++u)
+        if (std::hypot(u - d.centre.x, v - d.centre.y) <= d.radius_px + 0.5)
+          depth.at<double>(v, u) = (d.z - slope * x0) / (1.0 - slope * (u - k.cx) / k.fx);
+  }
   void addEndEffector(const cv::Rect& r, double z) {
     cv::rectangle(image, r, cv::Scalar(10, 120, 245), cv::FILLED);
     cv::rectangle(depth, r, cv::Scalar(z), cv::FILLED);
   }
-  cv::Mat cloud() const {
+  /// noise_k > 0: stereo-like depth noise of sigma noise_k z^2 (seeded).
+  cv::Mat cloud(double noise_k = 0.0) const {
     const CameraIntrinsics k;
+    cv::RNG rng(3);
     cv::Mat points(720, 1280, CV_32FC3);
     for (int v = 0; v < 720; ++v)
       for (int u = 0; u < 1280; ++u) {
-        const double z = depth.at<double>(v, u);
+        double z = depth.at<double>(v, u);
+        if (noise_k > 0.0) z += noise_k * z * z * rng.gaussian(1.0);
         points.at<cv::Vec3f>(v, u) = {float((u - k.cx) / k.fx * z), float((v - k.cy) / k.fy * z), float(z)};
       }
     return points;
@@ -131,6 +144,48 @@ TEST(PerceptionPipeline, TheEndEffectorIsNotABoll) {
   EXPECT_EQ(result.nearest_reachable, -1);
 }
 
+// A boll's visible surface bulges towards the camera; white things as large as a boll at their depth and above the
+// ground but flat (facing the camera, or tilted 30 degrees as a label on a leaning stake) are dropped, with the
+// synthetic frames' stereo noise. Without the dome test (boll_min_dome_fraction 0) all three pass.
+TEST(PerceptionPipeline, FlatWhitePatchesOfABollsSizeAreNotBolls) {
+  HandMadeFrame frame;
+  frame.addBoll({{400, 300}, 16, 1.2});
+  frame.addFlatPatch({{800, 300}, 16, 1.2});
+  frame.addFlatPatch({{600, 500}, 14, 1.4}, std::tan(30.0 * CV_PI / 180.0));
+  const cv::Mat cloud = frame.cloud(0.002);
+  PerceptionPipeline pipeline = makePipeline();
+  const FrameResult result = pipeline.process(frame.image, cloud);
+  ASSERT_EQ(result.status, FrameStatus::kOk);
+  EXPECT_EQ(result.bolls_detected, 3);
+  ASSERT_EQ(result.bolls.size(), 1u);
+  EXPECT_NEAR(result.bolls[0].detection.centre.x, 400.0, 1.0);
+  EXPECT_NEAR(result.bolls[0].position.z, 1.2, 0.01);
+  EXPECT_GT(result.bolls[0].dome_m, 0.2 * 0.0274);  // radius at 1.2 m: 16 px x 1.2 m / 699.9 px
+  EXPECT_EQ(result.bolls_implausible, 2);
+
+  PerceptionParams off;
+  off.boll_min_dome_fraction = 0.0;
+  PerceptionPipeline without(off, std::make_unique<ColourBollDetector>(ColourBollParams{}));
+  EXPECT_EQ(without.process(frame.image, cloud).bolls.size(), 3u);
+
+  // Depth only at a few points of each: the dome cannot be measured and nothing is dropped for it.
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  cv::Mat sparse(cloud.size(), CV_32FC3, cv::Scalar::all(nan));
+  for (const cv::Point c : {cv::Point(400, 300), cv::Point(800, 300), cv::Point(600, 500)})
+    for (int i = -2; i <= 2; ++i) {
+      sparse.at<cv::Vec3f>(c.y + i, c.x) = cloud.at<cv::Vec3f>(c.y + i, c.x);
+      sparse.at<cv::Vec3f>(c.y, c.x + i) = cloud.at<cv::Vec3f>(c.y, c.x + i);
+    }
+  // (Too few points for the cloud's ground: the nominal ground is used for the height test.)
+  const FrameResult few = pipeline.process(frame.image, sparse);
+  EXPECT_EQ(few.bolls.size(), 3u);
+  for (const LocatedBoll& boll : few.bolls) EXPECT_TRUE(std::isnan(boll.dome_m));
+  // No valid depth at all: nothing located, nothing breaks.
+  const FrameResult none = pipeline.process(frame.image, cv::Mat(cloud.size(), CV_32FC3, cv::Scalar::all(nan)));
+  EXPECT_TRUE(none.bolls.empty());
+  EXPECT_EQ(none.bolls_without_depth, 3);
+}
+
 TEST(PerceptionPipeline, BadInputIsRejectedWithAReason) {
   const HandMadeFrame frame = threeBolls();
   PerceptionPipeline pipeline = makePipeline();
@@ -177,6 +232,16 @@ TEST(PerceptionPipeline, RejectsBadParametersAndIntrinsics) {
   EXPECT_THROW(PerceptionPipeline(params, std::make_unique<ColourBollDetector>(ColourBollParams{})),
                std::invalid_argument);
   EXPECT_THROW(PerceptionPipeline(PerceptionParams{}, nullptr), std::invalid_argument);
+  for (const double fraction : {-0.1, 1.5, std::numeric_limits<double>::quiet_NaN()}) {
+    PerceptionParams dome;
+    dome.boll_min_dome_fraction = fraction;
+    EXPECT_THROW(PerceptionPipeline(dome, std::make_unique<ColourBollDetector>(ColourBollParams{})),
+                 std::invalid_argument);
+  }
+  PerceptionParams sigmas;
+  sigmas.boll_dome_sigmas = -1.0;
+  EXPECT_THROW(PerceptionPipeline(sigmas, std::make_unique<ColourBollDetector>(ColourBollParams{})),
+               std::invalid_argument);
   PerceptionPipeline pipeline = makePipeline();
   CameraIntrinsics bad;
   bad.fy = -1.0;

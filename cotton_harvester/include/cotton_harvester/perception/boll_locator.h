@@ -1,5 +1,6 @@
 #pragma once
 
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -36,6 +37,11 @@ struct LocatedPoint {
   cv::Point3d position;  ///< camera frame: x right, y down, z along the optical axis [m]
   double range_m = 0.0;  ///< distance from the left lens, eq. 6 [m]
   int valid_points = 0;  ///< valid cloud points used [-]
+  /// locateBollSurface only: how far the visible surface bulges towards the camera, the depth of the disc's rim
+  /// below its centre [m] after a tilted plane is taken out (BollDome), and its standard error [m]; NaN when not
+  /// measured (too few points, or not a boll's surface).
+  double dome_m = std::numeric_limits<double>::quiet_NaN();
+  double dome_sigma_m = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// Locates an image point in 3D (paper §2.8): its range from the lens (eq. 6) is the median over the window of
@@ -61,6 +67,13 @@ std::optional<LocatedPoint> locateRegion(const cv::Mat& cloud, const cv::Mat& ma
 /// the ground that the outline takes in do not matter. This reads the boll's depth where it is visible even when its
 /// centre is hidden, and averages the stereo noise of many points instead of a small window's. The returned
 /// position is that surface point on the centre's ray (the centre lies one boll radius deeper along it).
+/// The valid points under the outline that lie on the disc (out to its rim) also measure the surface's dome
+/// (LocatedPoint::dome_m): their depths are fitted with
+/// z = z0 + b s + c t + h (s^2 + t^2), where (s, t) is the pixel's offset from the disc's centre in disc radii, so h is
+/// how much deeper the disc's rim lies than its centre once any tilt is taken out. A sphere of radius R gives
+/// h ~ 0.5 R (the white part seen from above); a label, a flat fold of a bag or a bar lying in any plane gives
+/// h ~ 0. Points more than 3 robust sigmas off the first fit are left out of the second; fewer than 12 points or a
+/// singular fit leave dome_m NaN.
 /// std::nullopt when fewer than min_valid_points valid points lie under the outline, or on bad input (empty or
 /// non-CV_32FC3 cloud, non-finite centre, radius <= 0, outline outside the cloud).
 std::optional<LocatedPoint> locateBollSurface(const cv::Mat& cloud, const std::vector<cv::Point>& outline,

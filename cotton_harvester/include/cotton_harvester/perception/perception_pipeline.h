@@ -1,5 +1,6 @@
 #pragma once
 
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -34,6 +35,16 @@ struct PerceptionParams {
   /// Drop detections on the ground (below half the lowest boll's height over the cloud's ground) or of a size no
   /// boll has at their measured depth. Off only for scenes without a ground, e.g. a flat test cloud.
   bool check_plausibility = true;
+  /// With check_plausibility: a boll is a rounded cluster of lint lobes whose visible surface bulges towards the
+  /// camera (a sphere's white cap seen from above: its rim about 0.5 of its radius deeper than its centre), while a
+  /// label, a flat fold of a bag or a bar is flat in whatever plane it lies. A detection located from its visible
+  /// surface (a detector that estimates the disc) is dropped when its dome (LocatedPoint::dome_m, tilt taken out)
+  /// plus boll_dome_sigmas of its standard error is below this share of its radius at its depth. Detections whose
+  /// dome could not be measured are kept. 0: off [0, 1].
+  double boll_min_dome_fraction = 0.2;
+  /// A dome that is this many standard errors short of boll_min_dome_fraction is flat; a noisier one (a small or
+  /// distant boll, few valid points) is kept [-] (>= 0).
+  double boll_dome_sigmas = 1.0;
   NearestBy nearest_by = NearestBy::kCamera;
 };
 
@@ -46,6 +57,9 @@ struct LocatedBoll {
   cv::Point3d position;  ///< camera frame [m]
   double range_m = 0.0;  ///< eq. 6 [m]
   bool reachable = false;
+  /// LocatedPoint::dome_m and dome_sigma_m (NaN: not measured) [m].
+  double dome_m = std::numeric_limits<double>::quiet_NaN();
+  double dome_sigma_m = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// Where the arm's own position sensing (stepper counters and the arm's calibration) puts the end-effector. With it
@@ -112,7 +126,7 @@ class PerceptionPipeline {
 
  private:
   void applyGeometry();
-  bool plausible(const BollDetection& detection, const cv::Point3d& position, double ground_depth_m) const;
+  bool plausible(const BollDetection& detection, const LocatedPoint& located, double ground_depth_m) const;
   /// The end-effector near the prior: fills end_effector_image, end_effector, end_effector_mask and the counts.
   void findEndEffectorNear(const cv::Mat& bgr, const cv::Mat& cloud, const EndEffectorPrior& prior,
                            FrameResult* result) const;
