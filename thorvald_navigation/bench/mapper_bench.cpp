@@ -35,6 +35,8 @@ int main(int argc, char** argv) {
   app.add_option("--resolution", resolution_m, "cell size [m]")->check(CLI::Range(0.0125, 0.2));
   app.add_option("--max-range", max_range_m, "mapper max range [m]")->check(CLI::Range(2.0, 30.0));
   app.add_option("--seed", seed, "random seed");
+  bool match_surface = false;
+  app.add_flag("--match-surface", match_surface, "match at the walls' surface (headland_mapper's match_surface)");
   CLI11_PARSE(app, argc, argv);
 
   tn::testing::HeadlandOptions o;
@@ -42,6 +44,7 @@ int main(int argc, char** argv) {
   o.seed = seed;
   const tn::testing::SyntheticHeadland world(o);
   tn::MapperParams p;
+  p.match_surface = match_surface;
   p.resolution_m = resolution_m;
   p.max_range_m = max_range_m;
   tn::OccupancyMapper mapper(p);

@@ -101,8 +101,9 @@ int main(int argc, char** argv) {
   app.add_option("--every", every_s, "print the trace every this many seconds (0: every integrated scan)");
   app.add_option("--odom-sigma-xy", params.odom_sigma_xy_m, "override the odometry prior [m]");
   app.add_option("--odom-sigma-fraction", params.odom_sigma_fraction, "override the prior's growth with motion");
-  bool cell_centres = false;
+  bool cell_centres = false, surface = false;
   app.add_flag("--cell-centres", cell_centres, "match at wall cell centres (match_surface false)");
+  app.add_flag("--match-surface", surface, "match at the walls' surface (match_surface true)");
   app.add_flag("--quiet", quiet, "no trace, only the summary");
   CLI11_PARSE(app, argc, argv);
   // Config first, then the command line's overrides win.
@@ -115,6 +116,7 @@ int main(int argc, char** argv) {
     if (cli.odom_sigma_fraction != defaults.odom_sigma_fraction) params.odom_sigma_fraction = cli.odom_sigma_fraction;
   }
   if (cell_centres) params.match_surface = false;
+  if (surface) params.match_surface = true;
   const std::string problem = params.validate();
   if (!problem.empty()) {
     std::fprintf(stderr, "mapper_replay: %s\n", problem.c_str());
