@@ -222,17 +222,19 @@ int main(int argc, char** argv) {
   std::printf("scans %d, integrated %d, unmatched %d, skipped (no tf / bad scan) %d\n", scans, integrated, unmatched,
               skipped);
   if (!err_xy.empty())
-    std::printf("error vs reference: xy mean %.4f p95 %.4f max %.4f end %.4f m; |x| p95 %.4f |y| p95 %.4f m; "
-                "yaw p95 %.4f rad\n",
-                std::accumulate(err_xy.begin(), err_xy.end(), 0.0) / err_xy.size(), percentile(err_xy, 0.95),
-                percentile(err_xy, 1.0), end_xy, percentile(err_along, 0.95), percentile(err_across, 0.95),
-                percentile(err_yaw, 0.95));
+    std::printf(
+        "error vs reference: xy mean %.4f p95 %.4f max %.4f end %.4f m; |x| p95 %.4f |y| p95 %.4f m; "
+        "yaw p95 %.4f rad\n",
+        std::accumulate(err_xy.begin(), err_xy.end(), 0.0) / err_xy.size(), percentile(err_xy, 0.95),
+        percentile(err_xy, 1.0), end_xy, percentile(err_along, 0.95), percentile(err_across, 0.95),
+        percentile(err_yaw, 0.95));
   if (!odom_err_xy.empty())
     std::printf("odometry alone vs reference: xy p95 %.4f max %.4f end %.4f m\n", percentile(odom_err_xy, 0.95),
                 percentile(odom_err_xy, 1.0), odom_err_xy.back());
-  std::printf("RESULT {\"scans_integrated\": %d, \"unmatched\": %d, \"err_xy_p95_m\": %.4f, \"err_xy_max_m\": %.4f, "
-              "\"err_x_p95_m\": %.4f, \"err_y_p95_m\": %.4f, \"err_yaw_p95_rad\": %.4f}\n",
-              integrated, unmatched, percentile(err_xy, 0.95), percentile(err_xy, 1.0), percentile(err_along, 0.95),
-              percentile(err_across, 0.95), percentile(err_yaw, 0.95));
+  std::printf(
+      "RESULT {\"scans_integrated\": %d, \"unmatched\": %d, \"err_xy_p95_m\": %.4f, \"err_xy_max_m\": %.4f, "
+      "\"err_x_p95_m\": %.4f, \"err_y_p95_m\": %.4f, \"err_yaw_p95_rad\": %.4f}\n",
+      integrated, unmatched, percentile(err_xy, 0.95), percentile(err_xy, 1.0), percentile(err_along, 0.95),
+      percentile(err_across, 0.95), percentile(err_yaw, 0.95));
   return integrated > 0 ? 0 : 1;
 }

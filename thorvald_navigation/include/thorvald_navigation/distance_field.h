@@ -74,9 +74,9 @@ class DistanceField {
   int width_ = 0, height_ = 0, occupied_cells_ = 0;
   double resolution_m_ = 1.0, origin_x_m_ = 0.0, origin_y_m_ = 0.0, max_distance_m_ = 1.0;
   int occupied_threshold_ = 65;
-  bool faces_ = false;     ///< sites are the face cells only
-  bool sub_cell_ = false;  ///< distances to the surfels (a WallSurface was given)
-  int reach_cells_ = 1;    ///< max distance in cells, rounded up, plus one
+  bool faces_ = false;               ///< sites are the face cells only
+  bool sub_cell_ = false;            ///< distances to the surfels (a WallSurface was given)
+  int reach_cells_ = 1;              ///< max distance in cells, rounded up, plus one
   float line_half_length_m_ = 0.0f;  ///< reach of a line surfel either way [m] (infinite: the whole line)
   std::vector<float> dist_;
   std::vector<std::uint8_t> site_;  ///< per cell: is a site
