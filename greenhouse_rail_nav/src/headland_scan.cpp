@@ -15,6 +15,32 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+/// Where a wall's face lies along a scanline by the map's cell surface: the mean of the beam ends (weighted by their
+/// number) in the cells from 1.5 cells in front of the stop to 2.5 behind it and within a cell of the scanline.
+/// Range noise puts some of the ends of a wall whose face is near a cell boundary into the cell in front, which is
+/// then drawn occupied: the first occupied cell is up to a cell in front of the face, the mean of the ends is not.
+/// NaN without a surface or with fewer than 3 ends there.
+double surfaceFaceU(const OccupancyMap& map, const HeadlandFrame& frame, double face_u, double v, double direction) {
+  if (map.surface.empty()) return NAN;
+  const double res = map.resolution;
+  std::vector<std::size_t> seen;
+  double sum = 0.0, weight = 0.0;
+  for (double du = -1.5 * res; du <= 2.5 * res + 1e-9; du += 0.5 * res) {
+    for (double dv = -res; dv <= res + 1e-9; dv += 0.5 * res) {
+      int c = 0, r = 0;
+      if (!map.worldToCell(frame.toMap(face_u + direction * du, v + dv), &c, &r)) continue;
+      const std::size_t i = static_cast<std::size_t>(r) * map.width + c;
+      if (std::find(seen.begin(), seen.end(), i) != seen.end()) continue;
+      seen.push_back(i);
+      const float hits = map.surface.hits[i];
+      if (!(hits > 0.0f)) continue;
+      sum += hits * frame.toLocal(map.surface.mean_m[i].cast<double>()).x();
+      weight += hits;
+    }
+  }
+  return weight >= 3.0 ? sum / weight : NAN;
+}
+
 }  // namespace
 
 std::vector<double> rowRunStarts(const OccupancyMap& map, const HeadlandFrame& frame, double u0, double slope,
@@ -209,6 +235,11 @@ SideScan scanToSideWall(const OccupancyMap& map, const HeadlandFrame& frame, dou
       }
     }
     if (blocked && stop.distance >= max_travel_m) stop = {std::max(0.0, last_free + 0.5 * step), blocked_by_occupied};
+    if (stop.occupied) {
+      const double face_u = surfaceFaceU(map, frame, u_start + direction * stop.distance, v, direction);
+      const double d = direction * (face_u - u_start);
+      if (std::isfinite(d) && std::abs(d - stop.distance) <= 2.0 * map.resolution) stop.distance = d;
+    }
     stop.v = v;
     stops.push_back(stop);
   }

@@ -59,6 +59,8 @@ std::string MapAnalyzerParams::validate() const {
   if (!(spacing_tolerance > 0.0 && spacing_tolerance < 0.5)) return "spacing_tolerance must be in (0, 0.5)";
   if (!std::isfinite(keep_out_margin_m)) return "keep_out_margin_m must be a finite number [m]";
   if (!(speckle_max_area_m2 >= 0.0 && speckle_max_area_m2 <= 0.1)) return "speckle_max_area_m2 must be in [0, 0.1]";
+  if (!(speckle_link_radius_m >= 0.0 && speckle_link_radius_m <= 0.5))
+    return "speckle_link_radius_m must be in [0, 0.5] [m]";
   if (!(spacing_search_ratio >= 1.0 && spacing_search_ratio <= 2.0)) return "spacing_search_ratio must be in [1, 2]";
   if (!(positive(spacing_fit_tolerance_m) && spacing_fit_tolerance_m < 0.25 * rail_set_spacing_m))
     return "spacing_fit_tolerance_m must be > 0 and < a quarter of rail_set_spacing_m [m]";
@@ -74,7 +76,7 @@ std::string MapAnalyzerParams::validate() const {
 MapAnalysis analyzeMap(const OccupancyMap& input, const MapAnalyzerParams& params) {
   MapAnalysis result;
   OccupancyMap map = input;
-  result.speckle_cells_removed = removeSpeckle(&map, params.speckle_max_area_m2);
+  result.speckle_cells_removed = removeSpeckle(&map, params.speckle_max_area_m2, params.speckle_link_radius_m);
   const auto clusters =
       clusterOccupiedCells(map, params.cluster_link_radius_m, static_cast<std::size_t>(params.min_cluster_cells));
   result.lines = extractLines(clusters, params.lines);

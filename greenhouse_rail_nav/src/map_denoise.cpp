@@ -6,13 +6,16 @@
 
 namespace greenhouse_rail_nav {
 
-std::size_t removeSpeckle(OccupancyMap* map, double min_area_m2, int occupied_value) {
+std::size_t removeSpeckle(OccupancyMap* map, double min_area_m2, double link_radius_m, int occupied_value) {
   const std::size_t min_cells =
       std::max<std::size_t>(2, static_cast<std::size_t>(std::ceil(min_area_m2 / (map->resolution * map->resolution))));
   std::vector<bool> seen(map->cells.size(), false);
   std::vector<std::size_t> component, stack;
   std::size_t cleared = 0;
   const auto w = static_cast<std::size_t>(map->width);
+  // Neighbours: the 8 around a cell, or every cell within link_radius_m of it.
+  const int reach = std::max(1, static_cast<int>(std::floor(link_radius_m / map->resolution + 1e-9)));
+  const double reach2 = std::max(2.0, std::pow(link_radius_m / map->resolution, 2) + 1e-9);
   for (std::size_t start = 0; start < map->cells.size(); ++start) {
     if (seen[start] || map->cells[start] < occupied_value) continue;
     component.clear();
@@ -26,8 +29,9 @@ std::size_t removeSpeckle(OccupancyMap* map, double min_area_m2, int occupied_va
       if (!large) component.push_back(i);
       large = large || component.size() >= min_cells;
       const int c = static_cast<int>(i % w), r = static_cast<int>(i / w);
-      for (int dr = -1; dr <= 1; ++dr) {
-        for (int dc = -1; dc <= 1; ++dc) {
+      for (int dr = -reach; dr <= reach; ++dr) {
+        for (int dc = -reach; dc <= reach; ++dc) {
+          if (dr * dr + dc * dc > reach2) continue;
           const int nc = c + dc, nr = r + dr;
           if (!map->inside(nc, nr)) continue;
           const std::size_t j = static_cast<std::size_t>(nr) * w + static_cast<std::size_t>(nc);

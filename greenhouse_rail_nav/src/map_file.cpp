@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
+#include <sstream>
 
 #include <opencv2/imgcodecs.hpp>
 #include <yaml-cpp/yaml.h>
@@ -57,6 +58,55 @@ bool pnmToken(std::istream& in, std::string* token) {
 bool parseSize(const std::string& token, std::uint64_t* value) {
   if (token.empty() || token.size() > 19 || token.find_first_not_of("0123456789") != std::string::npos) return false;
   *value = std::stoull(token);
+  return true;
+}
+
+/// Reads headland_mapper's wall surface file (a header line, `size W H`, then `cell_x cell_y mean_x mean_y hits` per
+/// cell with beam ends; cells counted from the map's origin, means in the map frame) into map->surface.
+bool loadCellSurface(const std::string& path, OccupancyMap* map, std::string* error) {
+  std::ifstream in(path);
+  if (!in) {
+    *error = "cannot open wall surface '" + path + "'";
+    return false;
+  }
+  std::string line, word;
+  std::getline(in, line);
+  if (line.rfind("#", 0) != 0 || line.find("wall surface") == std::string::npos) {
+    *error = path + ": not a wall surface file (its first line must be the '# ... wall surface: ...' header)";
+    return false;
+  }
+  long w = 0, h = 0;
+  std::getline(in, line);
+  std::istringstream size_line(line);
+  if (!(size_line >> word >> w >> h) || word != "size" || w != map->width || h != map->height) {
+    *error = path + ": line 2 must be 'size " + std::to_string(map->width) + " " + std::to_string(map->height) +
+             "' (the map image's size)";
+    return false;
+  }
+  CellSurface s;
+  s.hits.assign(map->cells.size(), 0.0f);
+  s.mean_m.assign(map->cells.size(), Eigen::Vector2f::Zero());
+  const double res = map->resolution, slack = 1e-4;
+  for (int n = 3; std::getline(in, line); ++n) {
+    if (line.empty()) continue;
+    std::istringstream ls(line);
+    long c = 0, r = 0;
+    double mx = 0.0, my = 0.0, hits = 0.0;
+    if (!(ls >> c >> r >> mx >> my >> hits) || !map->inside(static_cast<int>(c), static_cast<int>(r)) ||
+        !std::isfinite(mx) || !std::isfinite(my) || !(hits > 0.0 && hits < 1e9)) {
+      *error = path + ":" + std::to_string(n) + ": expected 'cell_x cell_y mean_x mean_y hits' inside the map";
+      return false;
+    }
+    const double x0 = map->origin.x + c * res, y0 = map->origin.y + r * res;
+    if (mx < x0 - slack || mx > x0 + res + slack || my < y0 - slack || my > y0 + res + slack) {
+      *error = path + ":" + std::to_string(n) + ": mean end point outside its cell";
+      return false;
+    }
+    const std::size_t i = static_cast<std::size_t>(r) * map->width + c;
+    s.mean_m[i] = Eigen::Vector2f(static_cast<float>(mx), static_cast<float>(my));
+    s.hits[i] = static_cast<float>(hits);
+  }
+  map->surface = std::move(s);
   return true;
 }
 
@@ -169,6 +219,24 @@ bool loadMapYaml(const std::string& yaml_path, OccupancyMap* map, std::string* e
         value = static_cast<std::int8_t>(std::lround(99.0 * (occ - free_thresh) / (occupied_thresh - free_thresh)));
       }
       map->at(c, img.rows - 1 - r) = value;  // image row 0 is the top of the map
+    }
+  }
+  std::string surface_file;
+  try {
+    if (doc["wall_surface"]) surface_file = doc["wall_surface"].as<std::string>();
+  } catch (const YAML::Exception&) {
+    *error = yaml_path + ": 'wall_surface' must be a file name";
+    return false;
+  }
+  if (!surface_file.empty()) {
+    if (origin[2] != 0.0) {
+      *error = yaml_path + ": 'wall_surface' needs an unrotated origin (yaw 0), got yaw " + std::to_string(origin[2]);
+      return false;
+    }
+    const std::string path = surface_file[0] == '/' ? surface_file : directoryOf(yaml_path) + "/" + surface_file;
+    if (!loadCellSurface(path, map, error)) {
+      *error = yaml_path + ": " + *error;
+      return false;
     }
   }
   return true;

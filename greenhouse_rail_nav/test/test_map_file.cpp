@@ -110,3 +110,40 @@ TEST(MapFile, SaveThenLoadGivesTheSameCells) {
   std::remove(yaml.c_str());
   std::remove((yaml.substr(0, yaml.size() - 5) + ".pgm").c_str());
 }
+
+TEST(MapFile, ReadsTheMappersWallSurfaceAndRefusesABrokenOne) {
+  const std::string pgm = tempPath("s.pgm"), yaml = tempPath("s.yaml"), surface = tempPath("s.surface");
+  writePgm(pgm);
+  const std::string image = pgm.substr(pgm.find_last_of('/') + 1);
+  const std::string surface_name = surface.substr(surface.find_last_of('/') + 1);
+  writeYaml(yaml, image, 0, "wall_surface: " + surface_name + "\n");
+  auto write_surface = [&](const std::string& body) {
+    std::ofstream out(surface);
+    out << "# thorvald_navigation wall surface: cell_x cell_y mean_x mean_y hits\nsize 3 2\n" << body;
+  };
+  // Cell (2, 0) spans x [-0.90, -0.85], y [2.00, 2.05].
+  write_surface("2 0 -0.861 2.013 7\n");
+  OccupancyMap map;
+  std::string error;
+  ASSERT_TRUE(loadMapYaml(yaml, &map, &error)) << error;
+  ASSERT_EQ(map.surface.hits.size(), map.cells.size());
+  EXPECT_FLOAT_EQ(map.surface.hits[2], 7.0f);
+  EXPECT_NEAR(map.surface.mean_m[2].x(), -0.861, 1e-6);
+  EXPECT_NEAR(map.surface.mean_m[2].y(), 2.013, 1e-6);
+  EXPECT_FLOAT_EQ(map.surface.hits[0], 0.0f);
+
+  write_surface("2 0 -0.70 2.013 7\n");  // the mean lies outside its cell
+  EXPECT_FALSE(loadMapYaml(yaml, &map, &error));
+  EXPECT_NE(error.find("outside its cell"), std::string::npos) << error;
+  {
+    std::ofstream out(surface);
+    out << "# thorvald_navigation wall surface: cell_x cell_y mean_x mean_y hits\nsize 4 2\n";
+  }
+  EXPECT_FALSE(loadMapYaml(yaml, &map, &error));
+  EXPECT_NE(error.find("size 3 2"), std::string::npos) << error;
+  std::remove(surface.c_str());
+  EXPECT_FALSE(loadMapYaml(yaml, &map, &error));
+  EXPECT_NE(error.find("cannot open wall surface"), std::string::npos) << error;
+  std::remove(pgm.c_str());
+  std::remove(yaml.c_str());
+}

@@ -215,7 +215,8 @@ int main(int argc, char** argv) {
   }
   bag.close();
   if (!map_out.empty()) {
-    const std::string e = tn::saveMap(mapper.occupancyGrid(), map_out);
+    const tn::WallSurface surface = mapper.wallSurface();
+    const std::string e = tn::saveMap(mapper.occupancyGrid(), map_out, &surface);
     if (!e.empty()) std::fprintf(stderr, "mapper_replay: %s\n", e.c_str());
   }
   const double end_xy = err_xy.empty() ? 0.0 : err_xy.back();

@@ -66,7 +66,8 @@ struct SideScan {
 /// hoses, noise) and stopping where the mapped floor ends (the face after the last free cell). A side
 /// wall is the farthest place where at least min_support of the scanlines stop at an occupied cell
 /// together (a door lets some into unknown space at the same place) and almost none go on beyond.
-/// max_travel_m bounds each walk.
+/// max_travel_m bounds each walk. With the map's cell surface (OccupancyMap::surface) a stop at an occupied cell
+/// is moved to the mean of the beam ends around it: the wall's face inside its cells.
 SideScan scanToSideWall(const OccupancyMap& map, const HeadlandFrame& frame, double u_start, double edge_v,
                         double direction, double min_support, double max_travel_m);
 

@@ -24,6 +24,7 @@ struct MapAnalyzerParams {
       0.05;  ///< a measured spacing off the configured one by more than this fraction is warned about
   double keep_out_margin_m = 0.0;           ///< virtual wall this far beyond (positive) the headland edge [m]
   double speckle_max_area_m2 = 0.012;       ///< groups of occupied cells smaller than this are noise [m^2]
+  double speckle_link_radius_m = 0.15;      ///< occupied cells this close are one group for speckle removal [m]
   double spacing_search_ratio = 1.3;        ///< the spacing is searched in [configured / ratio, configured * ratio]
   double spacing_fit_tolerance_m = 0.08;    ///< a gap fits when within this of a whole number of spacings [m]
   double row_heading_tolerance_rad = 0.02;  ///< rows and the rear wall's normal must agree within this [rad]

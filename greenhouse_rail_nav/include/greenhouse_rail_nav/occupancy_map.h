@@ -9,6 +9,16 @@
 
 namespace greenhouse_rail_nav {
 
+/// Where the lidar's beams ended inside each cell of a map, when the map's maker kept it (thorvald_navigation's
+/// headland_mapper writes it beside the map, named by the YAML's `wall_surface` key): per cell the mean end point
+/// in the map frame and how many ends it holds. An occupancy grid says which cell holds a wall's face; this says
+/// where inside the cells the face is. Same cell order as OccupancyMap::cells; empty when the map has none.
+struct CellSurface {
+  std::vector<Eigen::Vector2f> mean_m;  ///< mean beam end point in the map frame [m]; unused where hits is 0
+  std::vector<float> hits;              ///< beam ends counted in the cell (0: none)
+  bool empty() const { return hits.empty(); }
+};
+
 /// A 2D occupancy grid laid out like nav_msgs/OccupancyGrid: row-major, row 0 at the origin, cell values
 /// 0 (free), 100 (occupied), -1 (unknown), or anything in between.
 struct OccupancyMap {
@@ -21,6 +31,7 @@ struct OccupancyMap {
   double resolution = 0.05;  ///< [m/cell]
   Pose2D origin;             ///< pose of cell (0,0)'s lower-left corner in the map frame
   std::vector<std::int8_t> cells;
+  CellSurface surface;  ///< optional: empty, or one entry per cell
 
   OccupancyMap() = default;
   OccupancyMap(int width_cells, int height_cells, double resolution_m, const Pose2D& origin_pose,

@@ -63,6 +63,8 @@ NodeSettings loadSettings(const ros::NodeHandle& pnh) {
   a.spacing_tolerance = r.number("spacing_tolerance", a.spacing_tolerance, ParamRange{0.0, 0.5, true, true});
   a.keep_out_margin_m = r.number("keep_out_margin_m", a.keep_out_margin_m, any, "m");
   a.speckle_max_area_m2 = r.number("speckle_max_area_m2", a.speckle_max_area_m2, ParamRange::closed(0.0, 0.1), "m^2");
+  a.speckle_link_radius_m =
+      r.number("speckle_link_radius_m", a.speckle_link_radius_m, ParamRange::closed(0.0, 0.5), "m");
   a.spacing_search_ratio = r.number("spacing_search_ratio", a.spacing_search_ratio, ParamRange::closed(1.0, 2.0));
   a.spacing_fit_tolerance_m = r.number("spacing_fit_tolerance_m", a.spacing_fit_tolerance_m, positive, "m");
   a.row_heading_tolerance_rad =

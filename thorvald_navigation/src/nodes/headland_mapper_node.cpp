@@ -225,11 +225,13 @@ class HeadlandMapperNode {
 
   std::string save() {
     Grid2D g;
+    WallSurface surface;
     {
       std::lock_guard<std::mutex> lock(mutex_);
       g = mapper_.occupancyGrid();
+      surface = mapper_.wallSurface();
     }
-    return saveMap(g, s_.map_file);
+    return saveMap(g, s_.map_file, &surface);
   }
 
   bool onSave(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {

@@ -28,7 +28,8 @@ namespace {
 
 struct Settings {
   std::string base_frame_id = "base_link", odom_frame_id = "odom", global_frame_id = "map";
-  std::string map_file;  // empty: take the map from the `map` topic
+  std::string map_file;           // empty: take the map from the `map` topic
+  bool use_wall_surface = false;  // match at the map file's wall surface, when it names one
   bool tf_broadcast = true;
   double transform_tolerance = 0.1;
   double laser_max_range = 30.0;
@@ -48,6 +49,7 @@ bool loadSettings(const ros::NodeHandle& pnh, Settings* s, std::string* error) {
     s->odom_frame_id = r.text("odom_frame_id", s->odom_frame_id);
     s->global_frame_id = r.text("global_frame_id", s->global_frame_id);
     s->map_file = r.text("map_file", s->map_file);
+    s->use_wall_surface = r.flag("use_wall_surface", s->use_wall_surface);
     s->tf_broadcast = r.flag("tf_broadcast", s->tf_broadcast);
     s->transform_tolerance = r.number("transform_tolerance", s->transform_tolerance, R::closed(0.0, 10.0), "s");
     s->laser_max_range = r.number("laser_max_range", s->laser_max_range, R::above(0.0), "m");
@@ -122,7 +124,7 @@ class MapLocalizerNode {
     Grid2D g;
     WallSurface surface;
     *error = loadMap(s_.map_file, &g, &surface);
-    if (error->empty()) *error = setMap(g, surface.empty() ? nullptr : &surface);
+    if (error->empty()) *error = setMap(g, surface.empty() || !s_.use_wall_surface ? nullptr : &surface);
     return error->empty();
   }
 
@@ -133,7 +135,8 @@ class MapLocalizerNode {
     const std::string e = loc_.setMap(g, surface);
     if (e.empty())
       ROS_INFO("map_localizer: map %d x %d at %.3f m, walls matched at %s", g.width, g.height, g.resolution_m,
-               surface ? "their sub-cell surface (wall_surface file)" : "cell centres (no wall_surface file)");
+               surface ? "their sub-cell surface (wall_surface file)"
+                       : "cell centres (no wall_surface file, or ~use_wall_surface false)");
     return e;
   }
 
