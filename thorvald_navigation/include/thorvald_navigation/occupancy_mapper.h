@@ -37,7 +37,7 @@ struct MapperParams {
   /// piece of line through the mean end points around it, instead of to cell centres. At cell centres a wall seen
   /// at a grazing angle (its cells hit only here and there) is a row of dots whose bumps pull the match along the
   /// wall, scan after scan: in the MuJoCo greenhouse the map frame slid 4-6 cm along the rows in the first turn.
-  /// Off by default: greenhouse_rail_nav's map analyzer finds no row in its maps of the 2-set demo greenhouse.
+  /// Off in the library (its tests and mapper_bench compare both); the headland_mapper node turns it on.
   bool match_surface = false;
   /// How far each wall cell's piece of line reaches either way [m]; 0: the whole line (point-to-line distance:
   /// along a straight wall only its ends and corners fix a position, and the odometry prior holds the rest).

@@ -62,7 +62,7 @@ bool loadSettings(const ros::NodeHandle& pnh, Settings* s, std::string* error) {
     m.odom_sigma_xy_m = r.number("odom_sigma_xy", m.odom_sigma_xy_m, R::atLeast(0.0), "m");
     m.odom_sigma_yaw_rad = r.number("odom_sigma_yaw", m.odom_sigma_yaw_rad, R::atLeast(0.0), "rad");
     m.odom_sigma_fraction = r.number("odom_sigma_fraction", m.odom_sigma_fraction, R::atLeast(0.0));
-    m.match_surface = r.flag("match_surface", m.match_surface);
+    m.match_surface = r.flag("match_surface", true);  // the node matches at the wall surface unless told not to
     m.surfel_half_length_m = r.number("surfel_half_length", m.surfel_half_length_m, R::atLeast(0.0), "m");
     // gmapping's particle-filter tuning: accepted, no meaning for a single scan-matched trajectory.
     for (const char* key : {"particles",
