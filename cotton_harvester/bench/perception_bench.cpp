@@ -3,12 +3,14 @@
 // with ground truth: sun, overcast and shade, random exposure and white balance, glare on the end-effector, touching
 // boll clusters, leaves over bolls, at 1280x720 and at 640x360 and 1920x1080.
 //   rosrun cotton_harvester perception_bench [--frames N] [--other-resolution-frames N] [--dnn-frames N] [--seed S]
+//                                            [--list-misses]
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <ctime>
 #include <cstdio>
+#include <limits>
 #include <filesystem>
 #include <numeric>
 #include <string>
@@ -122,6 +124,10 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 100000));
   app.add_option("--dnn-frames", dnn_frames, "frames timed through the tiny-YOLOv3 path")->check(CLI::Range(0, 100000));
   app.add_option("--seed", seed, "first random seed");
+  bool list_misses = false;
+  app.add_flag("--list-misses", list_misses,
+               "print every missed boll and every false detection of the colour pipeline (frame seed, size, pixel, "
+               "case, visible share, nearest detection) to look at them one by one");
   CLI11_PARSE(app, argc, argv);
 
   // The timing figure is single-core, as the goal states.
@@ -191,6 +197,31 @@ int main(int argc, char** argv) {
         colour_cpu.ms.push_back(threadCpuMs() - cpu_start);
       }
       const FrameScore score = scoreFrame(result, frame.layout, ScoringParams{});
+      if (list_misses) {
+        const auto nearest = [&](const cv::Point2d& p) {
+          double best = std::numeric_limits<double>::infinity();
+          for (const LocatedBoll& b : result.bolls)
+            best = std::min(best, std::hypot(b.detection.centroid.x - p.x, b.detection.centroid.y - p.y));
+          return best;
+        };
+        for (size_t b : score.missed_bolls) {
+          const TrueBoll& boll = frame.layout.bolls[b];
+          std::printf(
+              "[miss] frame_seed %u %dx%d %s boll %zu at (%.1f, %.1f) radius %.1f px, depth %.2f m, %s, "
+              "visible %.2f, nearest located detection %.1f px\n",
+              frame_seed, resolution.width, resolution.height, toString(scene.lighting).c_str(), b, boll.pixel.x,
+              boll.pixel.y, boll.radius_px, boll.centre.z, kCaseNames[caseOf(frame.layout, b)], boll.visible_fraction,
+              nearest(boll.pixel));
+        }
+        for (size_t d : score.false_detections) {
+          const LocatedBoll& b = result.bolls[d];
+          std::printf(
+              "[false] frame_seed %u %dx%d %s detection at (%.1f, %.1f) radius %.1f px, depth %.2f m, dome "
+              "%.4f +- %.4f m\n",
+              frame_seed, resolution.width, resolution.height, toString(scene.lighting).c_str(), b.detection.centroid.x,
+              b.detection.centroid.y, b.detection.radius_px, b.position.z, b.dome_m, b.dome_sigma_m);
+        }
+      }
       by_light[i % 3].add(score);
       by_resolution[r].add(score);
       all.add(score);

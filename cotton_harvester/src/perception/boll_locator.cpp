@@ -159,16 +159,28 @@ bool fitDomeOnce(const std::vector<DomeSample>& samples, const std::vector<char>
   return std::isfinite(*height) && std::isfinite(*sigma);
 }
 
-/// The dome of a boll's visible surface (see locateBollSurface): a fit over every sample, then again without the
-/// samples more than 3 robust sigmas off it (a twig or a leaf's edge inside the outline, the ground past the rim).
-bool fitDome(const std::vector<DomeSample>& samples, double* height, double* sigma) {
-  std::vector<char> used(samples.size(), 1);
+/// The dome of a boll's visible surface (see locateBollSurface): a fit over the samples within `reach` times their
+/// median depth of it, then again without the samples more than 3 robust sigmas off it (a twig or a leaf's edge
+/// inside the outline, the ground past the rim). The visible cap of a sphere of radius R spans less than R in depth,
+/// from its apex to its rim, so its samples lie well within 1.5 R of their median depth; what lies farther is another
+/// surface (a boll in front of it or behind it whose pixels the outline takes in, a leaf, the ground), which would
+/// otherwise tilt the first fit so far that the second cannot recover.
+bool fitDome(const std::vector<DomeSample>& samples, double reach, double* height, double* sigma) {
+  if (samples.empty()) return false;
+  std::vector<double> depths(samples.size());
+  std::transform(samples.begin(), samples.end(), depths.begin(), [](const DomeSample& p) { return p.z; });
+  const double middle = median(depths);
+  std::vector<char> near(samples.size());
+  for (size_t i = 0; i < samples.size(); ++i) near[i] = std::abs(samples[i].z - middle) <= reach * middle;
+  std::vector<char> used = near;
   std::vector<double> residuals;
   if (!fitDomeOnce(samples, used, height, sigma, &residuals)) return false;
-  std::vector<double> spread(residuals.size());
-  std::transform(residuals.begin(), residuals.end(), spread.begin(), [](double r) { return std::abs(r); });
+  std::vector<double> spread;
+  spread.reserve(residuals.size());
+  for (size_t i = 0; i < samples.size(); ++i)
+    if (near[i]) spread.push_back(std::abs(residuals[i]));
   const double limit = 3.0 * 1.4826 * median(spread) + 1e-4;
-  for (size_t i = 0; i < samples.size(); ++i) used[i] = std::abs(residuals[i]) <= limit;
+  for (size_t i = 0; i < samples.size(); ++i) used[i] = near[i] && std::abs(residuals[i]) <= limit;
   return fitDomeOnce(samples, used, height, sigma, &residuals);
 }
 
@@ -283,7 +295,9 @@ std::optional<LocatedPoint> locateBollSurface(const cv::Mat& cloud, const std::v
   located.valid_points = static_cast<int>(ranges.size());
   located.range_m = median(ranges);
   double dome_m = 0.0, dome_sigma_m = 0.0;
-  if (fitDome(dome, &dome_m, &dome_sigma_m)) {
+  // 1.5 boll radii at a depth, per unit depth: the disc's radius over the focal length.
+  const double dome_reach = 1.5 * radius_px * 2.0 / (intrinsics.fx + intrinsics.fy);
+  if (fitDome(dome, dome_reach, &dome_m, &dome_sigma_m)) {
     located.dome_m = dome_m;
     located.dome_sigma_m = dome_sigma_m;
   }

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/imgproc.hpp>
 
 namespace cotton_harvester {
@@ -56,6 +57,33 @@ std::vector<Peak> findPeaks(const cv::Mat& dist, double min_radius, double neck_
     if (separate) kept.push_back(candidate);
   }
   return kept;
+}
+
+/// Share of its disc that a whole boll's white lint covers: about 0.88 (the outer 6 % of its radius are brown
+/// bracts), a little less with the creases between its lobes. A boll showing less is partly hidden.
+constexpr double kWholeWhiteShare = 0.75;
+
+/// Outline points that can be the silhouette of a boll whose disc holds the inscribed disc (centre, radius): a disc
+/// that holds it has its outline between radius and about twice the boll's radius minus it from the centre, and a
+/// circle's outline runs across the direction to any point inside it, most nearly so for one that lies near its
+/// centre. Kept: points within 1.6 radii (a boll's own disc is at most about 1.3 times the inscribed one when most
+/// of it is visible) whose outline runs within 30 degrees of across that direction; the outline of another boll
+/// beside it or of a thin thing joined to it runs along it.
+std::vector<cv::Point2d> lobeOutline(const std::vector<cv::Point>& outline, const cv::Point2d& centre, double radius) {
+  std::vector<cv::Point2d> points;
+  const int n = static_cast<int>(outline.size());
+  const int k = std::max(2, static_cast<int>(std::lround(0.25 * radius)));  // tangent over +-k outline pixels
+  if (n < 2 * k + 1) return points;
+  const double reach = 1.6 * radius + 1.0;
+  for (int i = 0; i < n; ++i) {
+    const cv::Point2d d = cv::Point2d(outline[i]) - centre;
+    const double distance = std::hypot(d.x, d.y);
+    if (distance > reach || distance <= 0.0) continue;
+    const cv::Point2d t = cv::Point2d(outline[(i + k) % n] - outline[(i - k + n) % n]);
+    const double length = std::hypot(t.x, t.y);
+    if (length > 0.0 && std::abs(t.dot(d)) <= 0.5 * length * distance) points.push_back(cv::Point2d(outline[i]));
+  }
+  return points;
 }
 
 }  // namespace
@@ -120,7 +148,7 @@ void ColourBollDetector::setGeometry(const CameraIntrinsics& intrinsics, const B
 }
 
 void ColourBollDetector::detectRegion(const std::vector<cv::Point>& contour, const cv::Mat& bgr, const cv::Mat& mask,
-                                      std::vector<BollDetection>* bolls) const {
+                                      int peels_left, std::vector<BollDetection>* bolls) const {
   const double area = cv::contourArea(contour);
   if (area < scale_.min_area_px || area > scale_.max_area_px) return;
   const cv::Rect box = cv::boundingRect(contour);
@@ -131,10 +159,10 @@ void ColourBollDetector::detectRegion(const std::vector<cv::Point>& contour, con
   // the dark creases between a boll's lobes, which would otherwise make one boll look like several.
   const int close_px = std::max(3, 2 * static_cast<int>(0.35 * scale_.radius_min_px) + 1);
   const int pad = close_px + 1;
+  const cv::Point origin(box.x - pad, box.y - pad);  // image pixel of the region image's (0, 0)
   cv::Mat region = cv::Mat::zeros(box.height + 2 * pad, box.width + 2 * pad, CV_8U);
   const std::vector<std::vector<cv::Point>> one{contour};
-  cv::drawContours(region, one, 0, cv::Scalar(255), cv::FILLED, cv::LINE_8, cv::noArray(), INT_MAX,
-                   cv::Point(pad - box.x, pad - box.y));
+  cv::drawContours(region, one, 0, cv::Scalar(255), cv::FILLED, cv::LINE_8, cv::noArray(), INT_MAX, -origin);
   cv::Mat closed;
   cv::morphologyEx(region, closed, cv::MORPH_CLOSE, cv::getStructuringElement(cv::MORPH_ELLIPSE, {close_px, close_px}));
   cv::Mat dist;
@@ -157,6 +185,18 @@ void ColourBollDetector::detectRegion(const std::vector<cv::Point>& contour, con
         std::max(rotated.width, rotated.height) / std::max(1.0f, std::min(rotated.width, rotated.height));
     const bool whole = circularity >= params_.min_circularity && solidity >= params_.min_solidity &&
                        aspect <= params_.max_aspect_ratio;
+    // The boll's own silhouette: a circle through the outline's hull points (a leaf's cut runs inside the hull).
+    const std::optional<BollCircle> circle = roundOutline(contour);
+    const double disc_share = circle ? area / (CV_PI * circle->radius_px * circle->radius_px) : 0.0;
+    const bool hidden_boll = !whole && circle && params_.partial_min_visible > 0.0 &&
+                             disc_share >= params_.partial_min_visible && disc_share <= 1.15;
+    // Not one round boll: a boll joined to something else by the closing or by touching it (another boll that the
+    // distance transform does not tell apart, the sliver of one behind it, a glint, a label). The boll around the
+    // distance transform's maximum is taken out on its own circle and the rest is looked at again.
+    if (!peaks.empty() && !hidden_boll && !(whole && circle) && peels_left > 0) {
+      const cv::Point2d peak(origin.x + peaks[0].centre.x, origin.y + peaks[0].centre.y);
+      if (peelBoll(contour, region, origin, peak, peaks[0].radius, brightness, bgr, mask, peels_left, bolls)) return;
+    }
     bool partial = !whole && params_.partial_min_fraction > 0.0 && area >= scale_.partial_min_area_px;
     if (partial) {  // a part of one boll fits inside the largest boll's disc
       cv::Point2f centre;
@@ -164,11 +204,6 @@ void ColourBollDetector::detectRegion(const std::vector<cv::Point>& contour, con
       cv::minEnclosingCircle(contour, centre, radius);
       partial = radius <= scale_.radius_max_px;
     }
-    // The boll's own silhouette: a circle through the outline's hull points (a leaf's cut runs inside the hull).
-    const std::optional<BollCircle> circle = roundOutline(contour);
-    const double disc_share = circle ? area / (CV_PI * circle->radius_px * circle->radius_px) : 0.0;
-    const bool hidden_boll = !whole && circle && params_.partial_min_visible > 0.0 &&
-                             disc_share >= params_.partial_min_visible && disc_share <= 1.15;
     if (whole && params_.whole_needs_arc && !circle) return;
     if (!whole && !partial && !hidden_boll) return;
     const cv::Moments m = cv::moments(contour);
@@ -226,30 +261,131 @@ void ColourBollDetector::detectRegion(const std::vector<cv::Point>& contour, con
     const int width = part.u_max - part.u_min + 1, height = part.v_max - part.v_min + 1;
     if (static_cast<double>(std::max(width, height)) / std::min(width, height) > params_.max_aspect_ratio) continue;
     BollDetection boll;
-    boll.box = cv::Rect2d(box.x + part.u_min - pad, box.y + part.v_min - pad, width, height);
-    boll.centroid = {box.x + part.sum_u / part.count - pad, box.y + part.sum_v / part.count - pad};
+    boll.box = cv::Rect2d(origin.x + part.u_min, origin.y + part.v_min, width, height);
+    boll.centroid = {origin.x + part.sum_u / part.count, origin.y + part.sum_v / part.count};
     const double fill = part.count / (CV_PI * peaks[i].radius * peaks[i].radius);
     boll.confidence = std::clamp(std::min(1.0, fill) * brightness, 0.0, 1.0);
-    // The part's outline in image pixels; its circle when the part's own silhouette is round and agrees with the
-    // inscribed disc, else the inscribed disc (the distance transform's maximum: the boll's centre when the boll
-    // is whole, its neighbour only touching it).
+    // The part's outline in image pixels; its circle when the part's own silhouette is round and its disc holds the
+    // part's inscribed disc, else the inscribed disc (the distance transform's maximum: the boll's centre when the
+    // boll is whole). A boll partly hidden behind its neighbour shows a crescent whose inscribed disc is small and
+    // lies off the boll's centre, towards its visible rim, while the circle of its outer arc is the whole boll's.
     std::vector<std::vector<cv::Point>> outlines;
-    cv::findContours(owner == static_cast<int>(i + 1), outlines, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE,
-                     cv::Point(box.x - pad, box.y - pad));
+    cv::findContours(owner == static_cast<int>(i + 1), outlines, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE, origin);
     const auto largest = std::max_element(outlines.begin(), outlines.end(),
                                           [](const auto& a, const auto& b) { return a.size() < b.size(); });
-    boll.centre = {box.x + peaks[i].centre.x - pad, box.y + peaks[i].centre.y - pad};
+    boll.centre = {origin.x + peaks[i].centre.x, origin.y + peaks[i].centre.y};
     boll.radius_px = peaks[i].radius + 0.5;
     if (largest != outlines.end()) {
       boll.outline = std::move(*largest);
       const std::optional<BollCircle> circle = roundOutline(boll.outline);
-      if (circle && cv::norm(circle->centre - boll.centre) <= 0.5 * boll.radius_px) {
+      if (circle && holdsDisc(*circle, boll.centre, peaks[i].radius) &&
+          part.count >= visibleShareMin() * CV_PI * circle->radius_px * circle->radius_px) {
         boll.centre = circle->centre;
         boll.radius_px = circle->radius_px;
       }
     }
     bolls->push_back(std::move(boll));
   }
+}
+
+bool ColourBollDetector::holdsDisc(const BollCircle& circle, const cv::Point2d& centre, double radius) const {
+  // The inscribed radius comes from the closed region on the pixel grid: a pixel, or a tenth of the radius, of slack.
+  return cv::norm(circle.centre - centre) + radius <= circle.radius_px + std::max(1.5, 0.1 * circle.radius_px);
+}
+
+double ColourBollDetector::visibleShareMin() const {
+  // Without partly hidden bolls, a boll must show what a whole one does.
+  return params_.partial_min_visible > 0.0 ? params_.partial_min_visible : kWholeWhiteShare;
+}
+
+std::optional<BollCircle> ColourBollDetector::lobeCircle(const std::vector<cv::Point>& outline,
+                                                         const cv::Point2d& centre, double radius) const {
+  const std::vector<cv::Point2d> candidates = lobeOutline(outline, centre, radius);
+  if (candidates.size() < 8) return std::nullopt;
+  // Robust refit: the candidates within a tolerance of the previous circle (the outline of another boll or of a
+  // sliver that passes the direction test lies off it); the tolerance is the roundness a boll's outline is allowed.
+  std::optional<BollCircle> circle = fitCircle(candidates);
+  std::vector<cv::Point2d> on_circle;
+  for (int round = 0; round < 3 && circle; ++round) {
+    const double tolerance = std::max(1.5, 2.0 * params_.circle_max_rms_fraction * circle->radius_px);
+    on_circle.clear();
+    for (const cv::Point2d& p : candidates)
+      if (std::abs(cv::norm(p - circle->centre) - circle->radius_px) <= tolerance) on_circle.push_back(p);
+    if (on_circle.size() < 8) return std::nullopt;
+    circle = fitCircle(on_circle);
+  }
+  if (!circle) return std::nullopt;
+  circle->radius_px += 0.5;  // boundary pixel centres lie half a pixel inside the region's edge
+  const bool round = circle->rms_px <= std::max(0.75, params_.circle_max_rms_fraction * circle->radius_px) &&
+                     circle->arc_coverage_rad >= params_.circle_min_arc_deg * CV_PI / 180.0;
+  const bool boll_sized =
+      circle->radius_px >= 0.7 * scale_.radius_min_px && circle->radius_px <= 1.2 * scale_.radius_max_px;
+  if (!round || !boll_sized || !holdsDisc(*circle, centre, radius)) return std::nullopt;
+  return circle;
+}
+
+bool ColourBollDetector::peelBoll(const std::vector<cv::Point>& contour, const cv::Mat& region, const cv::Point& origin,
+                                  const cv::Point2d& peak, double peak_radius, double brightness, const cv::Mat& bgr,
+                                  const cv::Mat& mask, int peels_left, std::vector<BollDetection>* bolls) const {
+  const std::optional<BollCircle> circle = lobeCircle(contour, peak, peak_radius);
+  if (!circle) return false;
+  // What else the region holds is joined to the boll by a neck, as touching bolls are (split_neck_ratio): where the
+  // region crosses the circle just outside the boll's edge, its half width stays under split_neck_ratio of the boll's
+  // radius. A region that goes on past the circle as wide as the boll (a crescent past a leaf, whose thick part holds
+  // a smaller circle than its boll's; a long bag whose end is round) is not a boll with something joined to it.
+  const double rim = circle->radius_px + 1.5;
+  const int samples = static_cast<int>(std::ceil(2.0 * CV_PI * rim));
+  std::vector<char> crossing(samples);
+  for (int k = 0; k < samples; ++k) {
+    const double angle = 2.0 * CV_PI * k / samples;
+    const int u = static_cast<int>(std::lround(circle->centre.x - origin.x + rim * std::cos(angle)));
+    const int v = static_cast<int>(std::lround(circle->centre.y - origin.y + rim * std::sin(angle)));
+    crossing[k] = u >= 0 && v >= 0 && u < region.cols && v < region.rows && region.at<uint8_t>(v, u) != 0;
+  }
+  int longest = 0;
+  for (int k = 0, run = 0; k < 2 * samples; ++k) {  // twice around: a run may wrap
+    run = crossing[k % samples] ? run + 1 : 0;
+    longest = std::max(longest, std::min(run, samples));
+  }
+  const double run_angle = 2.0 * CV_PI * longest / samples;
+  const double half_width = run_angle >= CV_PI ? rim : rim * std::sin(0.5 * run_angle);
+  if (half_width > params_.split_neck_ratio * circle->radius_px) return false;
+  // The boll: the region's pixels on its disc (sub-pixel centre and radius: 4 fractional bits).
+  const auto fixed = [](double x) { return static_cast<int>(std::lround(16.0 * x)); };
+  const cv::Point centre16(fixed(circle->centre.x - origin.x), fixed(circle->centre.y - origin.y));
+  cv::Mat own = cv::Mat::zeros(region.size(), CV_8U);
+  cv::circle(own, centre16, fixed(circle->radius_px + 0.5), cv::Scalar(255), cv::FILLED, cv::LINE_8, 4);
+  own &= region;
+  const cv::Moments m = cv::moments(own, true);
+  const double disc_area = CV_PI * circle->radius_px * circle->radius_px;
+  const double share = m.m00 / disc_area;
+  if (m.m00 < scale_.min_area_px || share < visibleShareMin()) return false;
+  std::vector<std::vector<cv::Point>> outlines;
+  cv::findContours(own, outlines, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE, origin);
+  const auto largest = std::max_element(outlines.begin(), outlines.end(),
+                                        [](const auto& a, const auto& b) { return a.size() < b.size(); });
+  if (largest == outlines.end()) return false;
+  BollDetection boll;
+  boll.outline = std::move(*largest);
+  boll.box = cv::boundingRect(boll.outline);
+  boll.centroid = {origin.x + m.m10 / m.m00, origin.y + m.m01 / m.m00};
+  boll.confidence = std::clamp(std::min(1.0, share) * brightness, 0.0, 1.0);
+  boll.partial = share < kWholeWhiteShare;
+  boll.centre = circle->centre;
+  boll.radius_px = circle->radius_px;
+  bolls->push_back(std::move(boll));
+
+  // The rest of the region, off this boll's disc (and a pixel beyond its edge, which mixes it with what borders it),
+  // cleaned of the slivers that its rim leaves: regions of their own.
+  cv::Mat rest = region.clone();
+  cv::circle(rest, centre16, fixed(circle->radius_px + 1.5), cv::Scalar(0), cv::FILLED, cv::LINE_8, 4);
+  if (scale_.opening_px > 1)
+    cv::morphologyEx(rest, rest, cv::MORPH_OPEN,
+                     cv::getStructuringElement(cv::MORPH_ELLIPSE, {scale_.opening_px, scale_.opening_px}));
+  std::vector<std::vector<cv::Point>> others;
+  cv::findContours(rest, others, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE, origin);
+  for (const std::vector<cv::Point>& other : others) detectRegion(other, bgr, mask, peels_left - 1, bolls);
+  return true;
 }
 
 std::optional<BollCircle> ColourBollDetector::roundOutline(const std::vector<cv::Point>& outline) const {
@@ -281,15 +417,37 @@ int ColourBollDetector::valueThreshold(const cv::Mat& bgr) const {
   return std::clamp(relative, params_.value_floor, params_.value_min);
 }
 
-cv::Mat ColourBollDetector::whiteMask(const cv::Mat& bgr, int value_min) const {
+cv::Mat whitePixels(const cv::Mat& bgr, int value_min, int saturation_max) {
   // HSV value V = max(b, g, r) and saturation S = 255 (V - min(b, g, r)) / V without the conversion:
-  // S <= saturation_max  <=>  255 (V - min) <= saturation_max V.
+  // S <= saturation_max  <=>  255 (V - min) <= saturation_max V. Both sides are at most 255^2: 16-bit lanes hold them.
+  CV_Assert(bgr.type() == CV_8UC3);
+  value_min = std::clamp(value_min, 0, 255);
+  saturation_max = std::clamp(saturation_max, 0, 255);
   cv::Mat mask(bgr.size(), CV_8U);
-  const int saturation_max = params_.saturation_max;
   for (int v = 0; v < bgr.rows; ++v) {
     const uint8_t* pixel = bgr.ptr<uint8_t>(v);
     uint8_t* out = mask.ptr<uint8_t>(v);
-    for (int u = 0; u < bgr.cols; ++u, pixel += 3) {
+    int u = 0;
+#if CV_SIMD128
+    // Sixteen pixels at a time; the same test as below, bit for bit.
+    const cv::v_uint8x16 value_floor = cv::v_setall_u8(static_cast<uint8_t>(value_min));
+    const cv::v_uint16x8 full = cv::v_setall_u16(255), share = cv::v_setall_u16(static_cast<uint16_t>(saturation_max));
+    for (; u + 16 <= bgr.cols; u += 16, pixel += 48) {
+      cv::v_uint8x16 b, g, r;
+      cv::v_load_deinterleave(pixel, b, g, r);
+      const cv::v_uint8x16 high = cv::v_max(b, cv::v_max(g, r));
+      const cv::v_uint8x16 low = cv::v_min(b, cv::v_min(g, r));
+      cv::v_uint16x8 high0, high1, low0, low1;
+      cv::v_expand(high, high0, high1);
+      cv::v_expand(low, low0, low1);
+      // Wrapping products (neither exceeds 255^2); a <= b as the saturating a - b being 0.
+      const cv::v_uint16x8 zero = cv::v_setzero_u16();
+      const cv::v_uint16x8 grey0 = (cv::v_mul_wrap(high0 - low0, full) - cv::v_mul_wrap(high0, share)) == zero;
+      const cv::v_uint16x8 grey1 = (cv::v_mul_wrap(high1 - low1, full) - cv::v_mul_wrap(high1, share)) == zero;
+      cv::v_store(out + u, cv::v_pack(grey0, grey1) & (high >= value_floor));
+    }
+#endif
+    for (; u < bgr.cols; ++u, pixel += 3) {
       const int high = std::max({pixel[0], pixel[1], pixel[2]});
       const int low = std::min({pixel[0], pixel[1], pixel[2]});
       out[u] = (high >= value_min && 255 * (high - low) <= saturation_max * high) ? 255 : 0;
@@ -302,7 +460,7 @@ std::vector<BollDetection> ColourBollDetector::detect(const cv::Mat& bgr, const 
   std::vector<BollDetection> bolls;
   if (bgr.empty() || bgr.type() != CV_8UC3) return bolls;
 
-  cv::Mat mask = whiteMask(bgr, valueThreshold(bgr));
+  cv::Mat mask = whitePixels(bgr, valueThreshold(bgr), params_.saturation_max);
   if (!exclude.empty() && exclude.size() == mask.size() && exclude.type() == CV_8U) mask.setTo(0, exclude);
   if (scale_.opening_px > 1) {
     const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_ELLIPSE, {scale_.opening_px, scale_.opening_px});
@@ -318,7 +476,8 @@ std::vector<BollDetection> ColourBollDetector::detect(const cv::Mat& bgr, const 
 
   std::vector<std::vector<cv::Point>> contours;
   cv::findContours(mask, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
-  for (const std::vector<cv::Point>& contour : contours) detectRegion(contour, bgr, mask, &bolls);
+  for (const std::vector<cv::Point>& contour : contours)
+    detectRegion(contour, bgr, mask, params_.max_cluster_bolls, &bolls);
   return bolls;
 }
 

@@ -282,6 +282,41 @@ TEST(BollSurface, DomeOfASphereAndOfFlatPatches) {
   EXPECT_TRUE(std::isnan(few->dome_sigma_m));
 }
 
+// A boll that touches another one nearer the camera in the image: the split gives it some of the near boll's pixels
+// (a fifth of its disc here, 25 cm nearer). Those lie farther from the surface's median depth than a boll's cap
+// spans and are left out of the dome fit: the dome stays a sphere's instead of turning deeply negative (a boll whose
+// rim seems nearer than its centre), which the dome test would take for no boll at all.
+TEST(BollSurface, DomeIgnoresANearerBollUnderTheOutline) {
+  const CameraIntrinsics k;
+  const cv::Point3d centre(0.15, -0.10, 1.60);
+  const double R = 0.035;
+  cv::Mat visible;
+  cv::Mat cloud = sphereCloud(k, centre, R, {0, 0, 0.5}, 0.0, 2.2, 0.002, &visible);
+  const std::vector<cv::Point> outline = largestOutline(visible);
+  const auto circle = fitOuterCircle(outline);
+  ASSERT_TRUE(circle.has_value());
+  cv::RNG rng(3);
+  const double near_z = centre.z - R - 0.25;
+  int moved = 0, inside = 0;
+  for (int v = 0; v < k.height; ++v)
+    for (int u = 0; u < k.width; ++u) {
+      if (!visible.at<uint8_t>(v, u)) continue;
+      ++inside;
+      if (u < circle->centre.x + 0.45 * circle->radius_px) continue;
+      const double z = near_z + 0.002 * near_z * near_z * rng.gaussian(1.0);
+      cloud.at<cv::Vec3f>(v, u) = cv::Vec3f(float((u - k.cx) / k.fx * z), float((v - k.cy) / k.fy * z), float(z));
+      ++moved;
+    }
+  ASSERT_GT(moved, inside / 6);
+  const auto located = locateBollSurface(cloud, outline, circle->centre, circle->radius_px, k, LocatorParams{});
+  ASSERT_TRUE(located.has_value());
+  const double radius_m = circle->radius_px * (centre.z - R) / k.fx;
+  EXPECT_GT(located->dome_m, 0.35 * radius_m);
+  EXPECT_LT(located->dome_m, 0.8 * radius_m);
+  // Still located on the boll's own surface (the median of its points), not between the two.
+  EXPECT_NEAR(located->position.z, centre.z - R, 0.01);
+}
+
 // Crescents past a leaf fail the whole-boll shape tests (solidity, circularity) but their own silhouette is a boll's
 // arc: accepted with their centre and radius; a glint on a leaf is not round and stays out.
 TEST(ColourBollDetector, PartlyHiddenBollAcceptedForItsRoundSilhouette) {

@@ -1,4 +1,6 @@
 #include <algorithm>
+#include <cmath>
+#include <utility>
 
 #include <gtest/gtest.h>
 
@@ -152,4 +154,156 @@ TEST(ColourBollDetector, ACrescentPastALeafIsAPartialBollOnlyWhenAsked) {
   EXPECT_FALSE(hasDetectionNear(bolls, {250, 610}, 40.0));
   params.partial_min_fraction = 1.5;
   EXPECT_THROW(ColourBollDetector{params}, std::invalid_argument);
+}
+
+namespace {
+
+/// The detection whose disc centre is nearest p, or nullptr.
+const BollDetection* nearestDisc(const std::vector<BollDetection>& bolls, const cv::Point2d& p) {
+  const BollDetection* best = nullptr;
+  for (const BollDetection& b : bolls)
+    if (!best || cv::norm(b.centre - p) < cv::norm(best->centre - p)) best = &b;
+  return best;
+}
+
+}  // namespace
+
+// A small boll beside a large one, their silhouettes overlapping by 1-2 px: the closing widens the neck between them
+// past split_neck_ratio of the small one's inscribed radius, so the distance transform has one maximum. The region is
+// no circle: the large boll is taken out on its own circle and the small one is what remains.
+TEST(ColourBollDetector, SplitsASmallBollFromALargeOneItTouches) {
+  cv::Mat image(720, 1280, CV_8UC3, cv::Scalar(40, 120, 50));
+  const cv::Point2d large(400, 300), small(429, 300), large2(800, 400), small2(800 + 21.9, 400 + 21.9);
+  cv::circle(image, cv::Point(large), 20, kWhite, cv::FILLED);
+  cv::circle(image, cv::Point(small), 11, kWhite, cv::FILLED);
+  cv::circle(image, cv::Point(large2), 22, kWhite, cv::FILLED);  // the same, diagonal
+  cv::circle(image, cv::Point(small2), 11, kWhite, cv::FILLED);
+  ColourBollDetector detector{ColourBollParams{}};
+  const std::vector<BollDetection> bolls = detector.detect(image, cv::Mat());
+  ASSERT_EQ(bolls.size(), 4u);
+  for (const auto& [centre, radius] : {std::pair{large, 20.0}, {small, 11.0}, {large2, 22.0}, {small2, 11.0}}) {
+    const BollDetection* boll = nearestDisc(bolls, centre);
+    ASSERT_NE(boll, nullptr);
+    EXPECT_LT(cv::norm(boll->centre - centre), 1.5) << centre;
+    EXPECT_NEAR(boll->radius_px, radius, 1.5) << centre;
+    // The centroid (what is scored and located without a disc) lies on its own boll, not between the two.
+    EXPECT_LT(cv::norm(boll->centroid - centre), 2.0) << centre;
+  }
+}
+
+// A glint on a leaf (a thin bright line) that touches a boll joins it into one region that fails the shape tests; the
+// boll is found on its own disc, the glint is left out.
+TEST(ColourBollDetector, ABollJoinedToAGlintKeepsItsOwnDisc) {
+  cv::Mat image(720, 1280, CV_8UC3, cv::Scalar(40, 120, 50));
+  cv::circle(image, {400, 300}, 16, kWhite, cv::FILLED);
+  cv::line(image, {412, 312}, {435, 335}, kWhite, 4);
+  ColourBollDetector detector{ColourBollParams{}};
+  const std::vector<BollDetection> bolls = detector.detect(image, cv::Mat());
+  ASSERT_EQ(bolls.size(), 1u);
+  EXPECT_LT(cv::norm(bolls[0].centre - cv::Point2d(400, 300)), 1.0);
+  EXPECT_NEAR(bolls[0].radius_px, 16.0, 1.0);
+  EXPECT_LT(cv::norm(bolls[0].centroid - cv::Point2d(400, 300)), 1.0);
+  EXPECT_FALSE(bolls[0].partial);
+}
+
+// A boll partly hidden behind the one in front of it (the front boll's brown bracts between them, bridged by the
+// closing): both are found, the hidden one on the circle of its own outer arc.
+TEST(ColourBollDetector, ABollBehindItsNeighbourIsFoundOnItsOwnCircle) {
+  cv::Mat image(720, 1280, CV_8UC3, cv::Scalar(40, 120, 50));
+  const cv::Point2d front(400, 300), behind(422, 300);
+  cv::circle(image, cv::Point(behind), 14, kWhite, cv::FILLED);
+  cv::circle(image, cv::Point(front), 20, cv::Scalar(60, 85, 100), cv::FILLED);  // the front boll's bracts ...
+  cv::circle(image, cv::Point(front), 17, kWhite, cv::FILLED);                   // ... and its lint
+  ColourBollDetector detector{ColourBollParams{}};
+  const std::vector<BollDetection> bolls = detector.detect(image, cv::Mat());
+  ASSERT_EQ(bolls.size(), 2u);
+  const BollDetection* near_front = nearestDisc(bolls, front);
+  const BollDetection* near_behind = nearestDisc(bolls, behind);
+  ASSERT_NE(near_front, near_behind);
+  EXPECT_LT(cv::norm(near_front->centre - front), 1.0);
+  EXPECT_NEAR(near_front->radius_px, 17.0, 1.0);
+  EXPECT_LT(cv::norm(near_behind->centre - behind), 2.0);
+  EXPECT_NEAR(near_behind->radius_px, 14.0, 1.5);
+}
+
+// Two touching bolls split at their neck, the second one's far half under a leaf: its part's inscribed disc lies off
+// its centre, towards the neck, but the circle of the part's own outline holds it: that circle is the boll's disc
+// (not the inscribed one, half the boll's radius, which the 3D test would take for a boll too small).
+TEST(ColourBollDetector, ASplitPartUnderALeafKeepsTheCircleOfItsOutline) {
+  cv::Mat image(720, 1280, CV_8UC3, cv::Scalar(40, 120, 50));
+  const cv::Point2d first(400, 300), second(436, 300);
+  cv::circle(image, cv::Point(first), 16, kWhite, cv::FILLED);
+  cv::circle(image, cv::Point(second), 16, kWhite, cv::FILLED);
+  cv::ellipse(image, {454, 300}, {20, 40}, 0, 0, 360, cv::Scalar(40, 150, 50), cv::FILLED);
+  ColourBollDetector detector{ColourBollParams{}};
+  const std::vector<BollDetection> bolls = detector.detect(image, cv::Mat());
+  ASSERT_EQ(bolls.size(), 2u);
+  const BollDetection* whole = nearestDisc(bolls, first);
+  const BollDetection* hidden = nearestDisc(bolls, second);
+  ASSERT_NE(whole, hidden);
+  EXPECT_LT(cv::norm(whole->centre - first), 1.0);
+  EXPECT_NEAR(whole->radius_px, 16.0, 1.0);
+  // The visible part is a lens 14 px wide: its arcs fix the disc only roughly.
+  EXPECT_LT(cv::norm(hidden->centre - second), 0.3 * 16.0);
+  EXPECT_NEAR(hidden->radius_px, 16.0, 0.2 * 16.0);
+}
+
+// Half a boll past a leaf: the thick part of the half-moon holds a smaller circle than the boll's, and the region goes
+// on past that circle as wide as it is (no neck): one detection, not two or three.
+TEST(ColourBollDetector, HalfABollPastALeafIsNotPeeledInPieces) {
+  cv::Mat image(720, 1280, CV_8UC3, cv::Scalar(40, 120, 50));
+  struct HalfMoon {
+    int radius, leaf_offset;  // the leaf's centre this far left of the boll's [px]
+    cv::Size leaf_axes;
+  };
+  const HalfMoon moons[] = {{20, 10, {16, 40}}, {20, 12, {18, 36}}, {20, 14, {20, 40}}, {24, 12, {21, 36}}};
+  for (int i = 0; i < 4; ++i) {
+    const cv::Point centre(200 + 250 * i, 300);
+    cv::circle(image, centre, moons[i].radius, kWhite, cv::FILLED);
+    cv::ellipse(image, centre - cv::Point(moons[i].leaf_offset, 0), moons[i].leaf_axes, 0, 0, 360,
+                cv::Scalar(40, 150, 50), cv::FILLED);
+  }
+  ColourBollDetector detector{ColourBollParams{}};
+  const std::vector<BollDetection> bolls = detector.detect(image, cv::Mat());
+  for (int i = 0; i < 4; ++i) {
+    const cv::Point2d centre(200 + 250 * i, 300);
+    EXPECT_LE(std::count_if(bolls.begin(), bolls.end(),
+                            [&](const BollDetection& b) { return cv::norm(b.centroid - centre) < 40.0; }),
+              1)
+        << i;
+  }
+}
+
+// The lint-coloured pixels, sixteen at a time, are those of the exact HSV test, for any thresholds and row length.
+TEST(ColourBollDetector, WhitePixelsAreTheExactHsvTest) {
+  cv::RNG rng(7);
+  cv::Mat image(9, 1283, CV_8UC3);
+  rng.fill(image, cv::RNG::UNIFORM, 0, 256);
+  for (int v = 0; v < image.rows; v += 2)  // rows of near-grey pixels: saturation around every threshold
+    for (int u = 0; u < image.cols; ++u) {
+      const int grey = rng.uniform(0, 256);
+      image.at<cv::Vec3b>(v, u) =
+          cv::Vec3b(cv::saturate_cast<uint8_t>(grey), cv::saturate_cast<uint8_t>(grey - rng.uniform(0, 60)),
+                    cv::saturate_cast<uint8_t>(grey + rng.uniform(-8, 8)));
+    }
+  for (const int saturation_max : {0, 1, 70, 128, 255})
+    for (const int value_min : {0, 1, 60, 150, 255}) {
+      const cv::Mat white = whitePixels(image, value_min, saturation_max);
+      ASSERT_EQ(white.type(), CV_8U);
+      int wrong = 0, found = 0;
+      for (int v = 0; v < image.rows; ++v)
+        for (int u = 0; u < image.cols; ++u) {
+          const cv::Vec3b p = image.at<cv::Vec3b>(v, u);
+          const int high = std::max({p[0], p[1], p[2]}), low = std::min({p[0], p[1], p[2]});
+          const bool expected = high >= value_min && 255 * (high - low) <= saturation_max * high;
+          const uint8_t got = white.at<uint8_t>(v, u);
+          wrong += (got != 0 && got != 255) || (got == 255) != expected;
+          found += expected;
+        }
+      EXPECT_EQ(wrong, 0) << saturation_max << " " << value_min;
+      if (saturation_max == 70 && value_min == 150) {
+        EXPECT_GT(found, 100);
+      }
+    }
+  EXPECT_THROW(whitePixels(cv::Mat(4, 4, CV_8UC1, cv::Scalar(0)), 150, 70), cv::Exception);
 }

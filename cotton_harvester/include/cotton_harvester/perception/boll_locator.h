@@ -72,8 +72,11 @@ std::optional<LocatedPoint> locateRegion(const cv::Mat& cloud, const cv::Mat& ma
 /// z = z0 + b s + c t + h (s^2 + t^2), where (s, t) is the pixel's offset from the disc's centre in disc radii, so h is
 /// how much deeper the disc's rim lies than its centre once any tilt is taken out. A sphere of radius R gives
 /// h ~ 0.5 R (the white part seen from above); a label, a flat fold of a bag or a bar lying in any plane gives
-/// h ~ 0. Points more than 3 robust sigmas off the first fit are left out of the second; fewer than 12 points or a
-/// singular fit leave dome_m NaN.
+/// h ~ 0. Only points within 1.5 boll radii (radius_px at their median depth) of their median depth are fitted: a
+/// sphere's visible cap spans less than its radius in depth, so what lies farther is another surface under the
+/// outline (a boll in front of or behind a boll that touches it in the image, a leaf, the ground). Points more than 3
+/// robust sigmas off the first fit are left out of the second; fewer than 12 points or a singular fit leave dome_m
+/// NaN.
 /// std::nullopt when fewer than min_valid_points valid points lie under the outline, or on bad input (empty or
 /// non-CV_32FC3 cloud, non-finite centre, radius <= 0, outline outside the cloud).
 std::optional<LocatedPoint> locateBollSurface(const cv::Mat& cloud, const std::vector<cv::Point>& outline,

@@ -53,6 +53,11 @@ struct ColourBollParams {
 /// Returns an empty string when valid, otherwise the bad field and what was expected.
 std::string validate(const ColourBollParams& params);
 
+/// The lint-coloured pixels of an 8-bit BGR image: HSV value (the largest channel) at least value_min and HSV
+/// saturation at most saturation_max (both [0, 255]), tested exactly on the integers: 255 (V - min) <=
+/// saturation_max V. CV_8U, 255 on such pixels, else 0. Throws cv::Exception for another image type.
+cv::Mat whitePixels(const cv::Mat& bgr, int value_min, int saturation_max);
+
 /// The pixel thresholds the detector derives from its parameters, the geometry and the focal length.
 struct ColourBollScale {
   double radius_min_px = 0.0;        ///< smallest boll [px]
@@ -67,8 +72,10 @@ struct ColourBollScale {
 
 /// The default detector: HSV threshold for white and bright, opening, external contours; each region's distance
 /// transform maxima that are separated by a neck are touching bolls and the region is split between them (each
-/// pixel to the nearest maximum, relative to its inscribed radius); single regions pass shape tests (area,
-/// circularity, solidity, aspect ratio). Confidence grows with circularity, solidity and brightness.
+/// pixel to the nearest maximum, relative to its inscribed radius; a part's circle is that of its own outline when it
+/// holds the part's inscribed disc); single regions pass shape tests (area, circularity, solidity, aspect ratio) or,
+/// when their outline is no circle, give up the boll on their maximum's own circle (peelBoll). Confidence grows with
+/// circularity, solidity and brightness.
 class ColourBollDetector : public BollDetector {
  public:
   /// Throws std::invalid_argument on bad parameters. Until setGeometry, the paper's camera at 1280x720 and the
@@ -84,9 +91,25 @@ class ColourBollDetector : public BollDetector {
   int valueThreshold(const cv::Mat& bgr) const;
   /// The circle of an outline's own silhouette when it is round and of a boll's size, else std::nullopt.
   std::optional<BollCircle> roundOutline(const std::vector<cv::Point>& outline) const;
-  cv::Mat whiteMask(const cv::Mat& bgr, int value_min) const;
-  void detectRegion(const std::vector<cv::Point>& contour, const cv::Mat& bgr, const cv::Mat& mask,
+  /// The circle of a boll whose disc holds the inscribed disc (centre, radius) of a region, fitted to the part of
+  /// the region's outline that runs around that disc, when it is round and of a boll's size; else std::nullopt.
+  std::optional<BollCircle> lobeCircle(const std::vector<cv::Point>& outline, const cv::Point2d& centre,
+                                       double radius) const;
+  /// Whether the circle holds the disc (centre, radius) [px], within a pixel's slack.
+  bool holdsDisc(const BollCircle& circle, const cv::Point2d& centre, double radius) const;
+  /// Least share of its disc that a boll's visible part must cover (partial_min_visible; a whole boll's when 0).
+  double visibleShareMin() const;
+  /// Bolls in one region (an external contour of the mask). peels_left: how many more times a boll may be taken out
+  /// of a region that is not one round boll (peelBoll), the rest looked at again.
+  void detectRegion(const std::vector<cv::Point>& contour, const cv::Mat& bgr, const cv::Mat& mask, int peels_left,
                     std::vector<BollDetection>* bolls) const;
+  /// The boll on the lobeCircle of the region's distance-transform maximum (peak, peak_radius; image pixels): the
+  /// region's pixels on its disc, when the region crosses the circle only through a neck and they cover
+  /// visibleShareMin of it; what lies off the disc goes through detectRegion again. region: the region's pixels (255),
+  /// origin: the image pixel of region's (0, 0). false: no such boll (nothing is added).
+  bool peelBoll(const std::vector<cv::Point>& contour, const cv::Mat& region, const cv::Point& origin,
+                const cv::Point2d& peak, double peak_radius, double brightness, const cv::Mat& bgr, const cv::Mat& mask,
+                int peels_left, std::vector<BollDetection>* bolls) const;
 
   ColourBollParams params_;
   ColourBollScale scale_;
