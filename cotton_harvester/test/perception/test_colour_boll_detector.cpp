@@ -166,6 +166,22 @@ const BollDetection* nearestDisc(const std::vector<BollDetection>& bolls, const 
   return best;
 }
 
+/// Detects the bolls of `image` (default parameters), expects exactly two, one nearest each of `a` and `b`, and
+/// returns them in that order (null where that fails).
+std::pair<const BollDetection*, const BollDetection*> detectTwoNear(const cv::Mat& image, const cv::Point2d& a,
+                                                                    const cv::Point2d& b,
+                                                                    std::vector<BollDetection>* bolls) {
+  ColourBollDetector detector{ColourBollParams{}};
+  *bolls = detector.detect(image, cv::Mat());
+  EXPECT_EQ(bolls->size(), 2u);
+  if (bolls->size() != 2u) return {nullptr, nullptr};
+  const BollDetection* near_a = nearestDisc(*bolls, a);
+  const BollDetection* near_b = nearestDisc(*bolls, b);
+  EXPECT_NE(near_a, near_b);
+  if (near_a == near_b) return {nullptr, nullptr};
+  return {near_a, near_b};
+}
+
 }  // namespace
 
 // A small boll beside a large one, their silhouettes overlapping by 1-2 px: the closing widens the neck between them
@@ -214,12 +230,9 @@ TEST(ColourBollDetector, ABollBehindItsNeighbourIsFoundOnItsOwnCircle) {
   cv::circle(image, cv::Point(behind), 14, kWhite, cv::FILLED);
   cv::circle(image, cv::Point(front), 20, cv::Scalar(60, 85, 100), cv::FILLED);  // the front boll's bracts ...
   cv::circle(image, cv::Point(front), 17, kWhite, cv::FILLED);                   // ... and its lint
-  ColourBollDetector detector{ColourBollParams{}};
-  const std::vector<BollDetection> bolls = detector.detect(image, cv::Mat());
-  ASSERT_EQ(bolls.size(), 2u);
-  const BollDetection* near_front = nearestDisc(bolls, front);
-  const BollDetection* near_behind = nearestDisc(bolls, behind);
-  ASSERT_NE(near_front, near_behind);
+  std::vector<BollDetection> bolls;
+  const auto [near_front, near_behind] = detectTwoNear(image, front, behind, &bolls);
+  ASSERT_TRUE(near_front && near_behind);
   EXPECT_LT(cv::norm(near_front->centre - front), 1.0);
   EXPECT_NEAR(near_front->radius_px, 17.0, 1.0);
   EXPECT_LT(cv::norm(near_behind->centre - behind), 2.0);
@@ -235,12 +248,9 @@ TEST(ColourBollDetector, ASplitPartUnderALeafKeepsTheCircleOfItsOutline) {
   cv::circle(image, cv::Point(first), 16, kWhite, cv::FILLED);
   cv::circle(image, cv::Point(second), 16, kWhite, cv::FILLED);
   cv::ellipse(image, {454, 300}, {20, 40}, 0, 0, 360, cv::Scalar(40, 150, 50), cv::FILLED);
-  ColourBollDetector detector{ColourBollParams{}};
-  const std::vector<BollDetection> bolls = detector.detect(image, cv::Mat());
-  ASSERT_EQ(bolls.size(), 2u);
-  const BollDetection* whole = nearestDisc(bolls, first);
-  const BollDetection* hidden = nearestDisc(bolls, second);
-  ASSERT_NE(whole, hidden);
+  std::vector<BollDetection> bolls;
+  const auto [whole, hidden] = detectTwoNear(image, first, second, &bolls);
+  ASSERT_TRUE(whole && hidden);
   EXPECT_LT(cv::norm(whole->centre - first), 1.0);
   EXPECT_NEAR(whole->radius_px, 16.0, 1.0);
   // The visible part is a lens 14 px wide: its arcs fix the disc only roughly.
