@@ -53,7 +53,7 @@ struct Totals {
   std::map<std::string, double> state_time_s;
   std::map<std::string, int> state_entries;
   int frames = 0, ee_found = 0, ee_rejected = 0, ee_fallback = 0;
-  int picks_cleared = 0, picks_redetected = 0, leaves_pushed = 0;
+  int picks_cleared = 0, picks_redetected = 0, leaves_pushed = 0, leaf_searches = 0, leaf_sweeps = 0;
   void add(const sim::HarvestRunReport& r) {
     ++runs;
     misses.add(r.misses);
@@ -72,6 +72,8 @@ struct Totals {
     picks_cleared += r.picks_cleared;
     picks_redetected += r.picks_redetected;
     leaves_pushed += r.leaves_pushed;
+    leaf_searches += r.leaf_searches;
+    leaf_sweeps += r.leaf_sweeps;
     counts.bolls_present += r.bolls_present;
     counts.detected += r.counts.detected;
     counts.reached += r.counts.reached;
@@ -109,8 +111,9 @@ void printTimes(const Totals& t) {
   std::printf("\nend-effector: %d frames, found %d, rejected %d, calibrated position used %d\n", t.frames, t.ee_found,
               t.ee_rejected, t.ee_fallback);
   std::printf(
-      "leaves: picks that swept leaves aside first %d, of them re-located by a new frame %d; leaves pushed %d\n",
-      t.picks_cleared, t.picks_redetected, t.leaves_pushed);
+      "leaves: picks that swept leaves aside first %d, of them re-located by a new frame %d; places searched under "
+      "the leaves %d, sweeps there %d; leaves pushed %d\n",
+      t.picks_cleared, t.picks_redetected, t.leaf_searches, t.leaf_sweeps, t.leaves_pushed);
   std::fflush(stdout);
 }
 
@@ -122,6 +125,7 @@ bool clear_leaves = true;
 bool ee_near_arm = true;
 bool leaf_push = true;
 bool partial_bolls = true;
+bool search_leaves = true;
 
 control::HarvestMetrics experiment(const char* title, bool field, int runs, unsigned seed, Totals* totals,
                                    const std::string& png, const std::string& debug_image) {
@@ -136,6 +140,7 @@ control::HarvestMetrics experiment(const char* title, bool field, int runs, unsi
     if (i == 0) config.debug_image_path = debug_image;
     config.verbose = verbose;
     config.clear_leaves_before_pick = clear_leaves;
+    if (!search_leaves) config.machine.search_under_leaves = false;
     config.effector_search_near_arm = ee_near_arm;
     config.partial_bolls = partial_bolls;
     if (!leaf_push) config.sim.leaf_push_max_m = 0.0;
@@ -149,10 +154,11 @@ control::HarvestMetrics experiment(const char* title, bool field, int runs, unsi
         const sim::BollRecord& rec = r.boll_records[b];
         std::fprintf(stderr,
                      "missed boll %zu (plant %d, x %.2f y %.2f z %.2f): %s; in view %d frames, detected %d (reachable "
-                     "%d), best visible %.0f %%, nozzle closest %.1f cm\n",
+                     "%d), best visible %.0f %%, nozzle closest %.1f cm, best along the row %.0f %%\n",
                      b, r.bolls[b].plant, r.bolls[b].centre.x(), r.bolls[b].centre.y(), r.bolls[b].centre.z(),
                      sim::toString(r.miss_causes[b]), rec.frames_in_view, rec.frames_detected,
-                     rec.frames_detected_reachable, 100.0 * rec.max_visible_fraction, 100.0 * rec.closest_vacuum_m);
+                     rec.frames_detected_reachable, 100.0 * rec.max_visible_fraction, 100.0 * rec.closest_vacuum_m,
+                     100.0 * rec.row_best_visible_fraction);
       }
     }
     printRow("run" + std::to_string(i + 1), r);
@@ -194,7 +200,8 @@ int main(int argc, char** argv) {
   app.add_option("--potted-plants", potted_plants, "plants of the potted row (the paper: 6)")->check(CLI::Range(1, 60));
   app.add_option("--frames-dir", frames_dir, "write every frame of the first potted run with its detections here");
   app.add_flag("--verbose", verbose, "print the state machine's transitions");
-  bool no_clear = false, ee_whole = false, no_push = false, no_partial = false;
+  bool no_clear = false, ee_whole = false, no_push = false, no_partial = false, no_search = false;
+  app.add_flag("--no-leaf-search", no_search, "pass on without looking under the leaves (field-like runs)");
   app.add_flag("--no-partial-bolls", no_partial, "the colour detector drops bolls seen only in part");
   app.add_flag("--no-leaf-clearing", no_clear, "pick without sweeping leaves over the boll aside first");
   app.add_flag("--ee-whole-image", ee_whole, "take the largest orange region of the image as the end-effector");
@@ -204,6 +211,7 @@ int main(int argc, char** argv) {
   ee_near_arm = !ee_whole;
   leaf_push = !no_push;
   partial_bolls = !no_partial;
+  search_leaves = !no_search;
 
   Totals totals;
   control::HarvestMetrics potted, field;

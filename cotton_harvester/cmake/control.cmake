@@ -27,6 +27,7 @@ add_library(cotton_harvester_control
   src/control/harvest_metrics.cpp
   src/control/pick_capture.cpp
   src/control/leaf_clearance.cpp
+  src/control/canopy_search.cpp
   src/control/harvest_machine.cpp
   src/control/step_response.cpp
   src/control/virtual_row.cpp
@@ -61,6 +62,7 @@ if(CATKIN_ENABLE_TESTING)
     test/control/test_harvest_metrics.cpp
     test/control/test_pick_capture.cpp
     test/control/test_leaf_clearance.cpp
+    test/control/test_canopy_search.cpp
   )
   target_link_libraries(test_control_unit cotton_harvester_control)
 endif()

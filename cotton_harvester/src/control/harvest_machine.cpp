@@ -22,6 +22,7 @@ std::string HarvestParams::check() const {
   if (!(bolls_present >= 0)) return "bolls_present: expected >= 0";
   if (!(remember_target_frames >= 0)) return "remember_target_frames: expected >= 0";
   if (!(revisit_window_m >= 0.0)) return "revisit_window_m: expected >= 0";
+  if (!(search_spacing_m > 0.0) || !std::isfinite(search_spacing_m)) return "search_spacing_m: expected > 0";
   return "";
 }
 
@@ -34,8 +35,8 @@ HarvestMachine::HarvestMachine(HarvestPlant& plant, const HarvestParams& params)
   const tsm::StateMachine::Transitions back{{"done", "OBSERVE"}, {"failed", "OBSERVE"}, {"give_up", "aborted"}};
   machine_->add("OBSERVE",
                 std::make_unique<tsm::FunctionState>(
-                    std::vector<std::string>{"forward", "backward", "arm_up", "arm_down", "pick", "pass_on", "retry",
-                                             "lost", tsm::kPreempted},
+                    std::vector<std::string>{"forward", "backward", "arm_up", "arm_down", "pick", "pass_on", "search",
+                                             "retry", "lost", tsm::kPreempted},
                     [this](tsm::UserData& ud, tsm::ExecutionContext& ctx) { return observe(ud, ctx); }),
                 {{"forward", "MOVE_FORWARD"},
                  {"backward", "MOVE_BACKWARD"},
@@ -43,6 +44,7 @@ HarvestMachine::HarvestMachine(HarvestPlant& plant, const HarvestParams& params)
                  {"arm_down", "ARM_DOWN"},
                  {"pick", "PICK"},
                  {"pass_on", "PASS_ON"},
+                 {"search", "SEARCH_LEAVES"},
                  {"retry", "OBSERVE"},
                  {"lost", "aborted"}});
   const std::pair<const char*, HarvestAction> actions[] = {{"MOVE_FORWARD", HarvestAction::kForward},
@@ -63,6 +65,11 @@ HarvestMachine::HarvestMachine(HarvestPlant& plant, const HarvestParams& params)
                     std::vector<std::string>{"done", "failed", "give_up", "row_end", tsm::kPreempted},
                     [this](tsm::UserData&, tsm::ExecutionContext& ctx) { return passOn(ctx); }),
                 {{"done", "OBSERVE"}, {"failed", "OBSERVE"}, {"give_up", "aborted"}, {"row_end", "finished"}});
+  machine_->add("SEARCH_LEAVES",
+                std::make_unique<tsm::FunctionState>(
+                    std::vector<std::string>{"done", "nothing", "failed", "give_up", tsm::kPreempted},
+                    [this](tsm::UserData&, tsm::ExecutionContext& ctx) { return searchLeaves(ctx); }),
+                {{"done", "OBSERVE"}, {"nothing", "PASS_ON"}, {"failed", "OBSERVE"}, {"give_up", "aborted"}});
 }
 
 std::string HarvestMachine::run() {
@@ -74,6 +81,7 @@ std::string HarvestMachine::run() {
     missed_ = failed_actions_ = rejected_frames_ = 0;
     target_id_ = 0;
     decision_points_.reset();
+    searched_m_.clear();
   }
   tsm::UserData userdata;
   return machine_->run(userdata);
@@ -134,7 +142,7 @@ std::string HarvestMachine::observe(tsm::UserData& ud, tsm::ExecutionContext& ct
     }
     if (!boll) {
       missed_ = 0;
-      return "pass_on";
+      return searchDue() ? "search" : "pass_on";
     }
     const auto& ee = observation->end_effector;
     if (!ee || !std::isfinite(ee->x) || !std::isfinite(ee->y) || !std::isfinite(ee->z)) {
@@ -146,6 +154,12 @@ std::string HarvestMachine::observe(tsm::UserData& ud, tsm::ExecutionContext& ct
     if (decision.action == HarvestAction::kOutOfReach) {
       tracker_.skip(id);
       continue;
+    }
+    // Before the rover leaves a place not searched yet, and by at most the search spacing, so no strip of the row
+    // goes unsearched.
+    if (decision.action == HarvestAction::kForward && params_.search_under_leaves) {
+      if (searchDue()) return "search";
+      decision.rover_move_m = std::min(decision.rover_move_m, params_.search_spacing_m);
     }
     if (decision.action != HarvestAction::kPick) {
       tracker_.noteAlignMove(id);
@@ -243,7 +257,28 @@ std::string HarvestMachine::passOn(tsm::ExecutionContext& ctx) {
       return "row_end";
     }
   }
-  return resultOutcome(plant_.moveRover(params_.pass_step_m, [&ctx] { return ctx.preemptRequested(); }));
+  const double step =
+      params_.search_under_leaves ? std::min(params_.pass_step_m, params_.search_spacing_m) : params_.pass_step_m;
+  return resultOutcome(plant_.moveRover(step, [&ctx] { return ctx.preemptRequested(); }));
+}
+
+bool HarvestMachine::searchDue() const {
+  if (!params_.search_under_leaves) return false;
+  const double here = plant_.roverPositionM();
+  for (const double s : searched_m_)
+    if (std::abs(here - s) < 0.5 * params_.search_spacing_m) return false;
+  return true;
+}
+
+std::string HarvestMachine::searchLeaves(tsm::ExecutionContext& ctx) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    searched_m_.push_back(plant_.roverPositionM());
+  }
+  const auto result = plant_.searchUnderLeaves([&ctx] { return ctx.preemptRequested(); });
+  if (ctx.preemptRequested()) return tsm::kPreempted;
+  if (!result) return "nothing";
+  return resultOutcome(*result);
 }
 
 }  // namespace control

@@ -45,6 +45,8 @@ HarvestParams loadHarvestParams(const NodeParams& params) {
   p.keep_target = readBool(params, "keep_target", p.keep_target);
   p.revisit_pending = readBool(params, "revisit_pending", p.revisit_pending);
   p.revisit_window_m = readDouble(params, "revisit_window_m", p.revisit_window_m);
+  p.search_under_leaves = readBool(params, "search_under_leaves", p.search_under_leaves);
+  p.search_spacing_m = readDouble(params, "search_spacing_m", p.search_spacing_m);
   requireSound(params, p.check());
   return p;
 }
@@ -79,6 +81,12 @@ TopicPlantParams loadPlantParams(const NodeParams& params) {
   p.horizontal_max_m = readDouble(params, "horizontal_max_m", p.horizontal_max_m);
   p.vertical_min_m = readDouble(params, "vertical_min_m", p.vertical_min_m);
   p.vertical_max_m = readDouble(params, "vertical_max_m", p.vertical_max_m);
+  p.search_under_leaves = readBool(params, "search_under_leaves", p.search_under_leaves);
+  p.canopy.strip_half_m = readDouble(params, "search_strip_half_m", p.canopy.strip_half_m);
+  p.canopy.min_cover_fraction = readDouble(params, "search_min_cover_fraction", p.canopy.min_cover_fraction);
+  p.canopy.max_passes = readInt(params, "search_max_passes", p.canopy.max_passes, 1);
+  p.canopy.push_m = readDouble(params, "search_push_m", p.canopy.push_m);
+  p.canopy.effector_half_m = p.leaves.effector_half_m;
   requireSound(params, TopicHarvestPlant::check(p));
   return p;
 }

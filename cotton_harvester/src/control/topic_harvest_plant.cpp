@@ -16,24 +16,25 @@ TopicHarvestPlant::TopicHarvestPlant(ros::NodeHandle& nh, const TopicPlantParams
   rover_sub_ = nh.subscribe("rover/position", 5, &TopicHarvestPlant::onRoverPosition, this);
   joints_sub_ = nh.subscribe("manipulator/joint_states", 5, &TopicHarvestPlant::onJoints, this);
   busy_sub_ = nh.subscribe("manipulator/busy", 5, &TopicHarvestPlant::onBusy, this);
-  if (params_.clear_leaves_before_pick)
+  if (params_.clear_leaves_before_pick || params_.search_under_leaves)
     cloud_sub_ = nh.subscribe("camera/depth/points", 2, &TopicHarvestPlant::onCloud, this);
 }
 
 void TopicHarvestPlant::onCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
   std::lock_guard<std::mutex> lock(mutex_);
   clouds_.push_back(msg);
-  while (clouds_.size() > 4) clouds_.pop_front();
+  while (clouds_.size() > 8) clouds_.pop_front();  // 2 s at 4 Hz: bolls can come late under load
+  changed_.notify_all();
 }
 
-int TopicHarvestPlant::pointsOverApproach(double from_x, double target_x, double depth_m) const {
+bool TopicHarvestPlant::observedCloud(sensor_msgs::PointCloud2::ConstPtr* keep, CloudView* out) const {
   sensor_msgs::PointCloud2::ConstPtr cloud;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     for (const auto& c : clouds_)
       if (c->header.stamp == last_used_stamp_) cloud = c;
   }
-  if (!cloud || cloud->height < 2) return 0;
+  if (!cloud || cloud->height < 2) return false;
   CloudView view;
   int found = 0;
   for (const auto& f : cloud->fields) {
@@ -45,13 +46,74 @@ int TopicHarvestPlant::pointsOverApproach(double from_x, double target_x, double
   const std::size_t need = static_cast<std::size_t>(cloud->row_step) * cloud->height;
   if (found != 7 || cloud->is_bigendian || cloud->data.size() < need || cloud->point_step < 12 ||
       cloud->row_step < cloud->width * cloud->point_step)
-    return 0;
+    return false;
   view.data = cloud->data.data();
   view.rows = static_cast<int>(cloud->height);
   view.cols = static_cast<int>(cloud->width);
   view.row_step = cloud->row_step;
   view.point_step = cloud->point_step;
+  *keep = cloud;
+  *out = view;
+  return true;
+}
+
+int TopicHarvestPlant::pointsOverApproach(double from_x, double target_x, double depth_m) const {
+  sensor_msgs::PointCloud2::ConstPtr cloud;
+  CloudView view;
+  if (!observedCloud(&cloud, &view)) return 0;
   return control::pointsOverApproach(view, from_x, target_x, depth_m, params_.leaves);
+}
+
+std::optional<MoveResult> TopicHarvestPlant::searchUnderLeaves(const Preempted& preempted) {
+  if (!params_.search_under_leaves || !(params_.rest_depth_m > 0.0)) return std::nullopt;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const CanopySearchParams& c = params_.canopy;
+  // The housing above the plants, then a frame: everything deeper than the housing is the canopy.
+  MoveResult result = moveArm(nan, params_.rest_depth_m, preempted);
+  if (result != MoveResult::kDone) return result;
+  if (!observe(preempted)) return preempted() ? MoveResult::kPreempted : MoveResult::kFailed;
+  ++leaf_searches_;
+  const double zero = params_.arm_extension_zero_x_m, e = c.effector_half_m;
+  const double x_lo = params_.horizontal_min_m + zero - e, x_hi = params_.horizontal_max_m + zero + e;
+  const auto ext = [this](double v) { return std::clamp(v, params_.horizontal_min_m, params_.horizontal_max_m); };
+  double below = params_.rest_depth_m + c.housing_height_m + 0.01;
+  int passes = 0;
+  for (int pass = 0; pass < c.max_passes; ++pass) {
+    // The frame's cloud may come a little after its bolls (11 MB at 1280 x 720).
+    bool was_preempted = false;
+    waitFor(
+        [this] {
+          return std::any_of(clouds_.begin(), clouds_.end(),
+                             [this](const auto& c) { return c->header.stamp == last_used_stamp_; });
+        },
+        params_.observe_timeout_s, preempted, &was_preempted);
+    if (was_preempted) return MoveResult::kPreempted;
+    sensor_msgs::PointCloud2::ConstPtr cloud;
+    CloudView view;
+    if (!observedCloud(&cloud, &view)) {
+      ROS_WARN_THROTTLE(10.0,
+                        "harvest plant: no cloud of the observed frame on camera/depth/points: cannot look "
+                        "under the leaves");
+      break;
+    }
+    const double fx = focalFromCloud(view);
+    if (!(fx > 0.0)) break;
+    const auto layer = nextCanopyLayer(view, fx, params_.arm_y_m, x_lo, x_hi, below, params_.vertical_max_m, c);
+    if (!layer) break;
+    const double depth = std::clamp(layer->sweep_depth_m, params_.rest_depth_m, params_.vertical_max_m);
+    const double from = ext(layer->x_min_m - zero - e - 0.02), to = ext(layer->x_max_m - zero + e + c.push_m);
+    below = depth + c.housing_height_m;
+    if (to - from < 0.02) continue;
+    // Beside the layer above the plants, down (a vertical move pushes no leaf), through it, up again.
+    const std::pair<double, double> moves[] = {{from, nan}, {nan, depth}, {to, nan}, {nan, params_.rest_depth_m}};
+    for (const auto& [x, z] : moves)
+      if ((result = moveArm(x, z, preempted)) != MoveResult::kDone) return result;
+    ++passes;
+    ++leaf_sweeps_;
+    if (pass + 1 < c.max_passes && !observe(preempted)) break;
+  }
+  if (passes == 0) return std::nullopt;
+  return MoveResult::kDone;
 }
 
 double TopicHarvestPlant::clearAndRelocate(double target_ext, const Preempted& preempted, MoveResult* result) {
@@ -168,6 +230,7 @@ std::string TopicHarvestPlant::check(const TopicPlantParams& p) {
   if (!(p.vertical_min_m >= 0.0 && p.vertical_min_m < p.vertical_max_m && std::isfinite(p.vertical_max_m)))
     return "vertical_min_m, vertical_max_m: expected 0 <= min < max";
   if (!std::isfinite(p.arm_extension_zero_x_m)) return "arm_extension_zero_x_m: expected a finite number";
+  if (auto bad = p.canopy.check(); !bad.empty()) return "canopy/" + bad;
   return p.leaves.check();
 }
 

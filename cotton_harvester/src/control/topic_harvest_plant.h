@@ -18,6 +18,7 @@
 #include <std_msgs/Float64.h>
 
 #include "cotton_harvester/BollArray.h"
+#include "cotton_harvester/control/canopy_search.h"
 #include "cotton_harvester/control/harvest_machine.h"
 #include "cotton_harvester/control/leaf_clearance.h"
 
@@ -58,6 +59,11 @@ struct TopicPlantParams {
   bool clear_leaves_before_pick = false;
   LeafClearanceParams leaves;
   double arm_extension_zero_x_m = -0.55;  ///< camera-frame x of the housing's centre at extension 0 [m]
+  /// Looking under the leaves when the machine asks (HarvestParams::search_under_leaves): the arm goes up to
+  /// rest_depth_m (which must then be > 0: above the plants) and sweeps the layers of foliage in its strip of the
+  /// cloud aside (CanopySearchParams). false: the machine's request finds nothing to sweep.
+  bool search_under_leaves = false;
+  CanopySearchParams canopy;
 };
 
 class TopicHarvestPlant : public HarvestPlant {
@@ -68,6 +74,7 @@ class TopicHarvestPlant : public HarvestPlant {
   MoveResult moveRover(double distance_m, const Preempted& preempted) override;
   MoveResult moveArmToDepth(double depth_m, const Preempted& preempted) override;
   MoveResult pick(double offset_m, const Preempted& preempted) override;
+  std::optional<MoveResult> searchUnderLeaves(const Preempted& preempted) override;
   double now() const override { return ros::Time::now().toSec(); }
   double roverPositionM() const override;
 
@@ -87,6 +94,8 @@ class TopicHarvestPlant : public HarvestPlant {
   void onJoints(const sensor_msgs::JointState::ConstPtr& msg);
   void onBusy(const std_msgs::Bool::ConstPtr& msg);
   void onCloud(const sensor_msgs::PointCloud2::ConstPtr& msg);
+  /// The cloud of the frame last observed as a view into *keep (false without a usable one).
+  bool observedCloud(sensor_msgs::PointCloud2::ConstPtr* keep, CloudView* view) const;
   /// Points over the approach in the cloud of the frame last observed (0 without it).
   int pointsOverApproach(double from_x, double target_x, double depth_m) const;
   /// Sweeps the leaves over the boll aside and returns the pick's extension from a new frame (or target_ext).
@@ -123,12 +132,15 @@ class TopicHarvestPlant : public HarvestPlant {
   std::deque<sensor_msgs::PointCloud2::ConstPtr> clouds_;  ///< the last few, to find the observed frame's
   ros::Publisher rover_target_pub_, arm_target_pub_, brush_pub_;
   ros::Subscriber bolls_sub_, effector_sub_, rover_sub_, joints_sub_, busy_sub_, cloud_sub_;
-  std::size_t picks_cleared_ = 0, picks_redetected_ = 0;
+  std::size_t picks_cleared_ = 0, picks_redetected_ = 0, leaf_searches_ = 0, leaf_sweeps_ = 0;
 
  public:
   /// Picks that swept leaves aside first, and of them those whose target a new frame corrected.
   std::size_t picksCleared() const { return picks_cleared_; }
   std::size_t picksRedetected() const { return picks_redetected_; }
+  /// Places of the row where the arm looked under the leaves, and its sweeps there.
+  std::size_t leafSearches() const { return leaf_searches_; }
+  std::size_t leafSweeps() const { return leaf_sweeps_; }
 };
 
 }  // namespace control

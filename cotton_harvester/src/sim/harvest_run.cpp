@@ -102,6 +102,7 @@ HarvestRunConfig fieldConfig(unsigned seed) {
   c.sim.row.leaf_over_boll_fraction = 0.4;
   c.machine.row_length_m = 6.4;
   c.machine.bolls_present = 17 * 3;
+  c.machine.search_under_leaves = true;  // undefoliated: leaves hide bolls from every camera position on the row
   c.time_limit_s = 2400.0;
   return c;
 }
@@ -189,6 +190,8 @@ HarvestRunReport runHarvest(const HarvestRunConfig& config) {
     report.picks_cleared = plant.picksCleared();
     report.picks_redetected = plant.picksRedetected();
     report.leaves_pushed = sim.leavesPushed();
+    report.leaf_searches = plant.leafSearches();
+    report.leaf_sweeps = plant.leafSweeps();
     report.sim_time_s = sim.time() - t0;
     report.rover_track = plant.track();
     report.bolls = sim.bolls();

@@ -41,6 +41,7 @@ HarvestRunConfig readConfig(thorvald_base::ParamReader& r) {
   c.clear_leaves_before_pick = r.flag("clear_leaves_before_pick", c.clear_leaves_before_pick);
   c.effector_search_near_arm = r.flag("effector_search_near_arm", c.effector_search_near_arm);
   c.partial_bolls = r.flag("partial_bolls", c.partial_bolls);
+  c.machine.search_under_leaves = r.flag("search_under_leaves", c.machine.search_under_leaves);
   c.debug_image_path = r.text("debug_image", "");
   return c;
 }

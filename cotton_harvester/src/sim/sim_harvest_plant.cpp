@@ -38,6 +38,7 @@ std::string StackParams::check() const {
     return "rest_extension_m: expected within [0, horizontal_travel_m]";
   if (!(rest_depth_m >= arm_min_depth_m && rest_depth_m <= arm_max_depth_m))
     return "rest_depth_m: expected within the vertical axis' depths";
+  if (auto bad = canopy.check(); !bad.empty()) return "canopy/" + bad;
   return "";
 }
 
@@ -74,6 +75,8 @@ StackParams simStackParams(const RoverSimParams& sim) {
   s.arm_max_depth_m = sim.geometry.max_depth_m;
   s.horizontal_travel_m = sim.geometry.horizontal_travel_m;
   s.effector_half_m = sim.geometry.effector_half_m;
+  s.canopy.effector_half_m = sim.geometry.effector_half_m;
+  s.canopy.housing_height_m = sim.geometry.effector_height_m;
   return s;
 }
 
@@ -190,14 +193,29 @@ std::optional<perception::EndEffectorPrior> SimHarvestPlant::effectorPrior() con
   return p;
 }
 
-int SimHarvestPlant::pointsOverApproach(double target_x, double depth_m) const {
-  if (cloud_.empty()) return 0;
+control::CloudView SimHarvestPlant::cloudView() const {
   control::CloudView view;
+  if (cloud_.empty()) return view;
   view.data = cloud_.data;
   view.rows = cloud_.rows;
   view.cols = cloud_.cols;
   view.row_step = cloud_.step;
   view.point_step = cloud_.elemSize();
+  return view;
+}
+
+perception::FrameResult SimHarvestPlant::newFrame() {
+  run(params_.settle_s);
+  sim_.renderCamera(&bgr_, &cloud_);
+  perception::FrameResult result = pipeline_->process(bgr_, cloud_, effectorPrior());
+  ++frames_;
+  if (hook_) hook_(bgr_, result);
+  return result;
+}
+
+int SimHarvestPlant::pointsOverApproach(double target_x, double depth_m) const {
+  if (cloud_.empty()) return 0;
+  const control::CloudView view = cloudView();
   control::LeafClearanceParams leaf;
   leaf.leaf_clearance_m = params_.leaf_clearance_m;
   leaf.effector_half_m = params_.effector_half_m;
@@ -223,11 +241,7 @@ double SimHarvestPlant::clearAndRelocate(double target_x, const Preempted& preem
   sim_.commandVertical(depth);
   if (!(*ok = waitArm(preempted))) return target_x;
   // Look again: the boll is now in full view, located on its whole top rather than on the part past the leaf.
-  run(params_.settle_s);
-  sim_.renderCamera(&bgr_, &cloud_);
-  const perception::FrameResult result = pipeline_->process(bgr_, cloud_, effectorPrior());
-  ++frames_;
-  if (hook_) hook_(bgr_, result);
+  const perception::FrameResult result = newFrame();
   double best = params_.redetect_radius_m;
   double corrected = target_x, corrected_depth = depth;
   for (const auto& b : result.bolls) {
@@ -273,6 +287,48 @@ control::MoveResult SimHarvestPlant::pick(double offset_m, const Preempted& pree
   }
   if (preempted()) return control::MoveResult::kPreempted;
   return back ? control::MoveResult::kDone : control::MoveResult::kFailed;
+}
+
+std::optional<control::MoveResult> SimHarvestPlant::searchUnderLeaves(const Preempted& preempted) {
+  const control::CanopySearchParams& c = params_.canopy;
+  const auto failed = [&] { return preempted() ? control::MoveResult::kPreempted : control::MoveResult::kFailed; };
+  const auto ext = [this](double e) { return std::clamp(e, 0.0, params_.horizontal_travel_m); };
+  // The housing above the plants at its rest, then a frame: everything deeper than the housing is the canopy.
+  sim_.commandHorizontal(params_.rest_extension_m);
+  if (sim_.verticalPosition() > params_.rest_depth_m) sim_.commandVertical(params_.rest_depth_m);
+  if (!waitArm(preempted)) return failed();
+  newFrame();
+  ++leaf_searches_;
+  const double fx = pipeline_->params().intrinsics.fx;
+  const double e = params_.effector_half_m, base = params_.arm_base_offset_m;
+  // The housing reaches camera x from -base - e to -base + travel + e; the strip is at its y (the calibration's 0).
+  const double x_lo = -base - e, x_hi = -base + params_.horizontal_travel_m + e;
+  double below = params_.rest_depth_m + c.housing_height_m + 0.01;
+  int passes = 0;
+  for (int pass = 0; pass < c.max_passes; ++pass) {
+    const auto layer = control::nextCanopyLayer(cloudView(), fx, 0.0, x_lo, x_hi, below, params_.arm_max_depth_m, c);
+    if (!layer) break;
+    const double depth = std::clamp(layer->sweep_depth_m, params_.rest_depth_m, params_.arm_max_depth_m);
+    const double from = ext(layer->x_min_m + base - e - 0.02), to = ext(layer->x_max_m + base + e + c.push_m);
+    below = depth + c.housing_height_m;  // what this sweep passes through
+    if (to - from < 0.02) continue;      // beyond the arm's reach
+    // Beside the layer above the plants, down (no leaf is pushed by a vertical move), through it, up again.
+    sim_.commandHorizontal(from);
+    if (!waitArm(preempted)) return failed();
+    sim_.commandVertical(depth);
+    if (!waitArm(preempted)) return failed();
+    sim_.commandHorizontal(to);
+    if (!waitArm(preempted)) return failed();
+    sim_.commandVertical(params_.rest_depth_m);
+    if (!waitArm(preempted)) return failed();
+    ++passes;
+    ++leaf_sweeps_;
+    if (pass + 1 < c.max_passes) newFrame();
+  }
+  sim_.commandHorizontal(params_.rest_extension_m);
+  if (!waitArm(preempted)) return failed();
+  if (passes == 0) return std::nullopt;
+  return control::MoveResult::kDone;
 }
 
 }  // namespace sim

@@ -65,6 +65,29 @@ class ScriptedPlant : public HarvestPlant {
   double roverPositionM() const override { return position; }
 };
 
+/// A scripted plant that can look under the leaves: it sweeps where `sweep_at` holds its position (to 1 mm),
+/// and reveals `revealed` in the next frame after the first sweep.
+class SearchingPlant : public ScriptedPlant {
+ public:
+  std::vector<double> sweep_at;
+  std::vector<double> searched_at;
+  std::optional<HarvestObservation> revealed;
+  std::optional<MoveResult> searchUnderLeaves(const Preempted&) override {
+    searched_at.push_back(position);
+    time += 3.0;
+    for (const double s : sweep_at)
+      if (std::abs(s - position) < 1e-3) {
+        actions.push_back("sweep");
+        if (revealed) {
+          frames.push_back(revealed);
+          revealed.reset();
+        }
+        return MoveResult::kDone;
+      }
+    return std::nullopt;
+  }
+};
+
 HarvestObservation frame(std::vector<Point3> bolls, Point3 effector = Point3{0.0, 0.0, 0.8}) {
   HarvestObservation observation;
   for (const auto& p : bolls) observation.bolls.push_back(BollSighting{p, 0.9, true});
@@ -96,6 +119,54 @@ TEST(HarvestMachine, NoBollsPassesOnToTheRowEnd) {
             (std::vector<std::string>{"OBSERVE", "PASS_ON", "OBSERVE", "PASS_ON", "OBSERVE", "PASS_ON"}));
   EXPECT_EQ(machine.machine().status().history.back().next, "-> finished");
   EXPECT_NEAR(machine.counts().distance_m, 0.6, 1e-12);
+}
+
+TEST(HarvestMachine, SearchesUnderTheLeavesOnceAPlaceBeforePassingOn) {
+  SearchingPlant plant;
+  plant.sweep_at = {0.0};  // leaves to sweep at the start only
+  HarvestParams params = shortRow();
+  params.search_under_leaves = true;
+  params.search_spacing_m = 0.2;
+  params.row_length_m = 0.4;
+  HarvestMachine machine(plant, params);
+  EXPECT_EQ(machine.run(), "finished");
+  // Searched at every place it stopped at, the row's end too, once; passing on moves by the search spacing.
+  ASSERT_EQ(plant.searched_at.size(), 3u);
+  EXPECT_NEAR(plant.searched_at[0], 0.0, 1e-9);
+  EXPECT_NEAR(plant.searched_at[1], 0.2, 1e-9);
+  EXPECT_NEAR(plant.searched_at[2], 0.4, 1e-9);
+  EXPECT_EQ(plant.actions, (std::vector<std::string>{"sweep", "rover", "rover"}));
+  EXPECT_DOUBLE_EQ(plant.values[0], 0.2);
+  // A sweep is followed by a new frame; a place with nothing to sweep passes on at once.
+  EXPECT_EQ(visited(machine),
+            (std::vector<std::string>{"OBSERVE", "SEARCH_LEAVES", "OBSERVE", "PASS_ON", "OBSERVE", "SEARCH_LEAVES",
+                                      "PASS_ON", "OBSERVE", "SEARCH_LEAVES", "PASS_ON"}));
+}
+
+TEST(HarvestMachine, ABollFoundUnderTheLeavesIsPicked) {
+  SearchingPlant plant;
+  plant.sweep_at = {0.0};
+  plant.revealed = frame({{0.15, 0.0, 0.8}});  // under the swept leaf, in line with the end effector
+  HarvestParams params = shortRow();
+  params.search_under_leaves = true;
+  HarvestMachine machine(plant, params);
+  EXPECT_EQ(machine.run(), "finished");
+  ASSERT_GE(plant.actions.size(), 2u);
+  EXPECT_EQ(plant.actions[0], "sweep");
+  EXPECT_EQ(plant.actions[1], "pick");
+  EXPECT_EQ(machine.counts().pick_attempts, 1);
+  // Without the search the plant is never asked.
+  SearchingPlant plain;
+  plain.sweep_at = {0.0};
+  HarvestMachine paper(plain, shortRow());
+  EXPECT_EQ(paper.run(), "finished");
+  EXPECT_TRUE(plain.searched_at.empty());
+}
+
+TEST(HarvestMachine, SearchSpacingIsChecked) {
+  HarvestParams params;
+  params.search_spacing_m = 0.0;
+  EXPECT_NE(params.check(), "");
 }
 
 TEST(HarvestMachine, EachTransitionFromScriptedObservations) {

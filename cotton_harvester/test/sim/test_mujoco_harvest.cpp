@@ -235,3 +235,45 @@ TEST(RoverSim, TheHousingPushesALeafOverABollAsideAndTheCameraThenSeesIt) {
   EXPECT_EQ(r.leavesPushed(), 0);
   EXPECT_DOUBLE_EQ(r.bollVisibleFraction(boll), rigid_before);
 }
+
+namespace {
+
+std::unique_ptr<perception::PerceptionPipeline> simPipeline(const sim::RoverSimParams& p) {
+  return std::make_unique<perception::PerceptionPipeline>(
+      sim::simPerceptionParams(p), std::make_unique<perception::ColourBollDetector>(sim::simColourBollParams()));
+}
+
+}  // namespace
+
+TEST(SimHarvestPlant, LookingUnderTheLeavesUncoversAHiddenBollAndFindsIt) {
+  size_t boll = 0;
+  const sim::RoverSimParams p = overBoll(leafyRow(0.15), &boll);
+  sim::RoverSim s(p);
+  ASSERT_LT(boll, s.bolls().size()) << "no hidden boll in reach on this row";
+  sim::SimHarvestPlant plant(s, sim::simStackParams(p), simPipeline(p));
+  const auto never = [] { return false; };
+  const auto before = plant.observe(never);
+  ASSERT_TRUE(before);
+  ASSERT_LT(s.bollVisibleFraction(boll), 0.5);
+  const Eigen::Vector3d truth = s.toCamera(s.bolls()[boll].centre);
+  const auto near_truth = [&](const control::HarvestObservation& o) {
+    for (const auto& b : o.bolls)
+      if (std::hypot(b.position.x - truth.x(), b.position.y - truth.y()) < 0.05) return true;
+    return false;
+  };
+  const auto result = plant.searchUnderLeaves(never);
+  ASSERT_TRUE(result) << "the leaf over the boll is a layer to sweep";
+  EXPECT_EQ(*result, control::MoveResult::kDone);
+  EXPECT_EQ(plant.leafSearches(), 1);
+  EXPECT_GE(plant.leafSweeps(), 1);
+  EXPECT_LE(plant.leafSweeps(), sim::StackParams().canopy.max_passes);
+  EXPECT_GE(s.leavesPushed(), 1);
+  const auto after = plant.observe(never);
+  ASSERT_TRUE(after);
+  EXPECT_GE(s.bollVisibleFraction(boll), 0.5);
+  EXPECT_TRUE(near_truth(*after)) << "the uncovered boll is detected where it is";
+  EXPECT_EQ(s.bollsCaptured(), 0);  // the sweeps take nothing
+  // The arm is back at its rest, above the plants.
+  EXPECT_NEAR(s.verticalPosition(), sim::StackParams().rest_depth_m, 1e-6);
+  EXPECT_NEAR(s.horizontalPosition(), sim::StackParams().rest_extension_m, 1e-6);
+}

@@ -5,6 +5,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <thorvald_state_machine/state_machine.h>
 
@@ -33,6 +34,10 @@ class HarvestPlant {
   virtual MoveResult moveArmToDepth(double depth_m, const Preempted& preempted) = 0;
   /// The pick: horizontal axis by `offset_m`, brush on for a while, back.
   virtual MoveResult pick(double offset_m, const Preempted& preempted) = 0;
+  /// Looking under the leaves in the arm's strip of the row (CanopySearchParams): the arm sweeps the foliage there
+  /// aside, layer by layer; kDone when it swept, nullopt when the strip holds nothing to sweep or the plant cannot
+  /// sweep (the default).
+  virtual std::optional<MoveResult> searchUnderLeaves(const Preempted& /*preempted*/) { return std::nullopt; }
   /// Time [s] and the rover's position along the row [m].
   virtual double now() const = 0;
   virtual double roverPositionM() const = 0;
@@ -61,6 +66,13 @@ struct HarvestParams {
   /// from the tracker's memory, the rearmost first. false: only what the frame shows or the target's memory.
   bool revisit_pending = false;
   double revisit_window_m = 1.0;  ///< [m] along the row
+  /// Before the rover moves on (passing on, or forward to a boll) from a place of the row not searched yet (no
+  /// search within search_spacing_m / 2), the SEARCH_LEAVES state asks the plant to look under the leaves there
+  /// (HarvestPlant::searchUnderLeaves), then observes again; forward moves are then at most search_spacing_m. For
+  /// undefoliated cotton, where leaves hide bolls from the camera everywhere on the row. false: pass on at once (the
+  /// paper's Algorithm 1).
+  bool search_under_leaves = false;
+  double search_spacing_m = 0.2;  ///< [m] along the row
   std::string check() const;      ///< empty when sound, otherwise "key: expected ..."
 };
 
@@ -90,6 +102,9 @@ class HarvestMachine {
   std::string act(HarvestAction action, thorvald_state_machine::UserData& ud,
                   thorvald_state_machine::ExecutionContext& ctx);
   std::string passOn(thorvald_state_machine::ExecutionContext& ctx);
+  std::string searchLeaves(thorvald_state_machine::ExecutionContext& ctx);
+  /// search_under_leaves: this place of the row has not been searched yet.
+  bool searchDue() const;
   std::string resultOutcome(MoveResult result);
   /// The target boll from the tracker's memory (camera frame at the frame's rover position), when it may be used.
   std::optional<Point3> rememberedTarget(const HarvestObservation& observation) const;
@@ -114,6 +129,7 @@ class HarvestMachine {
   HarvestDecision decision_;
   int target_id_ = 0;
   std::optional<std::pair<Point3, Point3>> decision_points_;
+  std::vector<double> searched_m_;  ///< rover positions where the leaves were searched
 };
 
 }  // namespace control

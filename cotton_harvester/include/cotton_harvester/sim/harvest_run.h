@@ -43,6 +43,7 @@ struct HarvestRunReport {
   int effector_rejected = 0, effector_from_calibration = 0;
   int picks_cleared = 0, picks_redetected = 0;  ///< picks that swept leaves first; of them, corrected by a new frame
   int leaves_pushed = 0;                        ///< leaves the housing pushed away from where they grew
+  int leaf_searches = 0, leaf_sweeps = 0;       ///< places the arm looked under the leaves; its sweeps there
   double sim_time_s = 0.0, wall_time_s = 0.0;
   std::set<std::string> states_visited;
   std::vector<std::pair<double, double>> rover_track;  ///< (time [s], encoder position [m])

@@ -7,6 +7,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "cotton_harvester/control/canopy_search.h"
 #include "cotton_harvester/control/deadband_position_controller.h"
 #include "cotton_harvester/control/harvest_machine.h"
 #include "cotton_harvester/perception/colour_boll_detector.h"
@@ -58,6 +59,9 @@ struct StackParams {
   /// After clearing, a new frame: the boll located nearest the target within redetect_radius_m sets the pick's
   /// final position (a boll seen only partly past a leaf is located a few centimetres off).
   double redetect_radius_m = 0.07;
+  /// How the arm looks under the leaves when the machine asks (HarvestParams::search_under_leaves): the strip, the
+  /// layers, the sweeps. The housing's size comes from effector_half_m and the vertical axis' limits.
+  control::CanopySearchParams canopy;
   std::string check() const;  ///< empty when sound
 };
 
@@ -77,6 +81,7 @@ class SimHarvestPlant : public control::HarvestPlant {
   control::MoveResult moveRover(double distance_m, const Preempted& preempted) override;
   control::MoveResult moveArmToDepth(double depth_m, const Preempted& preempted) override;
   control::MoveResult pick(double offset_m, const Preempted& preempted) override;
+  std::optional<control::MoveResult> searchUnderLeaves(const Preempted& preempted) override;
   double now() const override { return sim_.time(); }
   double roverPositionM() const override;
 
@@ -89,6 +94,9 @@ class SimHarvestPlant : public control::HarvestPlant {
   /// Picks that swept leaves aside first, and of them those whose target a new frame corrected.
   int picksCleared() const { return picks_cleared_; }
   int picksRedetected() const { return picks_redetected_; }
+  /// Places of the row where the arm looked under the leaves, and its sweeps through them.
+  int leafSearches() const { return leaf_searches_; }
+  int leafSweeps() const { return leaf_sweeps_; }
   /// Rover position samples (time [s], encoder position [m]) at the control rate, for plots.
   const std::vector<std::pair<double, double>>& track() const { return track_; }
 
@@ -100,6 +108,9 @@ class SimHarvestPlant : public control::HarvestPlant {
   int pointsOverApproach(double target_x, double depth_m) const;
   /// Sweeps the leaves over the target aside and returns the target's x from a new frame (or target_x).
   double clearAndRelocate(double target_x, const Preempted& preempted, bool* ok);
+  /// Renders a frame and runs perception on it (the frame hook sees it); the cloud stays in cloud_.
+  perception::FrameResult newFrame();
+  control::CloudView cloudView() const;
   /// The frame's end-effector prior from the stepper counters (nullopt when the search is not restricted).
   std::optional<perception::EndEffectorPrior> effectorPrior() const;
 
@@ -110,7 +121,7 @@ class SimHarvestPlant : public control::HarvestPlant {
   double target_m_ = 0.0;
   FrameHook hook_;
   int frames_ = 0, frames_with_effector_ = 0, effector_rejected_ = 0, effector_from_calibration_ = 0;
-  int picks_cleared_ = 0, picks_redetected_ = 0;
+  int picks_cleared_ = 0, picks_redetected_ = 0, leaf_searches_ = 0, leaf_sweeps_ = 0;
   std::vector<std::pair<double, double>> track_;
   cv::Mat bgr_, cloud_;
 };
