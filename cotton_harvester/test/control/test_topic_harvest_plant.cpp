@@ -4,15 +4,18 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstring>
 #include <atomic>
 #include <cmath>
 #include <functional>
 #include <future>
 #include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <geometry_msgs/PointStamped.h>
+#include <sensor_msgs/PointCloud2.h>
 #include <ros/ros.h>
 #include <sensor_msgs/JointState.h>
 #include <std_msgs/Bool.h>
@@ -46,6 +49,7 @@ class FakeRover {
     joints_pub_ = nh_.advertise<sensor_msgs::JointState>("manipulator/joint_states", 5);
     busy_pub_ = nh_.advertise<std_msgs::Bool>("manipulator/busy", 5);
     rover_pub_ = nh_.advertise<std_msgs::Float64>("rover/position", 5);
+    cloud_pub_ = nh_.advertise<sensor_msgs::PointCloud2>("camera/depth/points", 4);
     target_sub_ = nh_.subscribe("manipulator/target", 5, &FakeRover::onTarget, this);
     brush_sub_ = nh_.subscribe("manipulator/brush", 5, &FakeRover::onBrush, this);
     timer_ = nh_.createWallTimer(ros::WallDuration(0.02), [this](const ros::WallTimerEvent&) { publishState(); });
@@ -80,6 +84,44 @@ class FakeRover {
     effector_pub_.publish(p);
   }
 
+  /// An organised cloud (w x h, focal length f) of the ground at 2.2 m and, when `leaf`, a 12 x 10 cm leaf 1.55 m
+  /// below the camera at x -0.30..-0.18 in the arm's plane (y 0.02), published with `stamp`.
+  void publishCloud(const ros::Time& stamp, bool leaf) {
+    const int w = 320, h = 180;
+    const double f = 175.0, cx = 160.0, cy = 90.0;
+    sensor_msgs::PointCloud2 c;
+    c.header.stamp = stamp;
+    c.height = h;
+    c.width = w;
+    const char* names[] = {"x", "y", "z"};
+    for (int i = 0; i < 3; ++i) {
+      sensor_msgs::PointField field;
+      field.name = names[i];
+      field.offset = 4 * i;
+      field.datatype = sensor_msgs::PointField::FLOAT32;
+      field.count = 1;
+      c.fields.push_back(field);
+    }
+    c.point_step = 12;
+    c.row_step = 12 * w;
+    c.data.resize(static_cast<std::size_t>(c.row_step) * h);
+    for (int v = 0; v < h; ++v)
+      for (int u = 0; u < w; ++u) {
+        const double rx = (u - cx) / f, ry = (v - cy) / f;
+        double z = 2.2;
+        if (leaf && rx * 1.55 >= -0.30 && rx * 1.55 <= -0.18 && std::abs(ry * 1.55 - 0.02) <= 0.05) z = 1.55;
+        const float xyz[3] = {static_cast<float>(rx * z), static_cast<float>(ry * z), static_cast<float>(z)};
+        std::memcpy(&c.data[static_cast<std::size_t>(v) * c.row_step + 12 * u], xyz, sizeof(xyz));
+      }
+    cloud_pub_.publish(c);
+  }
+
+  /// Every arm target received: (extension, depth), NaN for an axis left where it is.
+  std::vector<std::pair<double, double>> targets() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return targets_;
+  }
+
   /// The arm's extension each time the brush was switched (true: on).
   std::vector<std::pair<bool, double>> brushEvents() const {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -97,6 +139,7 @@ class FakeRover {
  private:
   void onTarget(const geometry_msgs::PointStamped::ConstPtr& msg) {
     std::lock_guard<std::mutex> lock(mutex_);
+    targets_.emplace_back(msg->point.x, msg->point.z);
     if (std::isfinite(msg->point.x)) target_extension_ = msg->point.x;
     if (std::isfinite(msg->point.z)) target_depth_ = msg->point.z;
   }
@@ -127,13 +170,14 @@ class FakeRover {
   }
 
   ros::NodeHandle nh_;
-  ros::Publisher bolls_pub_, effector_pub_, joints_pub_, busy_pub_, rover_pub_;
+  ros::Publisher bolls_pub_, effector_pub_, joints_pub_, busy_pub_, rover_pub_, cloud_pub_;
   ros::Subscriber target_sub_, brush_sub_;
   ros::WallTimer timer_;
   mutable std::mutex mutex_;
   static constexpr double kStep = 0.01;
   double extension_ = 0.35, depth_ = 1.2, target_extension_ = 0.35, target_depth_ = 1.2;
   std::vector<std::pair<bool, double>> brush_events_;
+  std::vector<std::pair<double, double>> targets_;
 };
 
 std::string uniqueNamespace() {
@@ -248,6 +292,77 @@ TEST(TopicHarvestPlant, VacuumOffBeforeRetractingWhenAsked) {
   EXPECT_GT(events[1].second, start + 0.10);  // off at the boll, before the arm has come far back
 }
 
+/// Frames (bolls, the end effector where the arm is, the cloud) at 20 Hz of wall time while it lives.
+class FrameStream {
+ public:
+  FrameStream(FakeRover& fake, bool leaf) : fake_(fake), leaf_(leaf), thread_([this] { loop(); }) {}
+  ~FrameStream() {
+    stop_ = true;
+    thread_.join();
+  }
+
+ private:
+  void loop() {
+    while (!stop_ && ros::ok()) {
+      const ros::Time stamp = ros::Time::now();
+      fake_.publishCloud(stamp, leaf_);
+      fake_.publishFrame(stamp, true, fake_.extension() - 0.55, fake_.depth());
+      ros::WallDuration(0.05).sleep();
+    }
+  }
+  FakeRover& fake_;
+  const bool leaf_;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+TopicPlantParams searchParams() {
+  TopicPlantParams p = testParams();
+  p.search_under_leaves = true;
+  p.rest_depth_m = 1.2;
+  p.effector_from_calibration = true;
+  return p;
+}
+
+TEST(TopicHarvestPlant, LookingUnderTheLeavesSweepsTheLeafInTheArmsStrip) {
+  Rig rig(searchParams());
+  FrameStream frames(rig.fake, true);
+  const auto result = rig.plant.searchUnderLeaves(kNever);
+  ASSERT_TRUE(result) << "the leaf is a layer to sweep";
+  EXPECT_EQ(*result, MoveResult::kDone);
+  EXPECT_EQ(rig.plant.leafSearches(), 1u);
+  EXPECT_EQ(rig.plant.leafSweeps(), 1u);  // nothing deeper than the leaf but the ground
+  // The sweep: to beside the leaf above the plants, down to 1 cm above its top, sideways through it to 15 cm past
+  // its far edge (housing half side 5 cm), up to the rest depth.
+  const auto t = rig.fake.targets();
+  const auto down = std::find_if(t.begin(), t.end(), [](const auto& p) { return std::abs(p.second - 1.54) < 0.01; });
+  ASSERT_NE(down, t.end()) << "the housing never went down to the leaf";
+  ASSERT_NE(down, t.begin());
+  const auto before = std::prev(down), through = std::next(down);
+  ASSERT_NE(through, t.end());
+  EXPECT_NEAR(before->first, -0.30 + 0.55 - 0.05 - 0.02, 0.03);   // beside the leaf (2 samples: 1.8 cm)
+  EXPECT_NEAR(through->first, -0.18 + 0.55 + 0.05 + 0.15, 0.03);  // through it
+  EXPECT_TRUE(std::isnan(through->second));                       // at the leaf's depth
+  ASSERT_NE(std::next(through), t.end());
+  EXPECT_NEAR(std::next(through)->second, 1.2, 1e-9);  // up again
+}
+
+TEST(TopicHarvestPlant, NothingToSweepOverBareGroundOrWithoutARestAboveThePlants) {
+  {
+    Rig rig(searchParams());
+    FrameStream frames(rig.fake, false);
+    EXPECT_FALSE(rig.plant.searchUnderLeaves(kNever));
+    EXPECT_EQ(rig.plant.leafSearches(), 1u);
+    EXPECT_EQ(rig.plant.leafSweeps(), 0u);
+  }
+  TopicPlantParams params = searchParams();
+  params.rest_depth_m = 0.0;  // the plant does not know where the arm clears the plants
+  Rig rig(params);
+  FrameStream frames(rig.fake, true);
+  EXPECT_FALSE(rig.plant.searchUnderLeaves(kNever));
+  EXPECT_EQ(rig.plant.leafSearches(), 0u);
+}
+
 TEST(TopicHarvestPlant, ParametersAreChecked) {
   TopicPlantParams p = testParams();
   EXPECT_EQ(TopicHarvestPlant::check(p), "");
@@ -259,6 +374,9 @@ TEST(TopicHarvestPlant, ParametersAreChecked) {
   p = testParams();
   p.effector_stamp_tolerance_s = -1.0;
   EXPECT_NE(TopicHarvestPlant::check(p).find("effector_stamp_tolerance_s"), std::string::npos);
+  p = testParams();
+  p.canopy.max_passes = 0;
+  EXPECT_NE(TopicHarvestPlant::check(p).find("canopy/max_passes"), std::string::npos);
 }
 
 }  // namespace
