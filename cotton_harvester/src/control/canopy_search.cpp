@@ -71,6 +71,23 @@ std::optional<CanopyLayer> nextCanopyLayer(const CloudView& cloud, double fx, do
   return std::nullopt;
 }
 
+CanopySearch::CanopySearch(const ArmWorkspace& arm, const CanopySearchParams& params)
+    : arm_(arm), params_(params), below_m_(arm.rest_depth_m + params.housing_height_m + 0.01) {}
+
+std::optional<CanopySweep> CanopySearch::next(const CloudView& cloud, double fx) {
+  const double zero = arm_.extension_zero_x_m, e = params_.effector_half_m;
+  const auto layer = nextCanopyLayer(cloud, fx, arm_.strip_y_m, arm_.extension_min_m + zero - e,
+                                     arm_.extension_max_m + zero + e, below_m_, arm_.max_depth_m, params_);
+  if (!layer) return std::nullopt;
+  const auto ext = [this](double v) { return std::clamp(v, arm_.extension_min_m, arm_.extension_max_m); };
+  CanopySweep sweep;
+  sweep.depth_m = std::clamp(layer->sweep_depth_m, arm_.rest_depth_m, arm_.max_depth_m);
+  sweep.from_extension_m = ext(layer->x_min_m - zero - e - 0.02);
+  sweep.to_extension_m = ext(layer->x_max_m - zero + e + params_.push_m);
+  below_m_ = sweep.depth_m + params_.housing_height_m;  // what this sweep passes through
+  return sweep;
+}
+
 double focalFromCloud(const CloudView& cloud) {
   if (!cloud.data || cloud.rows <= 0 || cloud.cols < 8) return 0.0;
   const auto ray = [&](int v, int u, double* x_over_z) {

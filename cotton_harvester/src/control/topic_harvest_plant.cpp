@@ -73,10 +73,14 @@ std::optional<MoveResult> TopicHarvestPlant::searchUnderLeaves(const Preempted& 
   if (result != MoveResult::kDone) return result;
   if (!observe(preempted)) return preempted() ? MoveResult::kPreempted : MoveResult::kFailed;
   ++leaf_searches_;
-  const double zero = params_.arm_extension_zero_x_m, e = c.effector_half_m;
-  const double x_lo = params_.horizontal_min_m + zero - e, x_hi = params_.horizontal_max_m + zero + e;
-  const auto ext = [this](double v) { return std::clamp(v, params_.horizontal_min_m, params_.horizontal_max_m); };
-  double below = params_.rest_depth_m + c.housing_height_m + 0.01;
+  ArmWorkspace arm;
+  arm.extension_zero_x_m = params_.arm_extension_zero_x_m;
+  arm.extension_min_m = params_.horizontal_min_m;
+  arm.extension_max_m = params_.horizontal_max_m;
+  arm.rest_depth_m = params_.rest_depth_m;
+  arm.max_depth_m = params_.vertical_max_m;
+  arm.strip_y_m = params_.arm_y_m;
+  CanopySearch search(arm, c);
   int passes = 0;
   for (int pass = 0; pass < c.max_passes; ++pass) {
     // The frame's cloud may come a little after its bolls (11 MB at 1280 x 720).
@@ -98,14 +102,13 @@ std::optional<MoveResult> TopicHarvestPlant::searchUnderLeaves(const Preempted& 
     }
     const double fx = focalFromCloud(view);
     if (!(fx > 0.0)) break;
-    const auto layer = nextCanopyLayer(view, fx, params_.arm_y_m, x_lo, x_hi, below, params_.vertical_max_m, c);
-    if (!layer) break;
-    const double depth = std::clamp(layer->sweep_depth_m, params_.rest_depth_m, params_.vertical_max_m);
-    const double from = ext(layer->x_min_m - zero - e - 0.02), to = ext(layer->x_max_m - zero + e + c.push_m);
-    below = depth + c.housing_height_m;
-    if (to - from < 0.02) continue;
+    const auto sweep = search.next(view, fx);
+    if (!sweep) break;
     // Beside the layer above the plants, down (a vertical move pushes no leaf), through it, up again.
-    const std::pair<double, double> moves[] = {{from, nan}, {nan, depth}, {to, nan}, {nan, params_.rest_depth_m}};
+    const std::pair<double, double> moves[] = {{sweep->from_extension_m, nan},
+                                               {nan, sweep->depth_m},
+                                               {sweep->to_extension_m, nan},
+                                               {nan, params_.rest_depth_m}};
     for (const auto& [x, z] : moves)
       if ((result = moveArm(x, z, preempted)) != MoveResult::kDone) return result;
     ++passes;

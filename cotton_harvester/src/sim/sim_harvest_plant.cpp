@@ -292,7 +292,6 @@ control::MoveResult SimHarvestPlant::pick(double offset_m, const Preempted& pree
 std::optional<control::MoveResult> SimHarvestPlant::searchUnderLeaves(const Preempted& preempted) {
   const control::CanopySearchParams& c = params_.canopy;
   const auto failed = [&] { return preempted() ? control::MoveResult::kPreempted : control::MoveResult::kFailed; };
-  const auto ext = [this](double e) { return std::clamp(e, 0.0, params_.horizontal_travel_m); };
   // The housing above the plants at its rest, then a frame: everything deeper than the housing is the canopy.
   sim_.commandHorizontal(params_.rest_extension_m);
   if (sim_.verticalPosition() > params_.rest_depth_m) sim_.commandVertical(params_.rest_depth_m);
@@ -300,24 +299,23 @@ std::optional<control::MoveResult> SimHarvestPlant::searchUnderLeaves(const Pree
   newFrame();
   ++leaf_searches_;
   const double fx = pipeline_->params().intrinsics.fx;
-  const double e = params_.effector_half_m, base = params_.arm_base_offset_m;
-  // The housing reaches camera x from -base - e to -base + travel + e; the strip is at its y (the calibration's 0).
-  const double x_lo = -base - e, x_hi = -base + params_.horizontal_travel_m + e;
-  double below = params_.rest_depth_m + c.housing_height_m + 0.01;
+  control::ArmWorkspace arm;
+  arm.extension_zero_x_m = -params_.arm_base_offset_m;
+  arm.extension_max_m = params_.horizontal_travel_m;
+  arm.rest_depth_m = params_.rest_depth_m;
+  arm.max_depth_m = params_.arm_max_depth_m;
+  arm.strip_y_m = 0.0;  // the calibration's arm plane
+  control::CanopySearch search(arm, c);
   int passes = 0;
   for (int pass = 0; pass < c.max_passes; ++pass) {
-    const auto layer = control::nextCanopyLayer(cloudView(), fx, 0.0, x_lo, x_hi, below, params_.arm_max_depth_m, c);
-    if (!layer) break;
-    const double depth = std::clamp(layer->sweep_depth_m, params_.rest_depth_m, params_.arm_max_depth_m);
-    const double from = ext(layer->x_min_m + base - e - 0.02), to = ext(layer->x_max_m + base + e + c.push_m);
-    below = depth + c.housing_height_m;  // what this sweep passes through
-    if (to - from < 0.02) continue;      // beyond the arm's reach
+    const auto sweep = search.next(cloudView(), fx);
+    if (!sweep) break;
     // Beside the layer above the plants, down (no leaf is pushed by a vertical move), through it, up again.
-    sim_.commandHorizontal(from);
+    sim_.commandHorizontal(sweep->from_extension_m);
     if (!waitArm(preempted)) return failed();
-    sim_.commandVertical(depth);
+    sim_.commandVertical(sweep->depth_m);
     if (!waitArm(preempted)) return failed();
-    sim_.commandHorizontal(to);
+    sim_.commandHorizontal(sweep->to_extension_m);
     if (!waitArm(preempted)) return failed();
     sim_.commandVertical(params_.rest_depth_m);
     if (!waitArm(preempted)) return failed();

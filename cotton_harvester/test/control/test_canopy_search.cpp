@@ -118,6 +118,27 @@ TEST(CanopySearch, ALayerMustCoverHalfABollsDiscAtAnyResolution) {
   }
 }
 
+TEST(CanopySearch, PlansEachLayersSweepFromTheTop) {
+  const CanopySearchParams p;  // housing 8 cm tall, half side 5 cm; 1 cm above the layer, 15 cm past it
+  cotton_harvester::control::ArmWorkspace arm;  // extension 0 at x = -0.55, travel 0.70, rest 1.20, lowest 1.93
+  const PinholeCloud cloud(
+      1280, 720, kFx,
+      {{-0.26, -0.14, -0.05, 0.05, 1.55}, {-0.3, -0.05, -0.06, 0.06, 1.72}, {0.3, 0.45, -0.05, 0.05, 1.8}}, 2.2);
+  cotton_harvester::control::CanopySearch search(arm, p);
+  const auto first = search.next(cloud.view(), kFx);
+  ASSERT_TRUE(first);
+  EXPECT_NEAR(first->depth_m, 1.54, 1e-3);
+  EXPECT_NEAR(first->from_extension_m, -0.26 + 0.55 - 0.05 - 0.02, 0.01);
+  EXPECT_NEAR(first->to_extension_m, -0.14 + 0.55 + 0.05 + 0.15, 0.01);
+  const auto second = search.next(cloud.view(), kFx);  // below what the first sweep passed through
+  ASSERT_TRUE(second);
+  EXPECT_NEAR(second->depth_m, 1.71, 1e-3);
+  EXPECT_NEAR(second->to_extension_m, -0.05 + 0.55 + 0.05 + 0.15, 0.01);  // at the end of the travel
+  EXPECT_LE(second->to_extension_m, 0.70);
+  // The third leaf lies beyond the housing's reach: no layer is left.
+  EXPECT_FALSE(search.next(cloud.view(), kFx));
+}
+
 TEST(CanopySearch, FocalLengthFromTheCloud) {
   const PinholeCloud cloud(640, 360, 350.0, {{-0.2, 0.0, -0.1, 0.1, 1.5}}, 2.2);
   EXPECT_NEAR(cotton_harvester::control::focalFromCloud(cloud.view()), 350.0, 1.0);

@@ -45,6 +45,37 @@ std::optional<CanopyLayer> nextCanopyLayer(const CloudView& cloud, double fx, do
                                            double x_max_m, double below_depth_m, double max_depth_m,
                                            const CanopySearchParams& params);
 
+/// The arm as the plant knows it from its calibration: camera x of the housing's centre at extension 0, the
+/// horizontal travel, the housing's depth (top face) at rest above the plants and at its lowest, and the y of the
+/// arm's plane [m].
+struct ArmWorkspace {
+  double extension_zero_x_m = -0.55;
+  double extension_min_m = 0.0, extension_max_m = 0.70;
+  double rest_depth_m = 1.20, max_depth_m = 1.93;
+  double strip_y_m = 0.0;
+};
+
+/// One sweep through a layer: the housing goes to `from_extension_m` above the plants, down to `depth_m`, sideways
+/// to `to_extension_m`, and up. Layers are looked for only where the housing reaches, so every sweep spans at least
+/// the housing's side and push_m.
+struct CanopySweep {
+  double from_extension_m = 0.0, to_extension_m = 0.0, depth_m = 0.0;
+};
+
+/// The sweeps at one place of the row, layer after layer from the top: each next() looks below what the last
+/// sweep passed through.
+class CanopySearch {
+ public:
+  CanopySearch(const ArmWorkspace& arm, const CanopySearchParams& params);
+  /// The next layer's sweep in `cloud` (focal length `fx` [px]), or nullopt when no layer is left.
+  std::optional<CanopySweep> next(const CloudView& cloud, double fx);
+
+ private:
+  ArmWorkspace arm_;
+  CanopySearchParams params_;
+  double below_m_;
+};
+
 /// The focal length [px] of the camera an organised cloud came from: the median over rows of the columns between
 /// two points divided by the difference of their x / z (0 when the cloud has too few points to tell).
 double focalFromCloud(const CloudView& cloud);
