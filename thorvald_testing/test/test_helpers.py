@@ -38,6 +38,18 @@ class RunUntilLine(unittest.TestCase):
         self.assertIn("ready", out)
         self.assertEqual(code, -signal.SIGINT)
 
+    def test_stops_the_command_even_when_this_process_ignores_sigint(self):
+        # A suite started in the background ignores SIGINT and its children inherit that: the helper must give the
+        # command the default handling back, or the command would run on to the kill after stop_wait_s.
+        previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+        try:
+            code, out = run_until_line(["/bin/sh", "-c", "echo ready; exec sleep 30"], wanted="ready", deadline_s=20,
+                                       stop_wait_s=5)
+        finally:
+            signal.signal(signal.SIGINT, previous)
+        self.assertIn("ready", out)
+        self.assertEqual(code, -signal.SIGINT)
+
     def test_deadline_without_the_line_gives_no_exit_code(self):
         code, out = run_until_line(["/bin/sh", "-c", "echo busy; exec sleep 30"], wanted="never", deadline_s=0.5)
         self.assertIsNone(code)

@@ -7,8 +7,10 @@
   passes, then stop it.
 - `PtyProcess`: a process whose standard streams are a pseudo-terminal (for nodes that read a keyboard or act on
   terminal signals), its output collected in the background.
+- `restore_default_signals`: `preexec_fn` for a test's own child processes, so that stopping them with a signal does
+  not depend on how the test suite was started (in the background, SIGINT is ignored and children inherit that).
 """
-from thorvald_testing.process import PtyProcess, run_until_line
+from thorvald_testing.process import PtyProcess, restore_default_signals, run_until_line
 from thorvald_testing.waiting import Latest, Recorder, wait_for
 
-__all__ = ["Latest", "PtyProcess", "Recorder", "run_until_line", "wait_for"]
+__all__ = ["Latest", "PtyProcess", "Recorder", "restore_default_signals", "run_until_line", "wait_for"]

@@ -7,6 +7,17 @@ import subprocess
 import threading
 import time
 
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGQUIT, signal.SIGHUP)
+
+
+def restore_default_signals():
+    """For `preexec_fn`: the child gets the default handling of the stop signals back. A test suite started in the
+    background (`&` in a script), under nohup or by a CI runner may ignore SIGINT, and a child inherits that: a test
+    that stops a child with SIGINT would then depend on how the suite was started."""
+    for sig in STOP_SIGNALS:
+        signal.signal(sig, signal.SIG_DFL)
+    signal.pthread_sigmask(signal.SIG_SETMASK, [])
+
 
 def run_until_line(command, wanted=None, deadline_s=30.0, env=None, stop_signal=signal.SIGINT, stop_wait_s=10.0):
     """Runs `command` (a list), its stdout and stderr merged. Without `wanted`, waits for it to exit; with it, stops
@@ -16,7 +27,8 @@ def run_until_line(command, wanted=None, deadline_s=30.0, env=None, stop_signal=
     Returns (exit code, output): the exit code is None when the command had to be stopped because `wanted` was
     never seen (deadline) or did not exit after the signal."""
     proc = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                            env=dict(os.environ, ROSCONSOLE_STDOUT_LINE_BUFFERED="1", **(env or {})))
+                            env=dict(os.environ, ROSCONSOLE_STDOUT_LINE_BUFFERED="1", **(env or {})),
+                            preexec_fn=restore_default_signals)
     lines = []
     seen = False
     ended = False  # its output closed: it is exiting by itself
@@ -59,7 +71,8 @@ class PtyProcess:
         self.master_fd, slave_fd = pty.openpty()
         self.proc = subprocess.Popen(argv, stdin=slave_fd, stdout=slave_fd,
                                      stderr=slave_fd if stderr_to_pty else subprocess.DEVNULL,
-                                     env=dict(os.environ, **(env or {})), start_new_session=True)
+                                     env=dict(os.environ, **(env or {})), start_new_session=True,
+                                     preexec_fn=restore_default_signals)
         self.slave_fd = slave_fd if keep_slave else None
         if not keep_slave:
             os.close(slave_fd)
