@@ -2,18 +2,18 @@
 # Checks the workspace's layering rules (docs/architecture.md, "Rules") over the repository and names each
 # violation as "<rule>: <file>[:<line>]: <what>". Exit 0: no violation; 1: violations; 2: usage error.
 #   scripts/check_layers.sh [--root DIR] [--rule NAME]... [--list-rules] [--help]
-# Plain Python 3 from Debian (/usr/bin/python3), no catkin needed; reads sources, CMakeLists.txt (and the .cmake
-# files they include) and package.xml files. Runs in about a second.
+# Debian's /usr/bin/python3 alone: reads sources, CMakeLists.txt (+ included .cmake) and package.xml; about 1 s.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 export CHECK_LAYERS_DEFAULT_ROOT="$(cd "$here/.." && pwd)"
 exec /usr/bin/python3 - "$@" <<'PYTHON'
-import os, re, subprocess, sys
+import argparse, os, re, subprocess, sys
+from types import SimpleNamespace
 from collections import defaultdict
 
 RULES = {
     "core-includes": "core files (include/<pkg>/, src/ outside the adapter and fixture folders) include no ROS "
-                     "header, no generated message header, no adapter or fixture header",
+                     "header, no generated message header, no adapter header",
     "core-links": "core library targets link no ${catkin_LIBRARIES} or ${<catkin package>_LIBRARIES} and hold "
                   "core sources only",
     "node-location": "every file with main() that starts ROS (ros::init, runNode) lives in src/nodes/ "
@@ -36,36 +36,20 @@ ROS_INCLUDE_ROOTS = {
 NON_CATKIN_VARS = {"OpenCV", "PCL", "EIGEN3", "Eigen3", "Boost", "urdfdom", "YAML_CPP", "GTEST", "GMOCK",
                    "OSMESA", "GL", "CMAKE_THREAD", "CMAKE_DL", "mujoco", "TINYXML2", "console_bridge"}
 
-
-def usage(stream):
-    stream.write("usage: check_layers.sh [--root DIR] [--rule NAME]... [--list-rules] [--help]\n"
-                 "Checks the layering rules of docs/architecture.md; exit 0 clean, 1 violations, 2 usage error.\n")
-
-
 def parse_args(argv):
-    root, rules, i = os.environ["CHECK_LAYERS_DEFAULT_ROOT"], [], 0
-    while i < len(argv):
-        a = argv[i]
-        if a in ("-h", "--help"):
-            usage(sys.stdout); sys.exit(0)
-        if a == "--list-rules":
-            for name, text in RULES.items():
-                print(f"{name}: {text}")
-            sys.exit(0)
-        if a in ("--root", "--rule") and i + 1 < len(argv):
-            if a == "--root":
-                root = argv[i + 1]
-            elif argv[i + 1] in RULES:
-                rules.append(argv[i + 1])
-            else:
-                sys.stderr.write(f"check_layers: unknown rule {argv[i + 1]!r} (--list-rules)\n"); sys.exit(2)
-            i += 2
-            continue
-        sys.stderr.write(f"check_layers: bad argument {a!r}\n"); usage(sys.stderr); sys.exit(2)
-    if not os.path.isdir(root):
-        sys.stderr.write(f"check_layers: no folder {root}\n"); sys.exit(2)
-    return os.path.abspath(root), set(rules or RULES)
-
+    """argparse: --help exits 0, a usage error exits 2 (the workspace's command-line convention)."""
+    ap = argparse.ArgumentParser(prog="check_layers.sh", description="Checks the layering rules of "
+                                 "docs/architecture.md; exit 0 clean, 1 violations, 2 usage error.")
+    ap.add_argument("--root", default=os.environ["CHECK_LAYERS_DEFAULT_ROOT"], help="repository to check")
+    ap.add_argument("--rule", action="append", choices=list(RULES), help="check only this rule (repeatable)")
+    ap.add_argument("--list-rules", action="store_true", help="print the rules and exit")
+    args = ap.parse_args(argv)
+    if args.list_rules:
+        print("\n".join(f"{name}: {text}" for name, text in RULES.items()))
+        sys.exit(0)
+    if not os.path.isdir(args.root):
+        ap.error(f"no folder {args.root}")
+    return os.path.abspath(args.root), set(args.rule or RULES)
 
 def list_files(root):
     """Tracked and untracked-but-not-ignored files in a git checkout; every file outside hidden folders else."""
@@ -80,44 +64,30 @@ def list_files(root):
         pass
     found = []
     for d, dirs, files in os.walk(root):
-        dirs[:] = [x for x in dirs if not x.startswith(".") and
-                   not os.path.exists(os.path.join(d, x, "CATKIN_IGNORE"))]
+        dirs[:] = [x for x in dirs if x[0] != "." and not os.path.exists(os.path.join(d, x, "CATKIN_IGNORE"))]
         found += [os.path.relpath(os.path.join(d, f), root) for f in files]
     return sorted(found)
-
 
 def read(root, rel):
     with open(os.path.join(root, rel), encoding="utf-8", errors="replace") as f:
         return f.read()
 
-
 def strip_cpp_comments(text):
     text = re.sub(r"/\*.*?\*/", lambda m: "\n" * m.group(0).count("\n"), text, flags=re.S)
     return re.sub(r"//[^\n]*", "", text)
 
-
 # ---- CMake: commands with foreach/set expansion, testing blocks, included .cmake files ------------------------
 def cmake_commands(text):
-    text = re.sub(r'#[^\n]*', "", text)  # no '#' inside quoted arguments in this workspace
-    for m in re.finditer(r"\b([A-Za-z_][A-Za-z0-9_]*)\s*\(", text):
-        depth, j = 1, m.end()
+    """(command, arguments, line) of each top-level command; quoted parentheses do not count."""
+    text, pos = re.sub(r"#[^\n]*", "", text), 0  # no '#' inside quoted arguments in this workspace
+    while m := re.compile(r"\b([A-Za-z_]\w*)\s*\(").search(text, pos):
+        depth, j, quoted = 1, m.end(), False
         while j < len(text) and depth:
-            depth += {"(": 1, ")": -1}.get(text[j], 0)
+            quoted ^= text[j] == '"' and text[j - 1] != "\\"
+            depth += 0 if quoted else {"(": 1, ")": -1}.get(text[j], 0)
             j += 1
-        line = text.count("\n", 0, m.start()) + 1
-        yield m.group(1).lower(), re.findall(r'"[^"]*"|[^\s"]+', text[m.end():j - 1]), line
-
-
-class Package:
-    def __init__(self, name, path):
-        self.name, self.path = name, path
-        self.targets = {}        # name -> dict(kind, sources, links, line, testing, file)
-        self.exported = []       # catkin_package(LIBRARIES ...)
-        self.export_where = ""   # file:line of catkin_package()
-        self.catkin_depends = []  # catkin_package(CATKIN_DEPENDS ...)
-        self.components = []     # find_package(catkin COMPONENTS ...)
-        self.found = []          # (package, file, line, testing) of find_package calls
-
+        yield m.group(1).lower(), re.findall(r'"[^"]*"|[^\s"]+', text[m.end():j - 1]), text.count("\n", 0, m.start()) + 1
+        pos = j
 
 def expand(words, env):
     out = []
@@ -128,11 +98,8 @@ def expand(words, env):
         out += w.split(";") if ";" in w else w.split()
     return [w for w in out if w]
 
-
 def parse_cmake(root, pkg, rel, env):
-    cmds = list(cmake_commands(read(root, rel)))
-    run_cmake_block(root, pkg, rel, cmds, env, [])
-
+    run_cmake_block(root, pkg, rel, list(cmake_commands(read(root, rel))), env, [])
 
 def run_cmake_block(root, pkg, rel, cmds, env, ifs):
     i = 0
@@ -157,11 +124,12 @@ def run_cmake_block(root, pkg, rel, cmds, env, ifs):
             cmake_command(root, pkg, rel, name, args, line, env, any("CATKIN_ENABLE_TESTING" in c for c in ifs))
         i += 1
 
-
 def cmake_command(root, pkg, rel, name, args, line, env, testing):
     words = expand(args, env)
     if name == "set" and words:
         env[words[0]] = ";".join(w for w in words[1:] if w not in ("CACHE", "PARENT_SCOPE"))
+    elif name == "list" and words[:1] == ["FILTER"] and len(words) > 1:
+        env[words[1]] = "${" + words[1] + "}"  # a filtered list: what it holds is not known here
     elif name == "include" and words and words[0].endswith(".cmake"):
         for inc in (os.path.normpath(words[0]), os.path.normpath(os.path.join(os.path.dirname(rel), words[0]))):
             if os.path.isfile(os.path.join(root, inc)):
@@ -175,17 +143,15 @@ def cmake_command(root, pkg, rel, name, args, line, env, testing):
     elif name == "target_sources" and words and words[0] in pkg.targets:
         pkg.targets[words[0]]["sources"] += [src_path(pkg, s) for s in words[1:] if "." in s]
     elif name == "target_link_libraries" and words and words[0] in pkg.targets:
-        pkg.targets[words[0]]["links"] += [(w, rel, line) for w in args[1:]
+        pkg.targets[words[0]]["links"] += [(w, rel, line) for w in words[1:]
                                            if w not in ("PUBLIC", "PRIVATE", "INTERFACE")]
     elif name == "catkin_package":
         section, pkg.export_where = None, f"{rel}:{line}"
         for w in words:
             if w.isupper():
                 section = w
-            elif section == "LIBRARIES":
-                pkg.exported.append(w)
-            elif section == "CATKIN_DEPENDS":
-                pkg.catkin_depends.append(w)
+            else:
+                {"LIBRARIES": pkg.exported, "CATKIN_DEPENDS": pkg.catkin_depends}.get(section, []).append(w)
     elif name == "find_package" and words:
         if words[0] == "catkin" and "COMPONENTS" in words:
             comps = words[words.index("COMPONENTS") + 1:]
@@ -194,20 +160,19 @@ def cmake_command(root, pkg, rel, name, args, line, env, testing):
         else:
             pkg.found.append((words[0], rel, line, testing))
 
-
 def src_path(pkg, s):
     return os.path.normpath(s if s.startswith(pkg.path + "/") else os.path.join(pkg.path, s))
 
-
 # ---- The repository model -----------------------------------------------------------------------------------
 def load_packages(root, files):
+    """{name: package}: path, targets {name: dict(kind, sources, links, line, testing, file)}, exported (catkin_package
+    LIBRARIES, at export_where), catkin_depends, components (find_package(catkin COMPONENTS)), found (find_package)."""
     pkgs = {}
-    for f in files:
-        if os.path.basename(f) == "package.xml":
-            m = re.search(r"<name>\s*([\w-]+)\s*</name>", read(root, f))
-            if m:
-                path = os.path.dirname(f)
-                pkgs[m.group(1)] = Package(m.group(1), path)
+    for f in (f for f in files if os.path.basename(f) == "package.xml"):
+        m = re.search(r"<name>\s*([\w-]+)\s*</name>", read(root, f))
+        if m:
+            pkgs[m.group(1)] = SimpleNamespace(name=m.group(1), path=os.path.dirname(f), targets={}, exported=[],
+                                               export_where="", catkin_depends=[], components=[], found=[])
     for pkg in pkgs.values():
         cm = os.path.join(pkg.path, "CMakeLists.txt")
         if os.path.isfile(os.path.join(root, cm)):
@@ -215,14 +180,8 @@ def load_packages(root, files):
                                         "PROJECT_SOURCE_DIR": pkg.path})
     return pkgs
 
-
 def package_of(pkgs, f):
-    best = None
-    for p in pkgs.values():
-        if f.startswith(p.path + "/") and (best is None or len(p.path) > len(best.path)):
-            best = p
-    return best
-
+    return max((p for p in pkgs.values() if f.startswith(p.path + "/")), key=lambda p: len(p.path), default=None)
 
 def classify(pkg, f):
     """'core', 'adapter', 'fixture' or None (tests, benches, tools) for a C/C++ file of `pkg`."""
@@ -237,28 +196,20 @@ def classify(pkg, f):
         return "core"
     return None
 
-
-def generated_headers(root, files, pkgs):
-    heads = set()
-    for f in files:
-        p = package_of(pkgs, f)
+def generated_headers(owners):
+    """The headers catkin generates from the workspace's msg/, srv/ and action/ files."""
+    heads, suffixes = set(), {"msg": [""], "srv": ["", "Request", "Response"], "action": [
+        "Action", "Goal", "Result", "Feedback", "ActionGoal", "ActionResult", "ActionFeedback"]}
+    for f, p in owners.items():
         m = re.match(r"(msg|srv|action)/(\w+)\.(msg|srv|action)$", f[len(p.path) + 1:]) if p else None
-        if m:
-            base = m.group(2)
-            extra = {"msg": [""], "srv": ["", "Request", "Response"],
-                     "action": ["Action", "Goal", "Result", "Feedback", "ActionGoal", "ActionResult",
-                                "ActionFeedback"]}[m.group(1)]
-            heads |= {f"{p.name}/{base}{e}.h" for e in extra}
+        heads |= {f"{p.name}/{m.group(2)}{e}.h" for e in suffixes[m.group(1)]} if m else set()
     return heads
-
 
 # ---- The rules ------------------------------------------------------------------------------------------------
 def include_lines(text):
     for n, line in enumerate(strip_cpp_comments(text).split("\n"), 1):
-        m = re.match(r'\s*#\s*include\s*([<"])([^>"]+)[>"]', line)
-        if m:
+        if m := re.match(r'\s*#\s*include\s*([<"])([^>"]+)[>"]', line):
             yield n, m.group(1), m.group(2)
-
 
 def header_layer(root, pkgs, f, quote, inc):
     """Layer ('adapter', 'fixture', 'core') of a workspace header named by an include line, or None."""
@@ -276,16 +227,10 @@ def header_layer(root, pkgs, f, quote, inc):
             return classify(owner, c)
     return None
 
-
 def ros_header(inc, generated):
     first = inc.split("/")[0]
-    if inc in generated:
-        return "a generated message header"
-    if first in ROS_INCLUDE_ROOTS or re.search(r"_(msgs|srvs)$", first) or \
-            (first == "tf2" and not inc.startswith("tf2/LinearMath/")):
-        return "a ROS header"
-    return None
-
+    return inc in generated or first in ROS_INCLUDE_ROOTS or bool(re.search(r"_(msgs|srvs)$", first)) or \
+        (first == "tf2" and not inc.startswith("tf2/LinearMath/"))
 
 def check_includes(root, files, pkgs, layer_of, generated, report):
     for f, (pkg, layer) in layer_of.items():
@@ -300,13 +245,12 @@ def check_includes(root, files, pkgs, layer_of, generated, report):
             report("core-includes", f"{f}:{bad[0][0]}", "core file includes ROS or adapter headers: " +
                    ", ".join(inc for _, inc in bad))
 
-
 def catkin_var(word):
     m = re.fullmatch(r"\$\{(\w+)_(LIBRARIES|LIBS)\}", word)
     return m.group(1) if m and m.group(1) not in NON_CATKIN_VARS else None
 
-
-def check_libraries(pkgs, pkg, layer, report):
+def check_libraries(pkg, report):
+    layer = classify
     for name, t in pkg.targets.items():
         layers = {layer(pkg, s) for s in t["sources"]}
         where = f"{t['file']}:{t['line']}"
@@ -326,10 +270,8 @@ def check_libraries(pkgs, pkg, layer, report):
             if catkin_var(word):
                 report("core-links", f"{rel}:{line}", f"core library {name} links {word}")
 
-
-def is_node(t):
+def is_node(t):  # a program built from src/ whose main() starts ROS (check_nodes sets starts_ros)
     return t["kind"] == "executable" and not t["testing"] and t.get("starts_ros", False)
-
 
 def link_closure(pkgs, pkg, target_name):
     """Every library a target links, directly or through catkin variables: {library: chain}."""
@@ -346,7 +288,6 @@ def link_closure(pkgs, pkg, target_name):
                         todo.append((owner_of[lib], lib, seen[lib]))
     return seen
 
-
 def expand_link(pkgs, pkg, word):
     var = catkin_var(word)
     if var is None:
@@ -361,7 +302,6 @@ def expand_link(pkgs, pkg, word):
         out += [(lib, f"{word} ({q} exports) ") for lib in pkgs[q].exported]
         stack += [d for d in pkgs[q].catkin_depends if d in pkgs]
     return out
-
 
 def check_nodes(root, files, pkgs, layer_of, report):
     main_re = re.compile(r"\bint\s+main\s*\(")
@@ -395,12 +335,10 @@ def check_nodes(root, files, pkgs, layer_of, report):
                f"catkin_package(LIBRARIES) of {owner} exports {lib}, so {len(nodes)} node(s) link it through "
                f"${{catkin_LIBRARIES}} or ${{{owner}_LIBRARIES}}: " + ", ".join(sorted(nodes)))
 
-
 def check_generators(layer_of, report):
     for f, (_, layer) in layer_of.items():
-        if layer in ("core", "adapter") and re.match(r"(synthetic|fake|mock|fixture)_", os.path.basename(f)):
+        if layer != "fixture" and re.match(r"(synthetic|fake|mock|fixture)_", os.path.basename(f)):
             report("fixtures", f, f"fixture or generator outside a testing/ folder ({layer} file)")
-
 
 def check_arrows(root, pkgs, report):
     for name in sorted(APPLICATIONS & set(pkgs)):
@@ -413,7 +351,6 @@ def check_arrows(root, pkgs, report):
         for dep, rel, line, testing in p.found:
             if dep in TOP_LAYER and not testing:
                 report("package-arrows", f"{rel}:{line}", f"application {name} finds {dep} outside its tests")
-
 
 def check_command_lines(root, files, pkgs, report):
     exe_sources = {s for p in pkgs.values() for t in p.targets.values() if t["kind"] == "executable"
@@ -429,7 +366,6 @@ def check_command_lines(root, files, pkgs, report):
                 report("command-line", f"{f}:{n}", "parses its command line itself: use "
                        "thorvald_base::parseCommandLine (--help exits 0, a usage error 2)")
 
-
 def main():
     root, rules = parse_args(sys.argv[1:])
     files = list_files(root)
@@ -440,18 +376,12 @@ def main():
         if rule in rules:
             found.append((rule, where, what))
 
-    def layer(pkg, f):
-        return classify(pkg, f)
-
-    layer_of = {}
-    for f in files:
-        p = package_of(pkgs, f)
-        if p and classify(p, f):
-            layer_of[f] = (p, classify(p, f))
-    check_includes(root, files, pkgs, layer_of, generated_headers(root, files, pkgs), report)
+    owners = {f: package_of(pkgs, f) for f in files}
+    layer_of = {f: (p, classify(p, f)) for f, p in owners.items() if p and classify(p, f)}
+    check_includes(root, files, pkgs, layer_of, generated_headers(owners), report)
     check_nodes(root, files, pkgs, layer_of, report)
     for p in pkgs.values():
-        check_libraries(pkgs, p, layer, report)
+        check_libraries(p, report)
     check_generators(layer_of, report)
     check_arrows(root, pkgs, report)
     check_command_lines(root, files, pkgs, report)
@@ -464,7 +394,6 @@ def main():
         return 1
     print(f"check_layers: ok ({len(rules)} rule(s), {len(pkgs)} packages)")
     return 0
-
 
 sys.exit(main())
 PYTHON

@@ -83,9 +83,9 @@ plant node-links-fixture fixtures thorvald_model/CMakeLists.txt \
   'mkdir -p thorvald_model/src/testing thorvald_model/src/nodes
    touch thorvald_model/src/testing/planted_fixture.cpp
    printf "%s\n" "$node_main" >thorvald_model/src/nodes/planted_node.cpp
-   printf "%s\n" "add_library(thorvald_model_planted_testing src/testing/planted_fixture.cpp)" \
+   printf "%s\n" "add_library(\${PROJECT_NAME}_planted_testing src/testing/planted_fixture.cpp)" \
      "add_executable(planted_node src/nodes/planted_node.cpp)" \
-     "target_link_libraries(planted_node thorvald_model_planted_testing)" >>thorvald_model/CMakeLists.txt'
+     "target_link_libraries(planted_node \${PROJECT_NAME}_planted_testing)" >>thorvald_model/CMakeLists.txt'
 plant generator-outside-testing fixtures thorvald_model/src/synthetic_planted.cpp \
   'printf "int syntheticValue() { return 1; }\n" >thorvald_model/src/synthetic_planted.cpp'
 plant app-depends-on-bringup package-arrows greenhouse_rail_nav/package.xml \
