@@ -20,6 +20,7 @@
 
 #include <CLI/CLI.hpp>
 #include <opencv2/core/utility.hpp>
+#include <thorvald_common/bench_statistics.h>
 
 #include "cotton_harvester/perception/colour_boll_detector.h"
 #include "cotton_harvester/perception/darknet_boll_detector.h"
@@ -35,13 +36,8 @@ namespace {
 
 struct Timing {
   std::vector<double> ms;
-  double mean() const { return ms.empty() ? 0.0 : std::accumulate(ms.begin(), ms.end(), 0.0) / ms.size(); }
-  double percentile(double q) const {
-    if (ms.empty()) return 0.0;
-    std::vector<double> sorted = ms;
-    std::sort(sorted.begin(), sorted.end());
-    return sorted[std::min(sorted.size() - 1, static_cast<size_t>(q * (sorted.size() - 1) + 0.5))];
-  }
+  double mean() const { return thorvald_common::mean(ms); }
+  double percentile(double q) const { return thorvald_common::percentile(ms, q); }
 };
 
 template <typename F>

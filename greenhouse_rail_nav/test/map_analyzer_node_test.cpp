@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <nav_msgs/OccupancyGrid.h>
 #include <ros/ros.h>
+#include <thorvald_common/wait_for.h>
 #include <std_msgs/String.h>
 #include <visualization_msgs/MarkerArray.h>
 
@@ -35,13 +36,7 @@ struct Latest {
 /// Spins until the condition holds or the deadline (wall time) passes.
 template <typename F>
 bool waitFor(F condition, double timeout_s = 20.0) {
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout_s);
-  while (ros::ok() && ros::WallTime::now() < deadline) {
-    ros::spinOnce();
-    if (condition()) return true;
-    ros::WallDuration(0.01).sleep();
-  }
-  return condition();
+  return thorvald_common::waitFor(condition, timeout_s);
 }
 
 // Targets compared with the truth: 7 cm (a little over one 5 cm cell), 0.02 rad.

@@ -8,6 +8,7 @@
 #include <geometry_msgs/TransformStamped.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
+#include <thorvald_common/wait_for.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_ros/static_transform_broadcaster.h>
 
@@ -51,13 +52,7 @@ class RailDetectorNodeTest : public ::testing::Test {
 
   template <typename F>
   bool waitFor(F condition, double timeout_s = 20.0) {
-    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout_s);
-    while (ros::ok() && ros::WallTime::now() < deadline) {
-      ros::spinOnce();
-      if (condition()) return true;
-      ros::WallDuration(0.005).sleep();
-    }
-    return condition();
+    return thorvald_common::waitFor(condition, timeout_s);
   }
 
   /// Publishes a cloud and returns the status the node answers it with (matched by stamp).

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
+#include <thorvald_common/wait_for.h>
 #include <sensor_msgs/JointState.h>
 #include <std_srvs/SetBool.h>
 #include <std_srvs/Trigger.h>
@@ -26,13 +27,7 @@ class Base {
 
   /// Spins until `done` holds or `timeout_s` passes; returns whether it held.
   bool waitFor(const std::function<bool()>& done, double timeout_s) {
-    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout_s);
-    while (ros::ok() && ros::WallTime::now() < end) {
-      ros::spinOnce();
-      if (done()) return true;
-      ros::WallDuration(0.002).sleep();
-    }
-    return false;
+    return thorvald_common::waitFor(done, timeout_s, thorvald_common::spinEvery(0.002));
   }
 
   /// Publishes `cmd` at 20 Hz for `seconds` (or until `each` returns false), then one zero command as a user's

@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <thorvald_common/bench_statistics.h>
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -112,11 +113,7 @@ struct Base {
   std::atomic<bool> started_{false};
 };
 
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return -1.0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(p * (v.size() - 1) + 0.5))];
-}
+using thorvald_common::percentile;
 
 /// Fault -> all drives at zero, `injections` times; times in ms (-1 when the stop never came within 10 s).
 std::vector<double> measure(const thorvald_base::RobotConfig& config, const FaultKind& kind, int injections,

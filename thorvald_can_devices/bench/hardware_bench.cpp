@@ -15,6 +15,7 @@
 #include <xmlrpcpp/XmlRpcClient.h>
 
 #include <CLI/CLI.hpp>
+#include <thorvald_common/bench_statistics.h>
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
@@ -68,11 +69,7 @@ double cpuSeconds(int pid) {
   return (utime + stime) / static_cast<double>(::sysconf(_SC_CLK_TCK));
 }
 
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(p * (v.size() - 1) + 0.5))];
-}
+using thorvald_common::percentile;
 
 }  // namespace
 

@@ -3,20 +3,20 @@
 #include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
 
-#include "thorvald_base/ros/param_reader.h"
+#include "thorvald_common/param_reader.h"
 #include "thorvald_can_devices/can_base_hardware.h"
 
 namespace thorvald_can_devices {
 
 class CanBaseHardwarePlugin : public CanBaseHardware {
  public:
-  void readParameters(thorvald_base::ParamReader& params) override {
+  void readParameters(thorvald_common::ParamReader& params) override {
     options().log_path = params.text("can_log", "");
     options().startup_timeout_s =
-        params.number("can_startup_timeout", 3.0, thorvald_base::ParamRange::closed(0.0, 60.0), "s");
+        params.number("can_startup_timeout", 3.0, thorvald_common::ParamRange::closed(0.0, 60.0), "s");
     // A silent drive must stop the base within 100 ms.
     options().feedback_timeout_s =
-        params.number("can_feedback_timeout", 0.06, thorvald_base::ParamRange::closed(0.005, 0.1), "s");
+        params.number("can_feedback_timeout", 0.06, thorvald_common::ParamRange::closed(0.005, 0.1), "s");
     options().max_frames_per_poll = static_cast<size_t>(params.integer("can_max_frames_per_cycle", 400, 16, 100000));
   }
 

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
+#include <thorvald_common/wait_for.h>
 #include <sensor_msgs/BatteryState.h>
 #include <std_srvs/SetBool.h>
 #include <std_srvs/Trigger.h>
@@ -45,14 +46,13 @@ class Robot {
         nh_.subscribe("battery/" + pnh_.param<std::string>("battery", "bat0"), 10, &Robot::onBattery, this));
   }
 
+  /// Pumps the bus and the callbacks until `done` holds or the deadline [s] passes.
   bool waitFor(const std::function<bool()>& done, double timeout_s) {
-    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout_s);
-    while (ros::ok() && ros::WallTime::now() < end) {
-      pump();
-      if (done()) return true;
+    pump();
+    return thorvald_common::waitFor(done, timeout_s, [this] {
       bus_->waitReadable(0.002);
-    }
-    return false;
+      pump();
+    });
   }
   void pump() {
     ros::spinOnce();

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <thorvald_common/bench_statistics.h>
 
 #include "thorvald_navigation/costmap.h"
 #include "thorvald_navigation/grid_planner.h"
@@ -22,11 +23,7 @@ namespace {
 
 const Eigen::Vector2d kSensor(0.45, 0.0);
 
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<std::size_t>(p * (v.size() - 1) + 0.5))];
-}
+using thorvald_common::percentile;
 
 struct LocResult {
   double rms_xy = 0, rms_yaw = 0, ms_per_scan = 0;

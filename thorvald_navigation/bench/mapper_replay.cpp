@@ -15,6 +15,7 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <thorvald_common/bench_statistics.h>
 #include <nav_msgs/Odometry.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
@@ -75,11 +76,7 @@ void readConfig(const std::string& path, tn::MapperParams* m) {
   if (y["match_surface"]) m->match_surface = y["match_surface"].as<bool>();
 }
 
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<std::size_t>(p * (v.size() - 1) + 0.5))];
-}
+using thorvald_common::percentile;
 
 }  // namespace
 

@@ -9,6 +9,7 @@
 #include <move_base_msgs/MoveBaseAction.h>
 #include <nav_msgs/Path.h>
 #include <ros/ros.h>
+#include <thorvald_common/wait_for.h>
 #include <std_msgs/String.h>
 
 #include "fake_headland_robot.h"
@@ -52,14 +53,11 @@ class NavigatorTest : public ::testing::Test {
 
   // Steps the robot at 20 Hz until `done` or the deadline [s]; `each` runs every step.
   bool runUntil(const std::function<bool()>& done, double timeout_s, const std::function<void()>& each = {}) {
-    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout_s);
-    while (ros::ok() && ros::WallTime::now() < end) {
-      if (done()) return true;
+    return thorvald_common::waitFor(done, timeout_s, [&] {
       robot_->step(0.05);
       if (each) each();
       ros::WallDuration(0.05).sleep();  // paces the scripted robot at its control rate
-    }
-    return done();
+    });
   }
 
   move_base_msgs::MoveBaseGoal goal(double x, double y, double yaw) {

@@ -7,6 +7,7 @@
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
+#include <thorvald_common/wait_for.h>
 #include <std_msgs/String.h>
 #include <std_srvs/Empty.h>
 #include <tf2_ros/buffer.h>
@@ -44,13 +45,10 @@ class LocalizerTest : public ::testing::Test {
   }
 
   bool runUntil(const std::function<bool()>& done, double timeout_s) {
-    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout_s);
-    while (ros::ok() && ros::WallTime::now() < end) {
-      if (done()) return true;
+    return thorvald_common::waitFor(done, timeout_s, [this] {
       robot_->step(0.025);
       ros::WallDuration(0.025).sleep();  // 40 Hz scans, as the greenhouse lidar
-    }
-    return done();
+    });
   }
 
   double error() {

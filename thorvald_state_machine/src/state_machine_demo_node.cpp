@@ -5,7 +5,7 @@
 
 #include <ros/ros.h>
 #include <std_msgs/Empty.h>
-#include <thorvald_base/ros/param_reader.h>
+#include <thorvald_common/param_reader.h>
 
 #include "thorvald_state_machine/ros/status_publisher.h"
 #include "thorvald_state_machine/state_machine.h"
@@ -18,11 +18,11 @@ int main(int argc, char** argv) {
   int cycles = 3;
   double step_s = 0.1;
   try {
-    thorvald_base::ParamReader params(pnh);
+    thorvald_common::ParamReader params(pnh);
     cycles = params.integer("cycles", cycles, -1);
-    step_s = params.number("step_s", step_s, thorvald_base::ParamRange::aboveUpTo(0.0, 3600.0), "s");
+    step_s = params.number("step_s", step_s, thorvald_common::ParamRange::aboveUpTo(0.0, 3600.0), "s");
     params.finish();
-  } catch (const thorvald_base::ParamError& e) {
+  } catch (const thorvald_common::ParamError& e) {
     ROS_FATAL_STREAM(e.what());
     return 1;
   }

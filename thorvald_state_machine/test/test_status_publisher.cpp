@@ -3,6 +3,7 @@
 #include <mutex>
 
 #include <ros/ros.h>
+#include <thorvald_common/wait_for.h>
 #include <std_msgs/Empty.h>
 
 #include "thorvald_state_machine/MachineStatus.h"
@@ -25,15 +26,12 @@ struct StatusListener {
   }
   template <typename Predicate>
   bool waitFor(Predicate predicate, double timeout_s) {
-    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout_s);
-    while (ros::ok() && ros::WallTime::now() < deadline) {
-      {
-        std::lock_guard<std::mutex> lock(mutex);
-        if (count > 0 && predicate(last)) return true;
-      }
-      ros::WallDuration(0.01).sleep();
-    }
-    return false;
+    return thorvald_common::waitFor(
+        [&] {
+          std::lock_guard<std::mutex> lock(mutex);
+          return count > 0 && predicate(last);
+        },
+        timeout_s, thorvald_common::sleepEvery(0.01));
   }
   ros::Subscriber sub;
   std::mutex mutex;

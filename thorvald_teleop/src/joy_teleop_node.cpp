@@ -14,7 +14,7 @@
 #include <std_srvs/Trigger.h>
 
 #include "teleop_params.h"
-#include "thorvald_teleop/stop_signals.h"
+#include "thorvald_common/stop_signals.h"
 #include "thorvald_teleop/joy_teleop.h"
 
 namespace thorvald_teleop {
@@ -37,14 +37,14 @@ geometry_msgs::Twist toTwist(const VelocityCommand& c) {
 class JoyTeleopNode {
  public:
   /// Reads its parameters through `params` (the caller finishes the reader once the node is built).
-  JoyTeleopNode(ros::NodeHandle nh, ros::NodeHandle pnh, thorvald_base::ParamReader& params)
+  JoyTeleopNode(ros::NodeHandle nh, ros::NodeHandle pnh, thorvald_common::ParamReader& params)
       : nh_(nh),
         pnh_(pnh),
         teleop_(loadTeleopConfig(
             params, [this](const std::string& key, XmlRpc::XmlRpcValue& v) { return pnh_.getParam(key, v); })),
         updater_(nh_, pnh_) {
     const double check_rate_hz =
-        params.number("deadman_check_rate", 50.0, thorvald_base::ParamRange::aboveUpTo(0.0, 1000.0), "Hz");
+        params.number("deadman_check_rate", 50.0, thorvald_common::ParamRange::aboveUpTo(0.0, 1000.0), "Hz");
     params.alsoRead("diagnostic_period");  // diagnostic_updater's
     cmd_pub_ = nh_.advertise<geometry_msgs::Twist>("cmd_vel", 1, true);
     priority_pub_ = nh_.advertise<std_msgs::Bool>("teleop_joy/joy_priority", 1, true);
@@ -162,16 +162,16 @@ class JoyTeleopNode {
 int main(int argc, char** argv) {
   ros::init(argc, argv, "joy_teleop", ros::init_options::NoSigintHandler);
   // SIGTERM stops as cleanly as SIGINT, and both within a second in every state; destroyed last.
-  thorvald_teleop::StopSignals stop_signals(ros::requestShutdown, 0.7);
+  thorvald_common::StopSignals stop_signals(ros::requestShutdown, 0.7);
   ros::NodeHandle nh;  // outlives the try block: the last handle's destruction shuts logging down
   ros::NodeHandle pnh("~");
   try {
-    thorvald_base::ParamReader params(pnh);
+    thorvald_common::ParamReader params(pnh);
     thorvald_teleop::JoyTeleopNode node(nh, pnh, params);
     params.finish();  // warns about unread (misspelt) parameters, logs the effective values
     ros::spin();
   } catch (const std::exception& e) {
-    if (thorvald_teleop::StopSignals::requested() || !ros::ok()) return 0;  // stopped during start-up
+    if (thorvald_common::StopSignals::requested() || !ros::ok()) return 0;  // stopped during start-up
     ROS_FATAL("joy_teleop cannot start: %s", e.what());
     return 1;
   }

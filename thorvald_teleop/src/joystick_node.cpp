@@ -9,10 +9,10 @@
 
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <ros/ros.h>
-#include <thorvald_base/ros/param_reader.h>
+#include <thorvald_common/param_reader.h>
 #include <sensor_msgs/Joy.h>
 
-#include "thorvald_teleop/stop_signals.h"
+#include "thorvald_common/stop_signals.h"
 #include "thorvald_teleop/joystick_device.h"
 #include "thorvald_teleop/joystick_state.h"
 
@@ -28,8 +28,8 @@ struct JoystickParams {
 };
 
 JoystickParams loadParams(ros::NodeHandle& pnh) {
-  using thorvald_base::ParamRange;
-  thorvald_base::ParamReader params(pnh);
+  using thorvald_common::ParamRange;
+  thorvald_common::ParamReader params(pnh);
   JoystickParams p;
   p.dev = params.text("dev", p.dev);
   p.deadzone = params.number("deadzone", p.deadzone, ParamRange{0.0, 1.0, false, true});
@@ -39,9 +39,9 @@ JoystickParams loadParams(ros::NodeHandle& pnh) {
       params.number("coalesce_interval", p.coalesce_interval_s, ParamRange{0.0, 1.0, false, true}, "s");
   p.retry_interval_s = params.number("retry_interval", p.retry_interval_s, ParamRange::aboveUpTo(0.0, 60.0), "s");
   if (p.dev.empty()) {
-    throw thorvald_base::ParamError(params.node() +
-                                    ": parameter ~dev: found an empty string, expected a device path such as "
-                                    "/dev/input/js0");
+    throw thorvald_common::ParamError(params.node() +
+                                      ": parameter ~dev: found an empty string, expected a device path such as "
+                                      "/dev/input/js0");
   }
   params.alsoRead("diagnostic_period");  // diagnostic_updater's
   params.finish();
@@ -186,14 +186,14 @@ class JoystickNode {
 int main(int argc, char** argv) {
   ros::init(argc, argv, "joystick", ros::init_options::NoSigintHandler);
   // SIGTERM stops as cleanly as SIGINT, and both within a second in every state; destroyed last.
-  thorvald_teleop::StopSignals stop_signals(ros::requestShutdown, 0.7);
+  thorvald_common::StopSignals stop_signals(ros::requestShutdown, 0.7);
   ros::NodeHandle nh;  // outlives the try block: the last handle's destruction shuts logging down
   ros::NodeHandle pnh("~");
   try {
     thorvald_teleop::JoystickNode node(nh, pnh);
     node.run();
   } catch (const std::exception& e) {
-    if (thorvald_teleop::StopSignals::requested() || !ros::ok()) return 0;  // stopped during start-up
+    if (thorvald_common::StopSignals::requested() || !ros::ok()) return 0;  // stopped during start-up
     ROS_FATAL("joystick cannot start: %s", e.what());
     return 1;
   }

@@ -10,14 +10,16 @@
 
 #include <geometry_msgs/Twist.h>
 #include <ros/ros.h>
-#include <thorvald_base/ros/param_reader.h>
+#include <thorvald_common/param_reader.h>
 
 #include "thorvald_teleop/key_decoder.h"
 #include "thorvald_teleop/keyboard_command.h"
-#include "thorvald_teleop/stop_signals.h"
+#include "thorvald_common/stop_signals.h"
 
 namespace thorvald_teleop {
 namespace {
+
+using thorvald_common::StopSignals;
 
 /// Puts a terminal in raw mode (no echo, no line buffering, Ctrl-C as a byte) and restores it on destruction.
 class RawTerminal {
@@ -58,8 +60,8 @@ struct KeyboardParams {
 };
 
 KeyboardParams loadParams(ros::NodeHandle& pnh) {
-  using thorvald_base::ParamRange;
-  thorvald_base::ParamReader params(pnh);
+  using thorvald_common::ParamRange;
+  thorvald_common::ParamReader params(pnh);
   KeyboardParams p;
   KeyboardConfig& c = p.config;
   c.linear_speed_max = params.number("linear_speed_max", c.linear_speed_max, ParamRange::aboveUpTo(0.0, 10.0), "m/s");
@@ -72,7 +74,7 @@ KeyboardParams loadParams(ros::NodeHandle& pnh) {
   c.key_timeout_s = params.number("key_timeout", c.key_timeout_s, ParamRange::closed(0.0, 60.0), "s, 0 = off");
   p.repeat_rate_hz = params.number("repeat_rate", p.repeat_rate_hz, ParamRange::aboveUpTo(0.0, 1000.0), "Hz");
   const std::string error = validateKeyboardConfig(c);
-  if (!error.empty()) throw thorvald_base::ParamError(params.node() + ": ~" + error);
+  if (!error.empty()) throw thorvald_common::ParamError(params.node() + ": ~" + error);
   params.finish();
   return p;
 }
@@ -147,7 +149,7 @@ int run(ros::NodeHandle& nh, ros::NodeHandle& pnh, StopSignals& stop_signals) {
 int main(int argc, char** argv) {
   ros::init(argc, argv, "keyboard_teleop", ros::init_options::NoSigintHandler);
   // SIGINT and SIGTERM end any wait for the master, then the key loop (with a final stop); destroyed last.
-  thorvald_teleop::StopSignals stop_signals(ros::requestShutdown, 0.7);
+  thorvald_common::StopSignals stop_signals(ros::requestShutdown, 0.7);
   // Waits for the master until it answers or a signal arrives; outlives the try block: the last handle's
   // destruction shuts logging down.
   ros::NodeHandle nh;

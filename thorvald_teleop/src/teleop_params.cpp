@@ -107,7 +107,7 @@ void readGroup(const ParamLookup& lookup, const Group& g, TwistJoyMapping& m) {
   if (!turbo_given && g.scalar_field == TwistField::kAngularYaw) f.scale_turbo = f.scale;
 }
 
-void readMapping(thorvald_base::ParamReader& params, const ParamLookup& lookup, TwistJoyMapping& m) {
+void readMapping(thorvald_common::ParamReader& params, const ParamLookup& lookup, TwistJoyMapping& m) {
   m.enable_button = params.integer("enable_button", m.enable_button, -1, kMaxButton);
   m.enable_turbo_button = params.integer("enable_turbo_button", m.enable_turbo_button, -1, kMaxButton);
   m.require_enable_button = params.flag("require_enable_button", m.require_enable_button);
@@ -122,8 +122,8 @@ void readMapping(thorvald_base::ParamReader& params, const ParamLookup& lookup, 
 
 }  // namespace
 
-JoyTeleopConfig loadTeleopConfig(thorvald_base::ParamReader& params, const ParamLookup& lookup) {
-  using thorvald_base::ParamRange;
+JoyTeleopConfig loadTeleopConfig(thorvald_common::ParamReader& params, const ParamLookup& lookup) {
+  using thorvald_common::ParamRange;
   JoyTeleopConfig c;
   readMapping(params, lookup, c.mapping);
   TeleopButtons& b = c.buttons;
@@ -140,7 +140,7 @@ JoyTeleopConfig loadTeleopConfig(thorvald_base::ParamReader& params, const Param
   c.joy_timeout_s = params.number("joy_timeout", c.joy_timeout_s, ParamRange::closed(0.0, 60.0), "s, 0 = off");
   c.initial_mode = *parseDriveMode(params.choice("initial_mode", "omni", {"omni", "drive", "turn"}));
   const std::string error = validateTeleopConfig(c);
-  if (!error.empty()) throw thorvald_base::ParamError(params.node() + ": " + error);
+  if (!error.empty()) throw thorvald_common::ParamError(params.node() + ": " + error);
   return c;
 }
 

@@ -3,7 +3,7 @@
 #include <functional>
 #include <string>
 
-#include <thorvald_base/ros/param_reader.h>
+#include <thorvald_common/param_reader.h>
 #include <xmlrpcpp/XmlRpcValue.h>
 
 #include "thorvald_teleop/joy_teleop.h"
@@ -17,8 +17,8 @@ using ParamLookup = std::function<bool(const std::string& key, XmlRpc::XmlRpcVal
 /// axis_linear / axis_angular as an int or a map, scale_linear(_turbo) / scale_angular(_turbo) as a number or a
 /// map, with teleop_twist_joy's defaults) and the Thorvald additions. Typed parameters go through the workspace's
 /// strict reader `params`; the axis and scale maps are read from `lookup` (the same private parameters, raw).
-/// Throws thorvald_base::ParamError or std::runtime_error naming the key and the expected value on anything
+/// Throws thorvald_common::ParamError or std::runtime_error naming the key and the expected value on anything
 /// malformed.
-JoyTeleopConfig loadTeleopConfig(thorvald_base::ParamReader& params, const ParamLookup& lookup);
+JoyTeleopConfig loadTeleopConfig(thorvald_common::ParamReader& params, const ParamLookup& lookup);
 
 }  // namespace thorvald_teleop

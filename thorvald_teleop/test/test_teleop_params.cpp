@@ -15,7 +15,7 @@ using XmlRpc::XmlRpcValue;
 namespace {
 
 /// Private parameters from a map, as the parameter server would give them.
-class MapSource : public thorvald_base::ParamSource {
+class MapSource : public thorvald_common::ParamSource {
  public:
   explicit MapSource(std::map<std::string, XmlRpcValue> params) : params_(std::move(params)) {}
   bool get(const std::string& name, XmlRpcValue& value) const override {
@@ -35,7 +35,7 @@ class MapSource : public thorvald_base::ParamSource {
 };
 
 JoyTeleopConfig load(const std::map<std::string, XmlRpcValue>& params, std::vector<std::string>* unread = nullptr) {
-  thorvald_base::ParamReader reader(std::make_unique<MapSource>(params), "/joy_teleop");
+  thorvald_common::ParamReader reader(std::make_unique<MapSource>(params), "/joy_teleop");
   const JoyTeleopConfig c = loadTeleopConfig(reader, [&](const std::string& key, XmlRpcValue& v) {
     const auto it = params.find(key);
     if (it == params.end()) return false;

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <thorvald_common/bench_statistics.h>
 #include <geometry_msgs/Twist.h>
 #include <ros/ros.h>
 #include <sensor_msgs/Joy.h>
@@ -95,12 +96,7 @@ class LatencyLog {
   unsigned long received_count_ = 0;
 };
 
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  const auto index = static_cast<std::size_t>(std::ceil(p / 100.0 * static_cast<double>(v.size()))) - 1;
-  return v[std::min(index, v.size() - 1)];
-}
+using thorvald_common::percentile;
 
 XmlRpc::XmlRpcValue muxTopics() {
   XmlRpc::XmlRpcValue topics;
@@ -167,8 +163,8 @@ PhaseResult runPhase(std::vector<ros::Publisher>& pubs, const std::vector<int>& 
 }
 
 void printRow(const char* name, const PhaseResult& r) {
-  std::printf("%-30s %8lu %8lu %8.3f %8.3f %8.3f %8.3f\n", name, r.sent, r.received, percentile(r.latencies_ms, 50),
-              percentile(r.latencies_ms, 90), percentile(r.latencies_ms, 99), percentile(r.latencies_ms, 100));
+  std::printf("%-30s %8lu %8lu %8.3f %8.3f %8.3f %8.3f\n", name, r.sent, r.received, percentile(r.latencies_ms, 0.5),
+              percentile(r.latencies_ms, 0.9), percentile(r.latencies_ms, 0.99), percentile(r.latencies_ms, 1.0));
 }
 
 bool waitFor(const std::function<bool()>& condition, double timeout_s) {
@@ -270,8 +266,8 @@ int main(int argc, char** argv) {
   printRow("Joy -> joy_teleop -> twist_mux", through_teleop);
   std::printf(
       "RESULT {\"mux_p50_ms\": %.3f, \"mux_p99_ms\": %.3f, \"teleop_mux_p50_ms\": %.3f, \"teleop_mux_p99_ms\": %.3f}\n",
-      percentile(direct.latencies_ms, 50), percentile(direct.latencies_ms, 99),
-      percentile(through_teleop.latencies_ms, 50), percentile(through_teleop.latencies_ms, 99));
+      percentile(direct.latencies_ms, 0.5), percentile(direct.latencies_ms, 0.99),
+      percentile(through_teleop.latencies_ms, 0.5), percentile(through_teleop.latencies_ms, 0.99));
   spinner.stop();
   return 0;
 }

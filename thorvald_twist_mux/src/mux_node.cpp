@@ -14,21 +14,21 @@ bool isFinite(const geometry_msgs::Twist& t) {
          std::isfinite(t.angular.x) && std::isfinite(t.angular.y) && std::isfinite(t.angular.z);
 }
 
-MuxOptions readOptions(thorvald_base::ParamReader& params) {
+MuxOptions readOptions(thorvald_common::ParamReader& params) {
   MuxOptions o;
   o.zero_on_loss = params.flag("zero_on_loss", o.zero_on_loss);
   o.use_stamped = params.flag("use_stamped", o.use_stamped);
   o.publish_marker = params.flag("publish_marker", o.publish_marker);
   o.frame_id = params.text("frame_id", o.frame_id);
   o.check_rate_hz =
-      params.number("check_rate", o.check_rate_hz, thorvald_base::ParamRange::aboveUpTo(0.0, 1000.0), "Hz");
+      params.number("check_rate", o.check_rate_hz, thorvald_common::ParamRange::aboveUpTo(0.0, 1000.0), "Hz");
   const std::string error = validateMuxOptions(o);
-  if (!error.empty()) throw thorvald_base::ParamError(params.node() + ": " + error);
+  if (!error.empty()) throw thorvald_common::ParamError(params.node() + ": " + error);
   return o;
 }
 
 /// twist_mux's `topics` and `locks` lists, read raw (either of twist_mux's forms) and counted as read.
-MuxConfig readConfig(thorvald_base::ParamReader& params, ros::NodeHandle& pnh, bool use_stamped) {
+MuxConfig readConfig(thorvald_common::ParamReader& params, ros::NodeHandle& pnh, bool use_stamped) {
   MuxConfig config;
   XmlRpc::XmlRpcValue topics;
   if (!params.raw("topics", &topics)) {
@@ -45,7 +45,7 @@ MuxConfig readConfig(thorvald_base::ParamReader& params, ros::NodeHandle& pnh, b
 
 }  // namespace
 
-MuxNode::MuxNode(ros::NodeHandle nh, ros::NodeHandle pnh, thorvald_base::ParamReader& params)
+MuxNode::MuxNode(ros::NodeHandle nh, ros::NodeHandle pnh, thorvald_common::ParamReader& params)
     : nh_(nh), pnh_(pnh), options_(readOptions(params)), updater_(nh_, pnh_) {
   selector_ = std::make_unique<TwistSelector>(readConfig(params, pnh_, options_.use_stamped));
   params.alsoRead("diagnostic_period");  // diagnostic_updater's

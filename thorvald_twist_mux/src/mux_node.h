@@ -9,7 +9,7 @@
 #include <geometry_msgs/TwistStamped.h>
 #include <ros/ros.h>
 #include <std_msgs/Bool.h>
-#include <thorvald_base/ros/param_reader.h>
+#include <thorvald_common/param_reader.h>
 
 #include "mux_params.h"
 #include "thorvald_twist_mux/twist_selector.h"
@@ -22,8 +22,8 @@ namespace thorvald_twist_mux {
 class MuxNode {
  public:
   /// Reads and validates parameters through `params` (the caller finishes the reader); throws
-  /// std::runtime_error (thorvald_base::ParamError for a mistyped option) with the reason when the node cannot start.
-  MuxNode(ros::NodeHandle nh, ros::NodeHandle pnh, thorvald_base::ParamReader& params);
+  /// std::runtime_error (thorvald_common::ParamError for a mistyped option) with the reason when the node cannot start.
+  MuxNode(ros::NodeHandle nh, ros::NodeHandle pnh, thorvald_common::ParamReader& params);
 
  private:
   struct InputCounters {

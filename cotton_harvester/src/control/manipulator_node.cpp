@@ -218,7 +218,7 @@ int main(int argc, char** argv) {
   ros::init(argc, argv, "manipulator");
   ros::NodeHandle nh, pnh("~");
   try {
-    thorvald_base::ParamReader reader(pnh);
+    thorvald_common::ParamReader reader(pnh);
     reader.alsoRead("diagnostic_period");  // diagnostic_updater's own
     cotton_harvester::control::ManipulatorNode node(nh, pnh, cotton_harvester::control::NodeParams(reader));
     reader.finish();

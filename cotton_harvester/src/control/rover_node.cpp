@@ -232,7 +232,7 @@ int main(int argc, char** argv) {
   ros::init(argc, argv, "rover");
   ros::NodeHandle nh, pnh("~");
   try {
-    thorvald_base::ParamReader reader(pnh);
+    thorvald_common::ParamReader reader(pnh);
     reader.alsoRead("diagnostic_period");  // diagnostic_updater's own
     cotton_harvester::control::RoverNode node(nh, pnh, cotton_harvester::control::NodeParams(reader));
     reader.finish();

@@ -4,7 +4,7 @@
 #include <sstream>
 #include <vector>
 
-#include <thorvald_base/ros/param_reader.h>
+#include <thorvald_common/param_reader.h>
 
 namespace cotton_harvester {
 namespace {
@@ -18,14 +18,14 @@ class Reader {
   explicit Reader(const ros::NodeHandle& pnh) : r_(pnh, "harvest_perception") {}
 
   void read(const std::string& key, double* value, const char*) {
-    *value = r_.number(key, *value, thorvald_base::ParamRange::any());
+    *value = r_.number(key, *value, thorvald_common::ParamRange::any());
   }
   void read(const std::string& key, int* value, const char*) { *value = r_.integer(key, *value); }
   void read(const std::string& key, bool* value, const char*) { *value = r_.flag(key, *value); }
   void read(const std::string& key, std::string* value, const char*) { *value = r_.text(key, *value); }
   /// An image direction [du, dv].
   void read(const std::string& key, cv::Point2d* value, const char*) {
-    const std::vector<double> v = r_.numbers(key, {value->x, value->y}, thorvald_base::ParamRange::any(), "", 2, 2);
+    const std::vector<double> v = r_.numbers(key, {value->x, value->y}, thorvald_common::ParamRange::any(), "", 2, 2);
     *value = {v[0], v[1]};
   }
 
@@ -36,27 +36,27 @@ class Reader {
     const std::string name = r_.text(key, "");
     const auto parsed = parse(name);
     if (!parsed)
-      throw thorvald_base::ParamError("harvest_perception: ~" + key + ": expected " + expected + " (got '" + name +
-                                      "')");
+      throw thorvald_common::ParamError("harvest_perception: ~" + key + ": expected " + expected + " (got '" + name +
+                                        "')");
     *value = *parsed;
   }
 
   void finish() { r_.finish(); }
 
  private:
-  thorvald_base::ParamReader r_;
+  thorvald_common::ParamReader r_;
 };
 
 }  // namespace
 
-/// Reads and validates; a parameter of the wrong type throws thorvald_base::ParamError.
+/// Reads and validates; a parameter of the wrong type throws thorvald_common::ParamError.
 static bool loadPerceptionNodeConfigOrThrow(const ros::NodeHandle& pnh, PerceptionNodeConfig* config,
                                             std::string* error);
 
 bool loadPerceptionNodeConfig(const ros::NodeHandle& pnh, PerceptionNodeConfig* config, std::string* error) {
   try {
     return loadPerceptionNodeConfigOrThrow(pnh, config, error);
-  } catch (const thorvald_base::ParamError& e) {
+  } catch (const thorvald_common::ParamError& e) {
     *error = e.what();
     return false;
   }

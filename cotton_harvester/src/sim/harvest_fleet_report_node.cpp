@@ -8,7 +8,7 @@
 
 #include <diagnostic_msgs/DiagnosticStatus.h>
 #include <ros/ros.h>
-#include <thorvald_base/ros/param_reader.h>
+#include <thorvald_common/param_reader.h>
 
 namespace {
 
@@ -32,11 +32,11 @@ int main(int argc, char** argv) {
   std::vector<std::string> rovers;
   double timeout_s = 0.0;
   try {
-    thorvald_base::ParamReader reader(pnh);
+    thorvald_common::ParamReader reader(pnh);
     rovers = reader.texts("rovers", {"rover1", "rover2"}, 1, 16, true);
-    timeout_s = reader.number("timeout_s", 3600.0, thorvald_base::ParamRange::aboveUpTo(0.0, 86400.0), "s");
+    timeout_s = reader.number("timeout_s", 3600.0, thorvald_common::ParamRange::aboveUpTo(0.0, 86400.0), "s");
     reader.finish();
-  } catch (const thorvald_base::ParamError& e) {
+  } catch (const thorvald_common::ParamError& e) {
     ROS_FATAL("%s", e.what());
     return 1;
   }

@@ -9,7 +9,7 @@
 
 #include <diagnostic_msgs/DiagnosticStatus.h>
 #include <ros/ros.h>
-#include <thorvald_base/ros/param_reader.h>
+#include <thorvald_common/param_reader.h>
 #include <thorvald_state_machine/MachineStatus.h>
 #include <thorvald_state_machine/ros/status_publisher.h>
 
@@ -20,9 +20,9 @@ namespace {
 
 using cotton_harvester::sim::HarvestRunConfig;
 using cotton_harvester::sim::HarvestRunReport;
-using thorvald_base::ParamRange;
+using thorvald_common::ParamRange;
 
-HarvestRunConfig readConfig(thorvald_base::ParamReader& r) {
+HarvestRunConfig readConfig(thorvald_common::ParamReader& r) {
   const std::string experiment = r.choice("experiment", "potted", {"potted", "field"});
   const int seed = r.integer("seed", 1, 0, 1000000);
   HarvestRunConfig c = experiment == "field" ? cotton_harvester::sim::fieldConfig(static_cast<unsigned>(seed))
@@ -68,13 +68,13 @@ int main(int argc, char** argv) {
   HarvestRunConfig config;
   std::string metrics_csv, path_png, run_name;
   try {
-    thorvald_base::ParamReader reader(pnh);
+    thorvald_common::ParamReader reader(pnh);
     config = readConfig(reader);
     metrics_csv = reader.text("metrics_csv", "");
     path_png = reader.text("path_png", "");
     run_name = reader.text("run_name", "mujoco_harvest");
     reader.finish();
-  } catch (const thorvald_base::ParamError& e) {
+  } catch (const thorvald_common::ParamError& e) {
     ROS_FATAL("%s", e.what());
     return 1;
   }

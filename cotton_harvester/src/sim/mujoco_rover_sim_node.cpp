@@ -23,7 +23,7 @@
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
-#include <thorvald_base/ros/param_reader.h>
+#include <thorvald_common/param_reader.h>
 #include <thorvald_state_machine/MachineStatus.h>
 
 #include "cotton_harvester/BollArray.h"
@@ -37,7 +37,7 @@ namespace cotton_harvester {
 namespace sim {
 namespace {
 
-using thorvald_base::ParamRange;
+using thorvald_common::ParamRange;
 
 struct SimNodeConfig {
   HarvestRunConfig run;  ///< the world (experiment, seed, plants, slope) and the stretch scored (row_length_m)
@@ -57,7 +57,7 @@ struct SimNodeConfig {
   std::string metrics_csv, run_name, camera_frame;
 };
 
-SimNodeConfig readConfig(thorvald_base::ParamReader& r) {
+SimNodeConfig readConfig(thorvald_common::ParamReader& r) {
   SimNodeConfig c;
   const std::string experiment = r.choice("experiment", "potted", {"potted", "field"});
   const int seed = r.integer("seed", 1, 0, 1000000);
@@ -415,10 +415,10 @@ int main(int argc, char** argv) {
   ros::NodeHandle nh, pnh("~");
   cotton_harvester::sim::SimNodeConfig config;
   try {
-    thorvald_base::ParamReader reader(pnh);
+    thorvald_common::ParamReader reader(pnh);
     config = cotton_harvester::sim::readConfig(reader);
     reader.finish();
-  } catch (const thorvald_base::ParamError& e) {
+  } catch (const thorvald_common::ParamError& e) {
     ROS_FATAL("%s", e.what());
     return 1;
   }

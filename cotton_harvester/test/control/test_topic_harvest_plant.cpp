@@ -20,6 +20,7 @@
 #include <sensor_msgs/JointState.h>
 #include <std_msgs/Bool.h>
 #include <std_msgs/Float64.h>
+#include <thorvald_common/wait_for.h>
 
 #include "cotton_harvester/BollArray.h"
 #include "../../src/control/topic_harvest_plant.h"
@@ -28,13 +29,9 @@ namespace cotton_harvester {
 namespace control {
 namespace {
 
+/// Waits for `done` while the AsyncSpinner of main() runs the callbacks.
 bool waitUntil(const std::function<bool()>& done, double timeout_s) {
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout_s);
-  while (ros::WallTime::now() < deadline) {
-    if (done()) return true;
-    ros::WallDuration(0.005).sleep();
-  }
-  return done();
+  return thorvald_common::waitFor(done, timeout_s, thorvald_common::sleepEvery(0.005));
 }
 
 const HarvestPlant::Preempted kNever = [] { return false; };

@@ -7,6 +7,7 @@
 #include <opencv2/core.hpp>
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <thorvald_common/wait_for.h>
 
 namespace cotton_harvester {
 namespace test {
@@ -35,16 +36,7 @@ inline sensor_msgs::PointCloud2 toCloud(const cv::Mat& points, const std_msgs::H
   return cloud;
 }
 
-/// Spins until the condition holds or the deadline passes [s].
-inline bool waitFor(const std::function<bool()>& condition, double timeout_s) {
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout_s);
-  while (ros::ok() && ros::WallTime::now() < deadline) {
-    ros::spinOnce();
-    if (condition()) return true;
-    ros::WallDuration(0.01).sleep();
-  }
-  return false;
-}
+using thorvald_common::waitFor;  // spins until the condition holds or the deadline [s] passes
 
 }  // namespace test
 }  // namespace cotton_harvester

@@ -14,6 +14,7 @@
 #include <geometry_msgs/PointStamped.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
+#include <thorvald_common/wait_for.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
 
@@ -51,15 +52,9 @@ class HarvestPerceptionNodeTest : public ::testing::Test {
     })) << "harvest_perception did not come up";
   }
 
-  /// Spins until the condition holds or the deadline passes.
+  /// Spins until the condition holds or the deadline [s] passes.
   bool waitFor(const std::function<bool()>& condition, double timeout_s = 20.0) {
-    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout_s);
-    while (ros::ok() && ros::WallTime::now() < deadline) {
-      ros::spinOnce();
-      if (condition()) return true;
-      ros::WallDuration(0.01).sleep();
-    }
-    return false;
+    return thorvald_common::waitFor(condition, timeout_s);
   }
 
   std_msgs::Header header(int sequence) {

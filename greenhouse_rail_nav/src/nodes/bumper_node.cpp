@@ -5,7 +5,8 @@
 #include <ros/ros.h>
 #include <std_msgs/Bool.h>
 #include <std_srvs/Trigger.h>
-#include <thorvald_base/ros/param_reader.h>
+#include <thorvald_common/param_reader.h>
+#include <thorvald_common/run_node.h>
 
 #include <mutex>
 
@@ -14,9 +15,9 @@ namespace {
 class Bumper {
  public:
   Bumper(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
-    thorvald_base::ParamReader params(pnh);
-    const double rate = params.number("publish_rate", 20.0, thorvald_base::ParamRange::aboveUpTo(0.0, 200.0), "Hz");
-    input_timeout_s_ = params.number("input_timeout", 0.0, thorvald_base::ParamRange::atLeast(0.0), "s");
+    thorvald_common::ParamReader params(pnh);
+    const double rate = params.number("publish_rate", 20.0, thorvald_common::ParamRange::aboveUpTo(0.0, 200.0), "Hz");
+    input_timeout_s_ = params.number("input_timeout", 0.0, thorvald_common::ParamRange::atLeast(0.0), "s");
     const std::string lock_topic = params.text("lock_topic", "bumper/lock");
     latched_ = params.flag("start_latched", false);
     params.alsoRead("diagnostic_period");
@@ -107,16 +108,7 @@ class Bumper {
 }  // namespace
 
 int main(int argc, char** argv) {
-  ros::init(argc, argv, "bumper");
-  ros::NodeHandle nh, pnh("~");
-  try {
-    Bumper bumper(nh, pnh);
-    ros::AsyncSpinner spinner(1);
-    spinner.start();
-    ros::waitForShutdown();
-  } catch (const thorvald_base::ParamError& e) {
-    ROS_FATAL("%s", e.what());
-    return 1;
-  }
-  return 0;
+  thorvald_common::RunNodeOptions options;
+  options.spinner_threads = 1;
+  return thorvald_common::runNode<Bumper>(argc, argv, "bumper", options);
 }

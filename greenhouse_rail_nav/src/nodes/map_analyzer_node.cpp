@@ -9,7 +9,7 @@
 #include <geometry_msgs/PolygonStamped.h>
 #include <ros/ros.h>
 #include <std_msgs/String.h>
-#include <thorvald_base/ros/param_reader.h>
+#include <thorvald_common/param_reader.h>
 
 #include "greenhouse_rail_nav/keep_out_grid.h"
 #include "greenhouse_rail_nav/map_analyzer.h"
@@ -30,10 +30,10 @@ struct NodeSettings {
   MapAnalyzerParams analysis;
 };
 
-/// Reads and checks every private parameter; throws thorvald_base::ParamError naming the bad one.
+/// Reads and checks every private parameter; throws thorvald_common::ParamError naming the bad one.
 NodeSettings loadSettings(const ros::NodeHandle& pnh) {
-  using thorvald_base::ParamRange;
-  thorvald_base::ParamReader r(pnh);
+  using thorvald_common::ParamRange;
+  thorvald_common::ParamReader r(pnh);
   NodeSettings s;
   const ParamRange positive = ParamRange::above(0.0);
   const ParamRange any = ParamRange::any();
@@ -75,8 +75,9 @@ NodeSettings loadSettings(const ros::NodeHandle& pnh) {
       r.number("side_wall_max_thickness_m", a.side_wall_max_thickness_m, ParamRange::atLeast(0.0), "m");
   r.alsoRead("diagnostic_period");
   // Checks across parameters (e.g. the gauge below the spacing): the library's own validation.
-  if (const std::string error = a.validate(); !error.empty()) throw thorvald_base::ParamError(r.node() + ": " + error);
-  if (s.frame_id.empty()) throw thorvald_base::ParamError(r.node() + ": frame_id must not be empty");
+  if (const std::string error = a.validate(); !error.empty())
+    throw thorvald_common::ParamError(r.node() + ": " + error);
+  if (s.frame_id.empty()) throw thorvald_common::ParamError(r.node() + ": frame_id must not be empty");
   r.finish();
   return s;
 }
@@ -259,7 +260,7 @@ int main(int argc, char** argv) {
   NodeSettings settings;
   try {
     settings = loadSettings(pnh);
-  } catch (const thorvald_base::ParamError& e) {
+  } catch (const thorvald_common::ParamError& e) {
     ROS_FATAL_STREAM("map_analyzer: cannot start: " << e.what());
     return 1;
   }

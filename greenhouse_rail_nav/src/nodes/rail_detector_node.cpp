@@ -7,7 +7,8 @@
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <ros/ros.h>
-#include <thorvald_base/ros/param_reader.h>
+#include <thorvald_common/param_reader.h>
+#include <thorvald_common/run_node.h>
 #include <std_srvs/Trigger.h>
 #include <tf2/LinearMath/Quaternion.h>
 #include <tf2_geometry_msgs/tf2_geometry_msgs.h>
@@ -35,10 +36,10 @@ struct NodeSettings {
   RailPoseGateParams gate;
 };
 
-/// Reads and checks every private parameter; throws thorvald_base::ParamError naming the bad one.
+/// Reads and checks every private parameter; throws thorvald_common::ParamError naming the bad one.
 NodeSettings loadSettings(const ros::NodeHandle& pnh) {
-  using thorvald_base::ParamRange;
-  thorvald_base::ParamReader r(pnh);
+  using thorvald_common::ParamRange;
+  thorvald_common::ParamReader r(pnh);
   NodeSettings s;
   const ParamRange positive = ParamRange::above(0.0);
   s.base_frame = r.text("base_frame", s.base_frame);
@@ -87,9 +88,9 @@ NodeSettings loadSettings(const ros::NodeHandle& pnh) {
   r.alsoRead("diagnostic_period");
   // Checks across parameters (e.g. crop_z_min_m < crop_z_max_m): the library's own validation.
   for (const std::string& error : {d.validate(), s.gate.validate()})
-    if (!error.empty()) throw thorvald_base::ParamError(r.node() + ": " + error);
+    if (!error.empty()) throw thorvald_common::ParamError(r.node() + ": " + error);
   if (s.base_frame.empty() || s.rail_frame.empty())
-    throw thorvald_base::ParamError(r.node() + ": base_frame and rail_frame must not be empty");
+    throw thorvald_common::ParamError(r.node() + ": base_frame and rail_frame must not be empty");
   r.finish();
   return s;
 }
@@ -332,16 +333,7 @@ class RailDetectorNode {
 }  // namespace greenhouse_rail_nav
 
 int main(int argc, char** argv) {
-  ros::init(argc, argv, "rail_detector");
-  ros::NodeHandle nh, pnh("~");
-  greenhouse_rail_nav::NodeSettings settings;
-  try {
-    settings = greenhouse_rail_nav::loadSettings(pnh);
-  } catch (const thorvald_base::ParamError& e) {
-    ROS_FATAL_STREAM("rail_detector: cannot start: " << e.what());
-    return 1;
-  }
-  greenhouse_rail_nav::RailDetectorNode node(nh, pnh, settings);
-  ros::spin();
-  return 0;
+  return thorvald_common::runNode(argc, argv, "rail_detector", [](ros::NodeHandle& nh, ros::NodeHandle& pnh) {
+    return std::make_shared<greenhouse_rail_nav::RailDetectorNode>(nh, pnh, greenhouse_rail_nav::loadSettings(pnh));
+  });
 }

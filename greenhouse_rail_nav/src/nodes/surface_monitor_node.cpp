@@ -6,7 +6,8 @@
 #include <sensor_msgs/Range.h>
 #include <std_msgs/Bool.h>
 #include <thorvald_base/SetDriveParams.h>
-#include <thorvald_base/ros/param_reader.h>
+#include <thorvald_common/param_reader.h>
+#include <thorvald_common/run_node.h>
 
 #include <algorithm>
 #include <atomic>
@@ -38,8 +39,8 @@ uint8_t toMsg(Surface s) {
 class SurfaceMonitor {
  public:
   SurfaceMonitor(ros::NodeHandle& nh, ros::NodeHandle& pnh) : nh_(nh) {
-    thorvald_base::ParamReader params(pnh);
-    const auto any_positive = thorvald_base::ParamRange::above(0.0);
+    thorvald_common::ParamReader params(pnh);
+    const auto any_positive = thorvald_common::ParamRange::above(0.0);
     SurfaceClassifierParams cp;
     cp.floor_range_m = params.number("floor_range", cp.floor_range_m, any_positive, "m");
     cp.rail_height_m = params.number("rail_height", cp.rail_height_m, any_positive, "m");
@@ -47,16 +48,16 @@ class SurfaceMonitor {
     cp.edge_margin_m = params.number("edge_margin", cp.edge_margin_m, any_positive, "m");
     cp.confirm_readings = params.integer("confirm_readings", cp.confirm_readings, 1, 100);
     const std::string problems = cp.validate();
-    if (!problems.empty()) throw thorvald_base::ParamError(params.node() + ": " + problems);
+    if (!problems.empty()) throw thorvald_common::ParamError(params.node() + ": " + problems);
     sensors_ = params.texts("sensors", {"front_right", "front_left", "mid_right", "mid_left"}, 1, 16, true);
     front_ =
         indices(params, params.texts("front_sensors", {"front_right", "front_left"}, 0, 16, true), "front_sensors");
     wheels_ = indices(params, params.texts("wheel_sensors", {"mid_right", "mid_left"}, 0, 16, true), "wheel_sensors");
-    floor_radius_ = params.number("floor_wheel_radius", 0.175, thorvald_base::ParamRange::aboveUpTo(0.0, 2.0), "m");
-    rail_radius_ = params.number("rail_wheel_radius", 0.12, thorvald_base::ParamRange::aboveUpTo(0.0, 2.0), "m");
+    floor_radius_ = params.number("floor_wheel_radius", 0.175, thorvald_common::ParamRange::aboveUpTo(0.0, 2.0), "m");
+    rail_radius_ = params.number("rail_wheel_radius", 0.12, thorvald_common::ParamRange::aboveUpTo(0.0, 2.0), "m");
     set_radius_ = params.flag("set_wheel_radius", true);
-    sensor_timeout_s_ = params.number("sensor_timeout", 0.5, thorvald_base::ParamRange::above(0.0), "s");
-    const double rate = params.number("publish_rate", 20.0, thorvald_base::ParamRange::aboveUpTo(0.0, 200.0), "Hz");
+    sensor_timeout_s_ = params.number("sensor_timeout", 0.5, thorvald_common::ParamRange::above(0.0), "s");
+    const double rate = params.number("publish_rate", 20.0, thorvald_common::ParamRange::aboveUpTo(0.0, 200.0), "Hz");
     const std::string lock_topic = params.text("lock_topic", "safety/lock");
     const std::string topic_prefix = params.text("topic_prefix", "ultrasonic/");
     params.alsoRead("diagnostic_period");
@@ -90,16 +91,17 @@ class SurfaceMonitor {
   }
 
  private:
-  std::vector<std::size_t> indices(thorvald_base::ParamReader& params, const std::vector<std::string>& names,
+  std::vector<std::size_t> indices(thorvald_common::ParamReader& params, const std::vector<std::string>& names,
                                    const std::string& key) const {
     std::vector<std::size_t> out;
     for (const auto& n : names) {
       auto it = std::find(sensors_.begin(), sensors_.end(), n);
       if (it == sensors_.end())
-        throw thorvald_base::ParamError(params.node() + ": parameter ~" + key + ": '" + n + "' is not one of ~sensors");
+        throw thorvald_common::ParamError(params.node() + ": parameter ~" + key + ": '" + n +
+                                          "' is not one of ~sensors");
       out.push_back(static_cast<std::size_t>(it - sensors_.begin()));
     }
-    if (out.empty()) throw thorvald_base::ParamError(params.node() + ": parameter ~" + key + " is empty");
+    if (out.empty()) throw thorvald_common::ParamError(params.node() + ": parameter ~" + key + " is empty");
     return out;
   }
 
@@ -231,16 +233,7 @@ class SurfaceMonitor {
 }  // namespace greenhouse_rail_nav
 
 int main(int argc, char** argv) {
-  ros::init(argc, argv, "surface_monitor");
-  ros::NodeHandle nh, pnh("~");
-  try {
-    greenhouse_rail_nav::SurfaceMonitor monitor(nh, pnh);
-    ros::AsyncSpinner spinner(2);
-    spinner.start();
-    ros::waitForShutdown();
-  } catch (const thorvald_base::ParamError& e) {
-    ROS_FATAL("%s", e.what());
-    return 1;
-  }
-  return 0;
+  thorvald_common::RunNodeOptions options;
+  options.spinner_threads = 2;
+  return thorvald_common::runNode<greenhouse_rail_nav::SurfaceMonitor>(argc, argv, "surface_monitor", options);
 }

@@ -15,7 +15,7 @@
 #include <std_srvs/Trigger.h>
 #include <tf2/utils.h>
 #include <tf2_ros/transform_listener.h>
-#include <thorvald_base/ros/param_reader.h>
+#include <thorvald_common/param_reader.h>
 #include <thorvald_state_machine/ros/status_publisher.h>
 #include <yaml-cpp/yaml.h>
 
@@ -259,8 +259,8 @@ int main(int argc, char** argv) {
   ros::init(argc, argv, "uv_mission");
   ros::NodeHandle nh, pnh("~");
   try {
-    thorvald_base::ParamReader params(pnh);
-    using R = thorvald_base::ParamRange;
+    thorvald_common::ParamReader params(pnh);
+    using R = thorvald_common::ParamRange;
     grn::UvMissionParams p;
     const std::string file = params.text("rail_sets_file", "");
     const std::string progress_file = params.text("progress_file", "");
@@ -300,9 +300,9 @@ int main(int argc, char** argv) {
     p.recover_reverse_max_m = params.number("recover_reverse_max", p.recover_reverse_max_m, R::closed(0.0, 5.0), "m");
     params.finish();
     const std::string problems = p.validate();
-    if (!problems.empty()) throw thorvald_base::ParamError("uv_mission: " + problems);
+    if (!problems.empty()) throw thorvald_common::ParamError("uv_mission: " + problems);
     if (file.empty())
-      throw thorvald_base::ParamError("uv_mission: ~rail_sets_file is required (map_analyzer's output)");
+      throw thorvald_common::ParamError("uv_mission: ~rail_sets_file is required (map_analyzer's output)");
     if (wait_for_rail_sets_s > 0.0) {
       // map_analyzer, started together with the mission, writes the file before it publishes rail_targets
       // (latched): the file is read once that message has come, so a file left by an earlier run is not taken.
@@ -391,7 +391,7 @@ int main(int argc, char** argv) {
     ros::waitForShutdown();
     mission.requestPreempt();
     if (worker.joinable()) worker.join();
-  } catch (const thorvald_base::ParamError& e) {
+  } catch (const thorvald_common::ParamError& e) {
     ROS_FATAL("%s", e.what());
     return 1;
   } catch (const std::exception& e) {

@@ -11,9 +11,11 @@
 #include "thorvald_base/motor_drive.h"
 #include "thorvald_base/robot_config.h"
 
-namespace thorvald_base {
-
+namespace thorvald_common {
 class ParamReader;
+}  // namespace thorvald_common
+
+namespace thorvald_base {
 
 /// One classic CAN frame, as relayed between the base's bus and users.
 struct CanFrameData {
@@ -31,7 +33,7 @@ class BaseHardware {
 
   /// Reads the plugin's own private parameters of base_driver (e.g. `~can_log`) through the node's reader, before
   /// initialize(); a bad value throws ParamError or ConfigError. Optional: the default reads none.
-  virtual void readParameters(ParamReader& params) { (void)params; }
+  virtual void readParameters(thorvald_common::ParamReader& params) { (void)params; }
 
   /// Opens the bus (`socketcan` or `virtual`, with its name) and creates one device per drive and battery.
   /// Throws std::runtime_error saying what could not be opened or created.

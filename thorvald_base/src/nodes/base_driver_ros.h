@@ -21,9 +21,13 @@
 #include "thorvald_base/base_driver.h"
 #include "thorvald_base/base_hardware.h"
 #include "thorvald_base/relay_allow_list.h"
-#include "thorvald_base/ros/param_reader.h"
+#include "thorvald_common/param_reader.h"
 
 namespace thorvald_base {
+
+using thorvald_common::describeParamValue;
+using thorvald_common::ParamRange;
+using thorvald_common::ParamReader;
 
 /// The base_driver node: reads the robot file from its namespace, builds a BaseDriver on simulated drives or on
 /// a hardware plugin, and connects it to topics, services, tf and diagnostics. Single-threaded (one spinner):

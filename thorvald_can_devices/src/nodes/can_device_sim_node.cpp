@@ -8,7 +8,7 @@
 #include <memory>
 #include <sstream>
 
-#include "thorvald_base/ros/param_reader.h"
+#include "thorvald_common/param_reader.h"
 #include "thorvald_base/ros/robot_config_params.h"
 #include "thorvald_can_devices/InjectFault.h"
 #include "thorvald_can_devices/candump_log.h"
@@ -22,13 +22,13 @@ double steadyS() { return std::chrono::duration<double>(std::chrono::steady_cloc
 class CanDeviceSimNode {
  public:
   CanDeviceSimNode(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh) {
-    thorvald_base::ParamReader params(pnh, "can_device_sim");
+    thorvald_common::ParamReader params(pnh, "can_device_sim");
     const thorvald_base::RobotConfig config = thorvald_base::robotConfigFromParams(nh, params.text("robot_file", ""));
     for (const auto& w : config.warnings) ROS_WARN_STREAM(w);
     const std::string type = params.choice("can_interface_type", "socketcan", {"socketcan", "virtual"});
     const std::string name = params.text("can_interface_name", "can0");
     const std::string log = params.text("can_log", "");
-    rate_hz_ = params.number("rate", 500.0, thorvald_base::ParamRange::closed(10.0, 5000.0), "Hz");
+    rate_hz_ = params.number("rate", 500.0, thorvald_common::ParamRange::closed(10.0, 5000.0), "Hz");
     params.finish();
     bus_ = openCanBus(type, name);
     if (!log.empty())

@@ -8,7 +8,7 @@
 
 #include "thorvald_base/robot_config.h"
 #include "thorvald_model/model_builder.h"
-#include "thorvald_base/ros/param_reader.h"
+#include "thorvald_common/param_reader.h"
 #include "thorvald_base/ros/robot_config_params.h"
 
 int main(int argc, char** argv) {
@@ -17,9 +17,9 @@ int main(int argc, char** argv) {
   std::vector<std::string> names;
   double rate = 10.0;
   try {
-    thorvald_base::ParamReader params(pnh);
+    thorvald_common::ParamReader params(pnh);
     std::string tf_prefix = params.text("tf_prefix", "");
-    rate = params.number("rate", 10.0, thorvald_base::ParamRange::aboveUpTo(0.0, 1000.0), "Hz");
+    rate = params.number("rate", 10.0, thorvald_common::ParamRange::aboveUpTo(0.0, 1000.0), "Hz");
     const auto config = thorvald_base::robotConfigFromParams(nh, params.text("robot_file", ""));
     for (const auto& w : config.warnings) ROS_WARN_STREAM(w);
     params.finish();

@@ -16,7 +16,7 @@
 #include <std_srvs/Trigger.h>
 #include <tf2_ros/transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
-#include <thorvald_base/ros/param_reader.h>
+#include <thorvald_common/param_reader.h>
 
 #include "ros_conversions.h"
 #include "scan_frames.h"
@@ -38,9 +38,9 @@ struct Settings {
 
 /// Reads and checks the node's parameters; false with the reason in `error` when one is wrong.
 bool loadSettings(const ros::NodeHandle& pnh, Settings* s, std::string* error) {
-  using R = thorvald_base::ParamRange;
+  using R = thorvald_common::ParamRange;
   try {
-    thorvald_base::ParamReader r(pnh, "headland_mapper");
+    thorvald_common::ParamReader r(pnh, "headland_mapper");
     s->base_frame = r.text("base_frame", s->base_frame);
     s->odom_frame = r.text("odom_frame", s->odom_frame);
     s->map_frame = r.text("map_frame", s->map_frame);
@@ -94,10 +94,10 @@ bool loadSettings(const ros::NodeHandle& pnh, Settings* s, std::string* error) {
       r.alsoRead(key);
     r.finish();
     const std::string problem = m.validate();
-    if (!problem.empty()) throw thorvald_base::ParamError("headland_mapper: " + problem);
+    if (!problem.empty()) throw thorvald_common::ParamError("headland_mapper: " + problem);
     if (s->base_frame.empty() || s->odom_frame.empty() || s->map_frame.empty())
-      throw thorvald_base::ParamError("headland_mapper: ~base_frame, ~odom_frame and ~map_frame must not be empty");
-  } catch (const thorvald_base::ParamError& e) {
+      throw thorvald_common::ParamError("headland_mapper: ~base_frame, ~odom_frame and ~map_frame must not be empty");
+  } catch (const thorvald_common::ParamError& e) {
     *error = e.what();
     return false;
   }

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <exception>
 
-#include <thorvald_base/ros/param_reader.h>
+#include <thorvald_common/param_reader.h>
 
 #include "thorvald_base/ros/robot_config_params.h"
 
@@ -21,12 +21,12 @@ Footprint makeFootprint(const std::vector<double>& flat, double padding) {
 }
 
 bool loadSettings(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, Settings* s, std::string* error) {
-  using R = thorvald_base::ParamRange;
+  using R = thorvald_common::ParamRange;
   auto check = [](const std::string& problem) {
-    if (!problem.empty()) throw thorvald_base::ParamError("headland_navigator: " + problem);
+    if (!problem.empty()) throw thorvald_common::ParamError("headland_navigator: " + problem);
   };
   try {
-    thorvald_base::ParamReader r(pnh, "headland_navigator");
+    thorvald_common::ParamReader r(pnh, "headland_navigator");
     s->global_frame = r.text("global_frame", s->global_frame);
     s->base_frame = r.text("robot_base_frame", s->base_frame);
     s->keep_out_topic = r.text("keep_out_topic", s->keep_out_topic);
@@ -108,7 +108,7 @@ bool loadSettings(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, Setting
     check(s->planner.validate());
     check(f.validate());
     check(s->gate.validate());
-  } catch (const thorvald_base::ParamError& e) {
+  } catch (const thorvald_common::ParamError& e) {
     *error = e.what();
     return false;
   }

@@ -16,7 +16,7 @@
 #include <std_srvs/Empty.h>
 #include <tf2_ros/transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
-#include <thorvald_base/ros/param_reader.h>
+#include <thorvald_common/param_reader.h>
 
 #include "ros_conversions.h"
 #include "scan_frames.h"
@@ -42,9 +42,9 @@ struct Settings {
 
 /// Reads and checks the node's parameters; false with the reason in `error` when one is wrong.
 bool loadSettings(const ros::NodeHandle& pnh, Settings* s, std::string* error) {
-  using R = thorvald_base::ParamRange;
+  using R = thorvald_common::ParamRange;
   try {
-    thorvald_base::ParamReader r(pnh, "map_localizer");
+    thorvald_common::ParamReader r(pnh, "map_localizer");
     s->base_frame_id = r.text("base_frame_id", s->base_frame_id);
     s->odom_frame_id = r.text("odom_frame_id", s->odom_frame_id);
     s->global_frame_id = r.text("global_frame_id", s->global_frame_id);
@@ -91,8 +91,8 @@ bool loadSettings(const ros::NodeHandle& pnh, Settings* s, std::string* error) {
       r.alsoRead(key);
     r.finish();
     const std::string problem = l.validate();
-    if (!problem.empty()) throw thorvald_base::ParamError("map_localizer: " + problem);
-  } catch (const thorvald_base::ParamError& e) {
+    if (!problem.empty()) throw thorvald_common::ParamError("map_localizer: " + problem);
+  } catch (const thorvald_common::ParamError& e) {
     *error = e.what();
     return false;
   }

@@ -6,7 +6,7 @@
 #include <nav_msgs/MapMetaData.h>
 #include <nav_msgs/OccupancyGrid.h>
 #include <ros/ros.h>
-#include <thorvald_base/ros/param_reader.h>
+#include <thorvald_common/param_reader.h>
 
 #include "ros_conversions.h"
 #include "thorvald_navigation/map_file.h"
@@ -16,13 +16,13 @@ int main(int argc, char** argv) {
   ros::NodeHandle nh, pnh("~");
   std::string map_file, frame_id = "map";
   try {
-    thorvald_base::ParamReader r(pnh, "map_publisher");
+    thorvald_common::ParamReader r(pnh, "map_publisher");
     map_file = r.text("map_file", map_file);
     frame_id = r.text("frame_id", frame_id);
     r.finish();
-    if (map_file.empty()) throw thorvald_base::ParamError("map_publisher: ~map_file (map_server YAML) must be set");
-    if (frame_id.empty()) throw thorvald_base::ParamError("map_publisher: ~frame_id must not be empty");
-  } catch (const thorvald_base::ParamError& e) {
+    if (map_file.empty()) throw thorvald_common::ParamError("map_publisher: ~map_file (map_server YAML) must be set");
+    if (frame_id.empty()) throw thorvald_common::ParamError("map_publisher: ~frame_id must not be empty");
+  } catch (const thorvald_common::ParamError& e) {
     ROS_FATAL_STREAM(e.what());
     return 1;
   }

@@ -14,7 +14,7 @@
 #include <ros/ros.h>
 #include <sensor_msgs/Imu.h>
 #include <tf2_ros/transform_broadcaster.h>
-#include <thorvald_base/ros/param_reader.h>
+#include <thorvald_common/param_reader.h>
 
 #include "ros_conversions.h"
 #include "thorvald_navigation/planar_ekf.h"
@@ -68,12 +68,12 @@ std::string parseConfig(const std::vector<bool>& cfg, const std::string& name, c
 
 /// Reads and checks the node's parameters; false with the reason in `error` when one is wrong.
 bool loadSettings(const ros::NodeHandle& pnh, Settings* s, std::string* error) {
-  using R = thorvald_base::ParamRange;
+  using R = thorvald_common::ParamRange;
   auto check = [](const std::string& problem) {
-    if (!problem.empty()) throw thorvald_base::ParamError("odom_fusion: " + problem);
+    if (!problem.empty()) throw thorvald_common::ParamError("odom_fusion: " + problem);
   };
   try {
-    thorvald_base::ParamReader r(pnh, "odom_fusion");
+    thorvald_common::ParamReader r(pnh, "odom_fusion");
     s->frequency = r.number("frequency", s->frequency, R::aboveUpTo(0.0, 1000.0), "Hz");
     s->two_d_mode = r.flag("two_d_mode", s->two_d_mode);
     s->publish_tf = r.flag("publish_tf", s->publish_tf);
@@ -129,7 +129,7 @@ bool loadSettings(const ros::NodeHandle& pnh, Settings* s, std::string* error) {
     s->initial_covariance = State6::Constant(1e-9);
     diagonal(q, "process_noise_covariance", &s->process_noise);
     diagonal(p0, "initial_estimate_covariance", &s->initial_covariance);
-  } catch (const thorvald_base::ParamError& e) {
+  } catch (const thorvald_common::ParamError& e) {
     *error = e.what();
     return false;
   }

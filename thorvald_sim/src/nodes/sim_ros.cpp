@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "thorvald_base/ros/param_reader.h"
+#include "thorvald_common/param_reader.h"
 #include "thorvald_sim/mjcf_compiler.h"
 #include "thorvald_sim/world.h"
 
@@ -22,7 +22,7 @@ double xmlNumber(XmlRpc::XmlRpcValue& v, const std::string& key, double def) {
   else if (x.getType() == XmlRpc::XmlRpcValue::TypeInt)
     out = static_cast<int>(x);
   else
-    throw std::invalid_argument(key + ": found " + thorvald_base::describeParamValue(x) + ", expected a number");
+    throw std::invalid_argument(key + ": found " + thorvald_common::describeParamValue(x) + ", expected a number");
   if (!std::isfinite(out)) throw std::invalid_argument(key + ": expected a finite number");
   return out;
 }
@@ -31,7 +31,7 @@ std::string xmlText(XmlRpc::XmlRpcValue& v, const std::string& key, const std::s
   if (!v.hasMember(key)) return def;
   XmlRpc::XmlRpcValue& x = v[key];
   if (x.getType() != XmlRpc::XmlRpcValue::TypeString)
-    throw std::invalid_argument(key + ": found " + thorvald_base::describeParamValue(x) + ", expected a string");
+    throw std::invalid_argument(key + ": found " + thorvald_common::describeParamValue(x) + ", expected a string");
   return static_cast<std::string>(x);
 }
 
@@ -40,9 +40,9 @@ std::string xmlText(XmlRpc::XmlRpcValue& v, const std::string& key, const std::s
 SimRos::SimRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), pnh_(pnh) {}
 
 bool SimRos::loadParams() {
-  using thorvald_base::ParamRange;
+  using thorvald_common::ParamRange;
   try {
-    thorvald_base::ParamReader params(pnh_, "thorvald_sim");
+    thorvald_common::ParamReader params(pnh_, "thorvald_sim");
     auto& p = params_;
     p.world = params.choice("world", p.world, {"flat", "greenhouse", "cotton_row"});
     p.truth_file = params.text("truth_file", p.truth_file);
@@ -113,7 +113,7 @@ bool SimRos::loadParams() {
     }
     params.alsoRead("diagnostic_period");
     params.finish();
-  } catch (const thorvald_base::ParamError& e) {
+  } catch (const thorvald_common::ParamError& e) {
     ROS_FATAL_STREAM(e.what());
     return false;
   }
@@ -163,7 +163,7 @@ bool SimRos::loadRobots(const WorldDescription& world) {
       XmlRpc::XmlRpcValue& r = list[i];
       if (r.getType() != XmlRpc::XmlRpcValue::TypeStruct)
         throw std::invalid_argument("expected a map {namespace, x, y, z, yaw, sensors, encoders}, found " +
-                                    thorvald_base::describeParamValue(r));
+                                    thorvald_common::describeParamValue(r));
       for (const auto& member : r) {
         static const std::vector<std::string> known = {"namespace", "x", "y", "z", "yaw", "sensors", "encoders"};
         if (std::find(known.begin(), known.end(), member.first) == known.end())

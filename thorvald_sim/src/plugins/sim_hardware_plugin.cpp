@@ -7,7 +7,7 @@
 #include <ros/ros.h>
 #include <sensor_msgs/JointState.h>
 #include <thorvald_base/base_hardware.h>
-#include <thorvald_base/ros/param_reader.h>
+#include <thorvald_common/param_reader.h>
 
 #include <map>
 #include <memory>
@@ -51,9 +51,9 @@ class SimJointDrive : public PhysicsDrive {
 
 class SimHardware : public thorvald_base::BaseHardware {
  public:
-  void readParameters(thorvald_base::ParamReader& params) override {
-    timeout_s_ = params.number("sim_joint_timeout", 0.5, thorvald_base::ParamRange::aboveUpTo(0.0, 10.0), "s");
-    startup_s_ = params.number("sim_startup_timeout", 60.0, thorvald_base::ParamRange::closed(0.0, 600.0), "s");
+  void readParameters(thorvald_common::ParamReader& params) override {
+    timeout_s_ = params.number("sim_joint_timeout", 0.5, thorvald_common::ParamRange::aboveUpTo(0.0, 10.0), "s");
+    startup_s_ = params.number("sim_startup_timeout", 60.0, thorvald_common::ParamRange::closed(0.0, 600.0), "s");
   }
 
   void initialize(const thorvald_base::RobotConfig& config, const std::string&, const std::string&) override {

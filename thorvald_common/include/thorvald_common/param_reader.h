@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-namespace thorvald_base {
+namespace thorvald_common {
 
 /// A private parameter with the wrong type or an unacceptable value. The message names the node, the parameter,
 /// what was found and what was expected; a node reports it and exits with code 1.
@@ -136,4 +136,4 @@ class ParamReader {
 /// Text of a parameter value for messages: "the string 'fast'", "the number 3", "a map", ...
 std::string describeParamValue(const XmlRpc::XmlRpcValue& value);
 
-}  // namespace thorvald_base
+}  // namespace thorvald_common

@@ -4,7 +4,7 @@
 #include <mutex>
 #include <thread>
 
-namespace thorvald_teleop {
+namespace thorvald_common {
 
 /// Orderly stop on SIGINT and SIGTERM, with a deadline.
 ///
@@ -40,4 +40,4 @@ class StopSignals {
   std::thread watchdog_;
 };
 
-}  // namespace thorvald_teleop
+}  // namespace thorvald_common

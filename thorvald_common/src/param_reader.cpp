@@ -1,4 +1,4 @@
-#include "thorvald_base/ros/param_reader.h"
+#include "thorvald_common/param_reader.h"
 
 #include <ros/console.h>
 #include <ros/master.h>
@@ -10,7 +10,7 @@
 #include <iomanip>
 #include <sstream>
 
-namespace thorvald_base {
+namespace thorvald_common {
 namespace {
 
 std::string formatNumber(double v) {
@@ -362,4 +362,4 @@ std::string ParamReader::effectiveValues() const {
   return out.empty() ? "none" : out;
 }
 
-}  // namespace thorvald_base
+}  // namespace thorvald_common

@@ -1,4 +1,4 @@
-#include "thorvald_teleop/stop_signals.h"
+#include "thorvald_common/stop_signals.h"
 
 #include <fcntl.h>
 #include <poll.h>
@@ -11,7 +11,7 @@
 #include <cstdio>
 #include <stdexcept>
 
-namespace thorvald_teleop {
+namespace thorvald_common {
 namespace {
 
 // What the signal handler may touch: lock-free atomics and a pipe (write() is async-signal-safe).
@@ -88,4 +88,4 @@ void StopSignals::watch() {
   _exit(0);
 }
 
-}  // namespace thorvald_teleop
+}  // namespace thorvald_common

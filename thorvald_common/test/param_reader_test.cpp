@@ -4,16 +4,16 @@
 
 #include <map>
 
-#include "thorvald_base/ros/param_reader.h"
+#include "thorvald_common/param_reader.h"
 
 using testing::HasSubstr;
-using thorvald_base::ParamError;
-using thorvald_base::ParamRange;
-using thorvald_base::ParamReader;
+using thorvald_common::ParamError;
+using thorvald_common::ParamRange;
+using thorvald_common::ParamReader;
 
 namespace {
 
-class MapSource : public thorvald_base::ParamSource {
+class MapSource : public thorvald_common::ParamSource {
  public:
   explicit MapSource(std::map<std::string, XmlRpc::XmlRpcValue> values) : values_(std::move(values)) {}
   bool get(const std::string& name, XmlRpc::XmlRpcValue& value) const override {

@@ -8,9 +8,9 @@
 #include <stdexcept>
 #include <thread>
 
-#include "thorvald_teleop/stop_signals.h"
+#include "thorvald_common/stop_signals.h"
 
-using thorvald_teleop::StopSignals;
+using thorvald_common::StopSignals;
 
 namespace {
 
