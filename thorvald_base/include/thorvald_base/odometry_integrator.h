@@ -2,19 +2,13 @@
 
 #include <Eigen/Core>
 
+#include "thorvald_base/pose2d.h"
 #include "thorvald_base/twist2d.h"
 
 namespace thorvald_base {
 
-/// A planar pose of base_link in odom: [m], [m], [rad].
-struct Pose2D {
-  double x = 0.0;
-  double y = 0.0;
-  double yaw = 0.0;
-};
-
-/// Integrates body twists into a pose, exactly along the arc a constant twist describes, and propagates the pose
-/// covariance from the twist covariance. Also sums the distance travelled.
+/// Integrates body twists into a pose (base_link in odom), exactly along the arc a constant twist describes, and
+/// propagates the pose covariance from the twist covariance. Also sums the distance travelled.
 class OdometryIntegrator {
  public:
   /// Advances by `dt_s` [s] at `twist` with covariance `twist_cov` (vx, vy, wz).
