@@ -24,12 +24,10 @@ done | xargs -0 cp --parents -t "$tmp/clean")
 set +e
 "$check" --root "$tmp/clean" >"$tmp/clean.out" 2>&1
 clean_rc=$?
-"$check" >"$tmp/repo.out" 2>&1
-repo_rc=$?
 set -e
 if [ "$clean_rc" -eq 0 ]; then
   ok "the clean copy passes"
-elif [ "$repo_rc" -eq 0 ]; then
+elif "$check" >/dev/null 2>&1; then
   bad "the repository passes but its clean copy does not:"; cat "$tmp/clean.out" >&2
 else
   echo "[test_check_layers] the repository violates these rules now (not counted as failures):"
