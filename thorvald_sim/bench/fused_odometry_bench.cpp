@@ -5,7 +5,7 @@
 // (thorvald_sim's IMU default, 0.002 rad/s, no bias). Prints the end-point error of wheel-only and fused odometry as
 // a share of the distance driven (truth), over --seeds gyro noise streams.
 //
-//   rosrun thorvald_navigation fused_odometry_bench [--seeds 5] [--gyro-noise 0.002] [--gyro-bias 0]
+//   rosrun thorvald_sim fused_odometry_bench [--seeds 5] [--gyro-noise 0.002] [--gyro-bias 0]
 #include <CLI/CLI.hpp>
 #include <thorvald_base/odometry_trial.h>
 

@@ -109,4 +109,4 @@ class GreenhouseSimMapping(unittest.TestCase):
 
 if __name__ == "__main__":
     rospy.init_node("greenhouse_sim_mapping_test")
-    rostest.rosrun("thorvald_navigation", "greenhouse_sim_mapping", GreenhouseSimMapping, sys.argv)
+    rostest.rosrun("thorvald_bringup", "greenhouse_sim_mapping", GreenhouseSimMapping, sys.argv)

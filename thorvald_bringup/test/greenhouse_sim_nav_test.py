@@ -15,7 +15,7 @@ import rostest
 
 
 def load_bench():
-    path = os.path.join(rospkg.RosPack().get_path("thorvald_navigation"), "bench", "greenhouse_nav_bench")
+    path = os.path.join(rospkg.RosPack().get_path("thorvald_bringup"), "bench", "greenhouse_nav_bench")
     loader = importlib.machinery.SourceFileLoader("greenhouse_nav_bench", path)
     spec = importlib.util.spec_from_loader("greenhouse_nav_bench", loader)
     module = importlib.util.module_from_spec(spec)
@@ -56,4 +56,4 @@ class GreenhouseSimNavigation(unittest.TestCase):
 
 if __name__ == "__main__":
     rospy.init_node("greenhouse_sim_nav_test")
-    rostest.rosrun("thorvald_navigation", "greenhouse_sim_nav", GreenhouseSimNavigation, sys.argv)
+    rostest.rosrun("thorvald_bringup", "greenhouse_sim_nav", GreenhouseSimNavigation, sys.argv)
