@@ -63,8 +63,15 @@ void JoyTeleop::handleButtons(const JoyState& joy, TeleopActions& actions) {
   if (pressedNow(joy, b.home_steering) && enabled) actions.home_steering = true;
 }
 
-TeleopActions JoyTeleop::onJoy(const JoyState& joy, double now_s) {
+TeleopActions JoyTeleop::onJoy(const JoyState& message, double now_s) {
   TeleopActions actions;
+  JoyState joy = message;
+  for (float& axis : joy.axes) {
+    if (std::isfinite(axis)) continue;
+    axis = 0.0f;
+    actions.non_finite_axes = true;
+  }
+  if (actions.non_finite_axes) ++non_finite_messages_;
   heard_ = true;
   last_joy_s_ = now_s;
   handleButtons(joy, actions);

@@ -64,7 +64,12 @@ class JoyTeleopNode {
     JoyState joy;
     joy.axes = msg->axes;
     joy.buttons = msg->buttons;
-    apply(teleop_.onJoy(joy, ros::Time::now().toSec()));
+    const TeleopActions actions = teleop_.onJoy(joy, ros::Time::now().toSec());
+    if (actions.non_finite_axes) {
+      ROS_WARN_THROTTLE(1.0, "joy_teleop: joystick message with a NaN or infinite axis, read as centred (%lu so far)",
+                        teleop_.nonFiniteMessages());
+    }
+    apply(actions);
   }
 
   void onTimer(const ros::TimerEvent&) {
@@ -136,6 +141,12 @@ class JoyTeleopNode {
     s.add("priority lock", teleop_.priority());
     s.add("joy age [s]", age);
     s.add("deadman stops", teleop_.deadmanStops());
+    s.add("messages with non-finite axes", teleop_.nonFiniteMessages());
+    if (teleop_.nonFiniteMessages() > non_finite_reported_) {
+      s.mergeSummary(diagnostic_msgs::DiagnosticStatus::WARN,
+                     "joystick sent NaN or infinite axes (read as centred): check the joystick driver");
+    }
+    non_finite_reported_ = teleop_.nonFiniteMessages();
     std::lock_guard<std::mutex> lock(home_mutex_);
     s.add("steering homing requests", home_requests_);
     s.add("steering homing last result", home_result_);
@@ -154,6 +165,7 @@ class JoyTeleopNode {
   std::mutex home_mutex_;
   std::string home_result_;
   unsigned long home_requests_ = 0;
+  unsigned long non_finite_reported_ = 0;  ///< count at the last diagnostics report
 };
 
 }  // namespace

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "thorvald_teleop/joy_teleop.h"
 
 using namespace thorvald_teleop;
@@ -71,6 +73,34 @@ TEST(JoyTeleop, NothingBeforeEnableThenOneZeroOnRelease) {
   ASSERT_TRUE(a.command);
   EXPECT_TRUE(a.command->isZero());
   EXPECT_FALSE(t.onJoy(joy(kSticks, press({})), 0.4).command);
+}
+
+TEST(JoyTeleop, NonFiniteAxesReadAsCentred) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  JoyTeleop t(padConfig());
+  // Forward axis NaN: the forward component stops, the finite axes still act; never a NaN in the command.
+  auto a = t.onJoy(joy({0.4f, nan, 0.0f, -0.6f}, press({4})), 0.0);
+  ASSERT_TRUE(a.command);
+  EXPECT_TRUE(a.non_finite_axes);
+  EXPECT_DOUBLE_EQ(a.command->linear_x, 0.0);
+  EXPECT_DOUBLE_EQ(a.command->linear_y, 0.4f * 0.3 * 0.5);
+  EXPECT_DOUBLE_EQ(a.command->angular_z, -0.6f * 0.5 * 0.5);
+  EXPECT_EQ(t.nonFiniteMessages(), 1u);
+  // Every driving axis broken (infinite, NaN) with turbo held: a stop.
+  a = t.onJoy(joy({-inf, inf, 0.0f, nan}, press({5})), 0.1);
+  ASSERT_TRUE(a.command);
+  EXPECT_TRUE(a.command->isZero());
+  EXPECT_EQ(t.nonFiniteMessages(), 2u);
+  // A broken axis the mapping does not use is still counted; the command is unchanged.
+  a = t.onJoy(joy({0.4f, 0.8f, nan, -0.6f}, press({4})), 0.2);
+  ASSERT_TRUE(a.command);
+  EXPECT_DOUBLE_EQ(a.command->linear_x, 0.8f * 0.5 * 0.5);
+  EXPECT_EQ(t.nonFiniteMessages(), 3u);
+  // Finite messages are not counted.
+  a = t.onJoy(joy(kSticks, press({4})), 0.3);
+  EXPECT_FALSE(a.non_finite_axes);
+  EXPECT_EQ(t.nonFiniteMessages(), 3u);
 }
 
 TEST(JoyTeleop, TurboWithoutEnable) {

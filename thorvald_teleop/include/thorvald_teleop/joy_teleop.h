@@ -47,16 +47,18 @@ struct TeleopActions {
   bool home_steering = false;              ///< call the steering homing service
   bool mode_changed = false;
   bool gain_changed = false;
+  bool non_finite_axes = false;  ///< the message had NaN or infinite axes; they were read as 0 (centred)
 };
 
 /// teleop_twist_joy's behaviour plus the Thorvald additions. Turbo drives without enable; with enable released one
-/// zero command is sent; nothing is sent before the first Joy. Buttons act on their press (rising edge). Times are
-/// seconds on the caller's clock.
+/// zero command is sent; nothing is sent before the first Joy. Buttons act on their press (rising edge). An axis
+/// that is NaN or infinite (a broken driver or device) is read as centred (0): its component of the command stops,
+/// it never reaches cmd_vel; such messages are counted. Times are seconds on the caller's clock.
 class JoyTeleop {
  public:
   explicit JoyTeleop(JoyTeleopConfig config);
 
-  TeleopActions onJoy(const JoyState& joy, double now_s);
+  TeleopActions onJoy(const JoyState& message, double now_s);
   /// Deadman check, called periodically: one zero command when Joy messages stopped while driving.
   TeleopActions onTimer(double now_s);
 
@@ -65,6 +67,8 @@ class JoyTeleop {
   double gain() const { return gain_; }
   bool priority() const { return priority_; }
   unsigned long deadmanStops() const { return deadman_stops_; }
+  /// Joy messages that had at least one NaN or infinite axis.
+  unsigned long nonFiniteMessages() const { return non_finite_messages_; }
   /// Age of the last Joy message [s]; negative before the first.
   double joyAge(double now_s) const { return heard_ ? now_s - last_joy_s_ : -1.0; }
 
@@ -81,6 +85,7 @@ class JoyTeleop {
   bool stopped_ = false;  ///< the last command sent was the stop after release (or the deadman's)
   JoyState previous_;
   unsigned long deadman_stops_ = 0;
+  unsigned long non_finite_messages_ = 0;
 };
 
 }  // namespace thorvald_teleop
