@@ -139,7 +139,7 @@ control::HarvestMetrics experiment(const char* title, bool field, int runs, unsi
     }
     if (i == 0) config.debug_image_path = debug_image;
     config.verbose = verbose;
-    config.clear_leaves_before_pick = clear_leaves;
+    config.machine.actions.clear_leaves_before_pick = clear_leaves;
     if (!search_leaves) config.machine.search_under_leaves = false;
     config.effector_search_near_arm = ee_near_arm;
     config.partial_bolls = partial_bolls;

@@ -28,6 +28,7 @@ add_library(cotton_harvester_control
   src/control/pick_capture.cpp
   src/control/leaf_clearance.cpp
   src/control/canopy_search.cpp
+  src/control/harvest_actions.cpp
   src/control/harvest_machine.cpp
   src/control/step_response.cpp
   src/control/virtual_row.cpp
@@ -58,6 +59,7 @@ if(CATKIN_ENABLE_TESTING)
     test/control/test_rover_controller.cpp
     test/control/test_serial_path.cpp
     test/control/test_harvest_decision.cpp
+    test/control/test_harvest_actions.cpp
     test/control/test_harvest_machine.cpp
     test/control/test_harvest_metrics.cpp
     test/control/test_pick_capture.cpp

@@ -23,11 +23,14 @@ std::string HarvestParams::check() const {
   if (!(remember_target_frames >= 0)) return "remember_target_frames: expected >= 0";
   if (!(revisit_window_m >= 0.0)) return "revisit_window_m: expected >= 0";
   if (!(search_spacing_m > 0.0) || !std::isfinite(search_spacing_m)) return "search_spacing_m: expected > 0";
+  if (auto bad = actions.check(); !bad.empty()) return bad;
+  if (search_under_leaves && !(actions.arm.rest_depth_m > 0.0))
+    return "rest_depth_m: expected > 0 with search_under_leaves (the search looks from above the plants)";
   return "";
 }
 
 HarvestMachine::HarvestMachine(HarvestPlant& plant, const HarvestParams& params)
-    : plant_(plant), params_(params), tracker_(params.tracker) {
+    : plant_(plant), params_(params), actions_(plant, params.actions), tracker_(params.tracker) {
   params_.tracker.y_forward_sign = params_.decision.y_forward_sign;
   tracker_ = BollTracker(params_.tracker);
   machine_ = std::make_unique<tsm::StateMachine>("harvest", std::vector<std::string>{"finished", "aborted"}, 64);
@@ -237,12 +240,12 @@ std::string HarvestMachine::act(HarvestAction action, tsm::UserData&, tsm::Execu
   switch (action) {
     case HarvestAction::kForward:
     case HarvestAction::kBackward:
-      return resultOutcome(plant_.moveRover(decision.rover_move_m, preempted));
+      return resultOutcome(actions_.moveRover(decision.rover_move_m, preempted));
     case HarvestAction::kArmUp:
     case HarvestAction::kArmDown:
-      return resultOutcome(plant_.moveArmToDepth(decision.arm_depth_m, preempted));
+      return resultOutcome(actions_.armToDepth(decision.arm_depth_m, preempted));
     case HarvestAction::kPick:
-      return resultOutcome(plant_.pick(decision.pick_offset_m, preempted));
+      return resultOutcome(actions_.pick(decision.pick_offset_m, preempted));
     default:
       return "failed";
   }
@@ -259,7 +262,7 @@ std::string HarvestMachine::passOn(tsm::ExecutionContext& ctx) {
   }
   const double step =
       params_.search_under_leaves ? std::min(params_.pass_step_m, params_.search_spacing_m) : params_.pass_step_m;
-  return resultOutcome(plant_.moveRover(step, [&ctx] { return ctx.preemptRequested(); }));
+  return resultOutcome(actions_.moveRover(step, [&ctx] { return ctx.preemptRequested(); }));
 }
 
 bool HarvestMachine::searchDue() const {
@@ -275,7 +278,7 @@ std::string HarvestMachine::searchLeaves(tsm::ExecutionContext& ctx) {
     std::lock_guard<std::mutex> lock(mutex_);
     searched_m_.push_back(plant_.roverPositionM());
   }
-  const auto result = plant_.searchUnderLeaves([&ctx] { return ctx.preemptRequested(); });
+  const auto result = actions_.searchUnderLeaves([&ctx] { return ctx.preemptRequested(); });
   if (ctx.preemptRequested()) return tsm::kPreempted;
   if (!result) return "nothing";
   return resultOutcome(*result);

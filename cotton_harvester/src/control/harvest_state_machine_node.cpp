@@ -21,6 +21,42 @@ namespace cotton_harvester {
 namespace control {
 namespace {
 
+/// The harvest manoeuvres' parameters (HarvestActionParams, the same struct and defaults as the simulated rover's).
+HarvestActionParams loadActionParams(const NodeParams& params) {
+  HarvestActionParams p;
+  ArmWorkspace& arm = p.arm;
+  const std::pair<const char*, double*> numbers[] = {{"arm_extension_zero_x_m", &arm.extension_zero_x_m},
+                                                     {"arm_y_m", &arm.strip_y_m},
+                                                     {"horizontal_min_m", &arm.extension_min_m},
+                                                     {"horizontal_max_m", &arm.extension_max_m},
+                                                     {"vertical_min_m", &arm.min_depth_m},
+                                                     {"vertical_max_m", &arm.max_depth_m},
+                                                     {"rest_extension_m", &arm.rest_extension_m},
+                                                     {"rest_depth_m", &arm.rest_depth_m},
+                                                     {"pick_dwell_s", &p.pick_dwell_s},
+                                                     {"leaf_clearance_m", &p.leaves.leaf_clearance_m},
+                                                     {"clear_overshoot_m", &p.leaves.clear_overshoot_m},
+                                                     {"clear_standoff_m", &p.leaves.clear_standoff_m},
+                                                     {"redetect_radius_m", &p.leaves.redetect_radius_m},
+                                                     {"effector_half_m", &p.leaves.effector_half_m},
+                                                     {"search_strip_half_m", &p.canopy.strip_half_m},
+                                                     {"search_boll_radius_m", &p.canopy.boll_radius_m},
+                                                     {"search_min_cover_fraction", &p.canopy.min_cover_fraction},
+                                                     {"search_layer_m", &p.canopy.layer_m},
+                                                     {"search_above_layer_m", &p.canopy.above_layer_m},
+                                                     {"search_housing_height_m", &p.canopy.housing_height_m},
+                                                     {"search_push_m", &p.canopy.push_m}};
+  for (const auto& [key, value] : numbers) *value = readDouble(params, key, *value);
+  const std::pair<const char*, bool*> flags[] = {{"vacuum_while_retracting", &p.vacuum_while_retracting},
+                                                 {"raise_after_pick", &p.raise_after_pick},
+                                                 {"clear_leaves_before_pick", &p.clear_leaves_before_pick}};
+  for (const auto& [key, value] : flags) *value = readBool(params, key, *value);
+  p.leaves.leaf_points_min = readInt(params, "leaf_points_min", p.leaves.leaf_points_min, 1);
+  p.canopy.max_passes = readInt(params, "search_max_passes", p.canopy.max_passes, 1);
+  p.canopy.effector_half_m = p.leaves.effector_half_m;  // one housing
+  return p;
+}
+
 HarvestParams loadHarvestParams(const NodeParams& params) {
   HarvestParams p;
   p.decision.y_tolerance_m = readDouble(params, "y_tolerance_m", p.decision.y_tolerance_m);
@@ -47,11 +83,12 @@ HarvestParams loadHarvestParams(const NodeParams& params) {
   p.revisit_window_m = readDouble(params, "revisit_window_m", p.revisit_window_m);
   p.search_under_leaves = readBool(params, "search_under_leaves", p.search_under_leaves);
   p.search_spacing_m = readDouble(params, "search_spacing_m", p.search_spacing_m);
+  p.actions = loadActionParams(params);
   requireSound(params, p.check());
   return p;
 }
 
-TopicPlantParams loadPlantParams(const NodeParams& params) {
+TopicPlantParams loadPlantParams(const NodeParams& params, const HarvestParams& harvest) {
   TopicPlantParams p;
   p.observe_timeout_s = readPositive(params, "observe_timeout_s", p.observe_timeout_s);
   p.settle_s = readDouble(params, "settle_s", p.settle_s);
@@ -62,31 +99,10 @@ TopicPlantParams loadPlantParams(const NodeParams& params) {
   p.rover_timeout_per_m_s = readDouble(params, "rover_timeout_per_m_s", p.rover_timeout_per_m_s);
   p.arm_tolerance_m = readPositive(params, "arm_tolerance_m", p.arm_tolerance_m);
   p.arm_timeout_s = readPositive(params, "arm_timeout_s", p.arm_timeout_s);
-  p.pick_dwell_s = readDouble(params, "pick_dwell_s", p.pick_dwell_s);
-  p.rest_depth_m = readDouble(params, "rest_depth_m", p.rest_depth_m);
-  p.clear_leaves_before_pick = readBool(params, "clear_leaves_before_pick", p.clear_leaves_before_pick);
-  p.leaves.leaf_clearance_m = readDouble(params, "leaf_clearance_m", p.leaves.leaf_clearance_m);
-  p.leaves.clear_overshoot_m = readDouble(params, "clear_overshoot_m", p.leaves.clear_overshoot_m);
-  p.leaves.clear_standoff_m = readDouble(params, "clear_standoff_m", p.leaves.clear_standoff_m);
-  p.leaves.leaf_points_min = readInt(params, "leaf_points_min", p.leaves.leaf_points_min, 1);
-  p.leaves.redetect_radius_m = readDouble(params, "redetect_radius_m", p.leaves.redetect_radius_m);
-  p.leaves.effector_half_m = readPositive(params, "effector_half_m", p.leaves.effector_half_m);
-  p.arm_extension_zero_x_m = readDouble(params, "arm_extension_zero_x_m", p.arm_extension_zero_x_m);
   p.effector_stamp_tolerance_s = readPositive(params, "effector_stamp_tolerance_s", p.effector_stamp_tolerance_s);
   p.effector_from_calibration = readBool(params, "effector_from_calibration", p.effector_from_calibration);
   p.joint_max_age_s = readPositive(params, "joint_max_age_s", p.joint_max_age_s);
-  p.arm_y_m = readDouble(params, "arm_y_m", p.arm_y_m);
-  p.vacuum_while_retracting = readBool(params, "vacuum_while_retracting", p.vacuum_while_retracting);
-  p.horizontal_min_m = readDouble(params, "horizontal_min_m", p.horizontal_min_m);
-  p.horizontal_max_m = readDouble(params, "horizontal_max_m", p.horizontal_max_m);
-  p.vertical_min_m = readDouble(params, "vertical_min_m", p.vertical_min_m);
-  p.vertical_max_m = readDouble(params, "vertical_max_m", p.vertical_max_m);
-  p.search_under_leaves = readBool(params, "search_under_leaves", p.search_under_leaves);
-  p.canopy.strip_half_m = readDouble(params, "search_strip_half_m", p.canopy.strip_half_m);
-  p.canopy.min_cover_fraction = readDouble(params, "search_min_cover_fraction", p.canopy.min_cover_fraction);
-  p.canopy.max_passes = readInt(params, "search_max_passes", p.canopy.max_passes, 1);
-  p.canopy.push_m = readDouble(params, "search_push_m", p.canopy.push_m);
-  p.canopy.effector_half_m = p.leaves.effector_half_m;
+  p.cloud = harvest.actions.clear_leaves_before_pick || harvest.search_under_leaves;
   requireSound(params, TopicHarvestPlant::check(p));
   return p;
 }
@@ -96,7 +112,10 @@ std::string number(const std::optional<double>& value) { return value ? std::to_
 class HarvestNode {
  public:
   HarvestNode(ros::NodeHandle& nh, ros::NodeHandle& pnh, const NodeParams& params)
-      : plant_(nh, loadPlantParams(params)), machine_(plant_, loadHarvestParams(params)), updater_(nh, pnh) {
+      : harvest_(loadHarvestParams(params)),
+        plant_(nh, loadPlantParams(params, harvest_), harvest_.actions.arm),
+        machine_(plant_, harvest_),
+        updater_(nh, pnh) {
     csv_path_ = readString(params, "metrics_csv", "");
     run_name_ = readString(params, "run_name", "harvest");
     const bool autostart = readBool(params, "autostart", true);
@@ -245,9 +264,12 @@ class HarvestNode {
     status.add("frames rejected (NaN points)", plant_.rejectedFrames());
     status.add("frames without end effector", machine_.rejectedFrames());
     status.add("end effector from the arm's calibration", plant_.effectorFromCalibration());
+    status.add("picks that swept leaves aside first", machine_.actions().picksCleared());
+    status.add("places searched under the leaves", machine_.actions().leafSearches());
     status.add("transitions", machine.transitions);
   }
 
+  const HarvestParams harvest_;
   TopicHarvestPlant plant_;
   HarvestMachine machine_;
   diagnostic_updater::Updater updater_;

@@ -1,5 +1,7 @@
 #include "topic_harvest_plant.h"
 
+#include <thorvald_base/ros/organised_cloud.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -7,7 +9,8 @@
 namespace cotton_harvester {
 namespace control {
 
-TopicHarvestPlant::TopicHarvestPlant(ros::NodeHandle& nh, const TopicPlantParams& params) : params_(params) {
+TopicHarvestPlant::TopicHarvestPlant(ros::NodeHandle& nh, const TopicPlantParams& params, const ArmWorkspace& arm)
+    : params_(params), arm_(arm) {
   rover_target_pub_ = nh.advertise<std_msgs::Float64>("rover/position_target", 1, true);
   arm_target_pub_ = nh.advertise<geometry_msgs::PointStamped>("manipulator/target", 1, true);
   brush_pub_ = nh.advertise<std_msgs::Bool>("manipulator/brush", 1, true);
@@ -16,8 +19,7 @@ TopicHarvestPlant::TopicHarvestPlant(ros::NodeHandle& nh, const TopicPlantParams
   rover_sub_ = nh.subscribe("rover/position", 5, &TopicHarvestPlant::onRoverPosition, this);
   joints_sub_ = nh.subscribe("manipulator/joint_states", 5, &TopicHarvestPlant::onJoints, this);
   busy_sub_ = nh.subscribe("manipulator/busy", 5, &TopicHarvestPlant::onBusy, this);
-  if (params_.clear_leaves_before_pick || params_.search_under_leaves)
-    cloud_sub_ = nh.subscribe("camera/depth/points", 2, &TopicHarvestPlant::onCloud, this);
+  if (params_.cloud) cloud_sub_ = nh.subscribe("camera/depth/points", 2, &TopicHarvestPlant::onCloud, this);
 }
 
 void TopicHarvestPlant::onCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
@@ -35,127 +37,43 @@ bool TopicHarvestPlant::observedCloud(sensor_msgs::PointCloud2::ConstPtr* keep, 
       if (c->header.stamp == last_used_stamp_) cloud = c;
   }
   if (!cloud || cloud->height < 2) return false;
+  thorvald_base::OrganisedCloudView checked;
+  std::string error;
+  if (!checked.reset(*cloud, &error)) return false;
   CloudView view;
-  int found = 0;
-  for (const auto& f : cloud->fields) {
-    if (f.datatype != sensor_msgs::PointField::FLOAT32) continue;
-    if (f.name == "x") view.x_offset = f.offset, found |= 1;
-    if (f.name == "y") view.y_offset = f.offset, found |= 2;
-    if (f.name == "z") view.z_offset = f.offset, found |= 4;
-  }
-  const std::size_t need = static_cast<std::size_t>(cloud->row_step) * cloud->height;
-  if (found != 7 || cloud->is_bigendian || cloud->data.size() < need || cloud->point_step < 12 ||
-      cloud->row_step < cloud->width * cloud->point_step)
-    return false;
-  view.data = cloud->data.data();
-  view.rows = static_cast<int>(cloud->height);
-  view.cols = static_cast<int>(cloud->width);
-  view.row_step = cloud->row_step;
-  view.point_step = cloud->point_step;
+  view.data = checked.data();
+  view.rows = checked.height();
+  view.cols = checked.width();
+  view.row_step = checked.rowStep();
+  view.point_step = checked.pointStep();
+  view.x_offset = checked.offset(0);
+  view.y_offset = checked.offset(1);
+  view.z_offset = checked.offset(2);
   *keep = cloud;
   *out = view;
   return true;
 }
 
-int TopicHarvestPlant::pointsOverApproach(double from_x, double target_x, double depth_m) const {
+std::optional<CameraCloud> TopicHarvestPlant::lastCloud(const Preempted& preempted) {
+  if (!params_.cloud) return std::nullopt;
+  // The frame's cloud may come a little after its bolls (11 MB at 1280 x 720).
+  bool was_preempted = false;
+  waitFor(
+      [this] {
+        return std::any_of(clouds_.begin(), clouds_.end(),
+                           [this](const auto& c) { return c->header.stamp == last_used_stamp_; });
+      },
+      params_.observe_timeout_s, preempted, &was_preempted);
+  if (was_preempted) return std::nullopt;
   sensor_msgs::PointCloud2::ConstPtr cloud;
-  CloudView view;
-  if (!observedCloud(&cloud, &view)) return 0;
-  return control::pointsOverApproach(view, from_x, target_x, depth_m, params_.leaves);
-}
-
-std::optional<MoveResult> TopicHarvestPlant::searchUnderLeaves(const Preempted& preempted) {
-  if (!params_.search_under_leaves || !(params_.rest_depth_m > 0.0)) return std::nullopt;
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  const CanopySearchParams& c = params_.canopy;
-  // The housing above the plants, then a frame: everything deeper than the housing is the canopy.
-  MoveResult result = moveArm(nan, params_.rest_depth_m, preempted);
-  if (result != MoveResult::kDone) return result;
-  if (!observe(preempted)) return preempted() ? MoveResult::kPreempted : MoveResult::kFailed;
-  ++leaf_searches_;
-  ArmWorkspace arm;
-  arm.extension_zero_x_m = params_.arm_extension_zero_x_m;
-  arm.extension_min_m = params_.horizontal_min_m;
-  arm.extension_max_m = params_.horizontal_max_m;
-  arm.rest_depth_m = params_.rest_depth_m;
-  arm.max_depth_m = params_.vertical_max_m;
-  arm.strip_y_m = params_.arm_y_m;
-  CanopySearch search(arm, c);
-  int passes = 0;
-  for (int pass = 0; pass < c.max_passes; ++pass) {
-    // The frame's cloud may come a little after its bolls (11 MB at 1280 x 720).
-    bool was_preempted = false;
-    waitFor(
-        [this] {
-          return std::any_of(clouds_.begin(), clouds_.end(),
-                             [this](const auto& c) { return c->header.stamp == last_used_stamp_; });
-        },
-        params_.observe_timeout_s, preempted, &was_preempted);
-    if (was_preempted) return MoveResult::kPreempted;
-    sensor_msgs::PointCloud2::ConstPtr cloud;
-    CloudView view;
-    if (!observedCloud(&cloud, &view)) {
-      ROS_WARN_THROTTLE(10.0,
-                        "harvest plant: no cloud of the observed frame on camera/depth/points: cannot look "
-                        "under the leaves");
-      break;
-    }
-    const double fx = focalFromCloud(view);
-    if (!(fx > 0.0)) break;
-    const auto sweep = search.next(view, fx);
-    if (!sweep) break;
-    // Beside the layer above the plants, down (a vertical move pushes no leaf), through it, up again.
-    const std::pair<double, double> moves[] = {{sweep->from_extension_m, nan},
-                                               {nan, sweep->depth_m},
-                                               {sweep->to_extension_m, nan},
-                                               {nan, params_.rest_depth_m}};
-    for (const auto& [x, z] : moves)
-      if ((result = moveArm(x, z, preempted)) != MoveResult::kDone) return result;
-    ++passes;
-    ++leaf_sweeps_;
-    if (pass + 1 < c.max_passes && !observe(preempted)) break;
+  CameraCloud out;
+  if (!observedCloud(&cloud, &out.view)) {
+    ROS_WARN_THROTTLE(10.0, "harvest plant: no usable cloud of the observed frame on camera/depth/points");
+    return std::nullopt;
   }
-  if (passes == 0) return std::nullopt;
-  return MoveResult::kDone;
-}
-
-double TopicHarvestPlant::clearAndRelocate(double target_ext, const Preempted& preempted, MoveResult* result) {
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  double depth = 0.0, from = 0.0;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    depth = *arm_depth_;
-    from = *arm_extension_;
-  }
-  const LeafClearanceParams& p = params_.leaves;
-  const double dir = target_ext >= from ? 1.0 : -1.0;
-  ++picks_cleared_;
-  // Up to the leaf's level, through it past the boll, back off, down to the boll's top again.
-  const std::pair<double, double> moves[] = {{nan, depth - p.leaf_clearance_m},
-                                             {target_ext + dir * p.clear_overshoot_m, nan},
-                                             {target_ext - dir * p.clear_standoff_m, nan},
-                                             {nan, depth}};
-  for (const auto& [x, z] : moves)
-    if ((*result = moveArm(x, z, preempted)) != MoveResult::kDone) return target_ext;
-  // Look again: the boll in full view is located on its whole top rather than on the part past the leaf.
-  const auto observation = observe(preempted);
-  if (!observation) return target_ext;
-  const double target_x = target_ext + params_.arm_extension_zero_x_m;
-  double best = p.redetect_radius_m, corrected = target_ext, corrected_depth = depth;
-  for (const auto& b : observation->bolls) {
-    const double d = std::hypot(b.position.x - target_x, b.position.y, b.position.z - depth);
-    if (d < best) {
-      best = d;
-      corrected = b.position.x - params_.arm_extension_zero_x_m;
-      corrected_depth = b.position.z;
-    }
-  }
-  if (best < p.redetect_radius_m) {
-    ++picks_redetected_;
-    // A boll seen only at its side past the leaf was located deeper than its top: the housing goes to the top.
-    if (std::abs(corrected_depth - depth) > 0.015) *result = moveArm(nan, corrected_depth, preempted);
-  }
-  return corrected;
+  out.fx_px = focalFromCloud(out.view);
+  out.keep = std::shared_ptr<const void>(cloud.get(), [cloud](const void*) {});
+  return out;
 }
 
 void TopicHarvestPlant::onBolls(const cotton_harvester::BollArray::ConstPtr& msg) {
@@ -224,17 +142,19 @@ std::string TopicHarvestPlant::check(const TopicPlantParams& p) {
   const std::pair<const char*, double> positive[] = {{"observe_timeout_s", p.observe_timeout_s},
                                                      {"effector_max_age_s", p.effector_max_age_s},
                                                      {"effector_stamp_tolerance_s", p.effector_stamp_tolerance_s},
-                                                     {"joint_max_age_s", p.joint_max_age_s}};
+                                                     {"joint_max_age_s", p.joint_max_age_s},
+                                                     {"rover_tolerance_m", p.rover_tolerance_m},
+                                                     {"rover_timeout_s", p.rover_timeout_s},
+                                                     {"arm_tolerance_m", p.arm_tolerance_m},
+                                                     {"arm_timeout_s", p.arm_timeout_s}};
   for (const auto& [key, v] : positive)
     if (!(v > 0.0) || !std::isfinite(v)) return std::string(key) + ": expected > 0";
-  if (!std::isfinite(p.arm_y_m)) return "arm_y_m: expected a finite number";
-  if (!(p.horizontal_min_m >= 0.0 && p.horizontal_min_m < p.horizontal_max_m && std::isfinite(p.horizontal_max_m)))
-    return "horizontal_min_m, horizontal_max_m: expected 0 <= min < max";
-  if (!(p.vertical_min_m >= 0.0 && p.vertical_min_m < p.vertical_max_m && std::isfinite(p.vertical_max_m)))
-    return "vertical_min_m, vertical_max_m: expected 0 <= min < max";
-  if (!std::isfinite(p.arm_extension_zero_x_m)) return "arm_extension_zero_x_m: expected a finite number";
-  if (auto bad = p.canopy.check(); !bad.empty()) return "canopy/" + bad;
-  return p.leaves.check();
+  const std::pair<const char*, double> non_negative[] = {{"settle_s", p.settle_s},
+                                                         {"rover_settle_s", p.rover_settle_s},
+                                                         {"rover_timeout_per_m_s", p.rover_timeout_per_m_s}};
+  for (const auto& [key, v] : non_negative)
+    if (!(v >= 0.0) || !std::isfinite(v)) return std::string(key) + ": expected >= 0";
+  return "";
 }
 
 template <typename Done>
@@ -270,7 +190,7 @@ std::optional<Point3> TopicHarvestPlant::calibratedEffector(const ros::Time& sta
   for (const auto& j : joint_history_)
     if (!best || std::abs((j.stamp - stamp).toSec()) < std::abs((best->stamp - stamp).toSec())) best = &j;
   if (!best || std::abs((best->stamp - stamp).toSec()) > params_.joint_max_age_s) return std::nullopt;
-  return Point3{best->extension_m + params_.arm_extension_zero_x_m, params_.arm_y_m, best->depth_m};
+  return Point3{best->extension_m + arm_.extension_zero_x_m, arm_.strip_y_m, best->depth_m};
 }
 
 HarvestObservation TopicHarvestPlant::makeObservation(const geometry_msgs::PointStamped::ConstPtr& effector) {
@@ -328,27 +248,20 @@ std::optional<HarvestObservation> TopicHarvestPlant::observe(const Preempted& pr
   return observation;
 }
 
-MoveResult TopicHarvestPlant::moveRover(double distance_m, const Preempted& preempted) {
+MoveResult TopicHarvestPlant::moveRover(double distance_m, const ArmPose& arm, const Preempted& preempted) {
   double target = 0.0;
+  bool move_arm = false;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!rover_position_) return MoveResult::kFailed;
     target = *rover_position_ + distance_m;
+    // The arm moves only when an axis is asked elsewhere than where it is (an unknown axis is asked too).
+    const auto away = [this](const std::optional<double>& at, double want) {
+      return std::isfinite(want) && (!at || std::abs(*at - want) > params_.arm_tolerance_m);
+    };
+    move_arm = away(arm_extension_, arm.extension_m) || away(arm_depth_, arm.depth_m);
   }
-  bool raise_arm = false;
-  if (params_.rest_depth_m > 0.0) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    raise_arm = arm_depth_ && *arm_depth_ > params_.rest_depth_m + params_.arm_tolerance_m;
-    if (raise_arm) arm_busy_ = true;  // until the manipulator says otherwise after this command
-  }
-  if (raise_arm) {
-    geometry_msgs::PointStamped up;
-    up.header.stamp = ros::Time::now();
-    up.header.frame_id = "manipulator";
-    up.point.x = std::numeric_limits<double>::quiet_NaN();
-    up.point.z = params_.rest_depth_m;
-    arm_target_pub_.publish(up);
-  }
+  if (move_arm) commandArm(arm);
   std_msgs::Float64 msg;
   msg.data = target;
   rover_target_pub_.publish(msg);
@@ -359,7 +272,7 @@ MoveResult TopicHarvestPlant::moveRover(double distance_m, const Preempted& pree
   bool was_preempted = false;
   const bool arrived = waitFor(
       [&] {
-        if (!rover_position_ || std::abs(*rover_position_ - target) > tolerance || (raise_arm && arm_busy_)) {
+        if (!rover_position_ || std::abs(*rover_position_ - target) > tolerance || (move_arm && !armAt(arm))) {
           inside_since = ros::Time();
           return false;
         }
@@ -372,92 +285,64 @@ MoveResult TopicHarvestPlant::moveRover(double distance_m, const Preempted& pree
   if (!arrived) {
     std::lock_guard<std::mutex> lock(mutex_);
     ROS_WARN("harvest plant: the rover did not settle at %.3f m within %.1f s: at %.3f m%s", target, timeout,
-             rover_position_.value_or(std::nan("")), raise_arm && arm_busy_ ? ", the arm still rising" : "");
+             rover_position_.value_or(std::nan("")), move_arm && !armAt(arm) ? ", the arm still moving" : "");
   }
   return arrived ? MoveResult::kDone : MoveResult::kFailed;
 }
 
-MoveResult TopicHarvestPlant::moveArm(double extension_m, double depth_m, const Preempted& preempted) {
-  if (std::isfinite(extension_m))
-    extension_m = std::clamp(extension_m, params_.horizontal_min_m, params_.horizontal_max_m);
-  if (std::isfinite(depth_m)) depth_m = std::clamp(depth_m, params_.vertical_min_m, params_.vertical_max_m);
+void TopicHarvestPlant::commandArm(const ArmPose& pose) {
   geometry_msgs::PointStamped target;
   target.header.stamp = ros::Time::now();
   target.header.frame_id = "manipulator";
-  target.point.x = extension_m;
+  target.point.x = pose.extension_m;
   target.point.y = 0.0;
-  target.point.z = depth_m;
+  target.point.z = pose.depth_m;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     arm_busy_ = true;  // until the manipulator says otherwise after this command
   }
   arm_target_pub_.publish(target);
+}
+
+bool TopicHarvestPlant::armAt(const ArmPose& target) const {
+  const bool x_ok = !std::isfinite(target.extension_m) ||
+                    (arm_extension_ && std::abs(*arm_extension_ - target.extension_m) <= params_.arm_tolerance_m);
+  const bool z_ok = !std::isfinite(target.depth_m) ||
+                    (arm_depth_ && std::abs(*arm_depth_ - target.depth_m) <= params_.arm_tolerance_m);
+  return x_ok && z_ok && !arm_busy_;
+}
+
+MoveResult TopicHarvestPlant::moveArm(const ArmPose& target, const Preempted& preempted) {
+  commandArm(target);
   bool was_preempted = false;
-  const bool arrived = waitFor(
-      [&] {
-        const bool x_ok = !std::isfinite(extension_m) ||
-                          (arm_extension_ && std::abs(*arm_extension_ - extension_m) <= params_.arm_tolerance_m);
-        const bool z_ok =
-            !std::isfinite(depth_m) || (arm_depth_ && std::abs(*arm_depth_ - depth_m) <= params_.arm_tolerance_m);
-        return x_ok && z_ok && !arm_busy_;
-      },
-      params_.arm_timeout_s, preempted, &was_preempted);
+  const bool arrived = waitFor([&] { return armAt(target); }, params_.arm_timeout_s, preempted, &was_preempted);
   markActionEnd();
   if (was_preempted) return MoveResult::kPreempted;
   if (!arrived) {
     std::lock_guard<std::mutex> lock(mutex_);
-    ROS_WARN("harvest plant: the arm did not reach (%.3f, %.3f) within %.1f s: at (%.3f, %.3f)%s", extension_m, depth_m,
-             params_.arm_timeout_s, arm_extension_.value_or(std::nan("")), arm_depth_.value_or(std::nan("")),
-             arm_busy_ ? ", still busy" : "");
+    ROS_WARN("harvest plant: the arm did not reach (%.3f, %.3f) within %.1f s: at (%.3f, %.3f)%s", target.extension_m,
+             target.depth_m, params_.arm_timeout_s, arm_extension_.value_or(std::nan("")),
+             arm_depth_.value_or(std::nan("")), arm_busy_ ? ", still busy" : "");
   }
   return arrived ? MoveResult::kDone : MoveResult::kFailed;
 }
 
-MoveResult TopicHarvestPlant::moveArmToDepth(double depth_m, const Preempted& preempted) {
-  return moveArm(std::numeric_limits<double>::quiet_NaN(), depth_m, preempted);
+std::optional<ArmPose> TopicHarvestPlant::armPose() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!arm_extension_ || !arm_depth_) return std::nullopt;
+  return ArmPose{*arm_extension_, *arm_depth_};
 }
 
-MoveResult TopicHarvestPlant::pick(double offset_m, const Preempted& preempted) {
-  double start = 0.0;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (!arm_extension_) return MoveResult::kFailed;
-    start = *arm_extension_;
-  }
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  double target = start + offset_m;
-  if (params_.clear_leaves_before_pick) {
-    double depth = 0.0;
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      depth = arm_depth_.value_or(nan);
-    }
-    const double zero = params_.arm_extension_zero_x_m;
-    if (std::isfinite(depth) &&
-        pointsOverApproach(start + zero, target + zero, depth) >= params_.leaves.leaf_points_min) {
-      MoveResult cleared = MoveResult::kDone;
-      target = clearAndRelocate(target, preempted, &cleared);
-      if (cleared != MoveResult::kDone) return cleared;
-    }
-  }
-  MoveResult result = moveArm(target, nan, preempted);
-  if (result != MoveResult::kDone) return result;
+void TopicHarvestPlant::setVacuum(bool on) {
   std_msgs::Bool brush;
-  brush.data = true;
+  brush.data = on;
   brush_pub_.publish(brush);
+}
+
+MoveResult TopicHarvestPlant::wait(double seconds, const Preempted& preempted) {
   bool was_preempted = false;
-  waitFor([] { return false; }, params_.pick_dwell_s, preempted, &was_preempted);
-  if (!params_.vacuum_while_retracting || was_preempted) {
-    brush.data = false;
-    brush_pub_.publish(brush);
-    if (was_preempted) return MoveResult::kPreempted;
-  }
-  result = moveArm(start, nan, preempted);
-  if (params_.vacuum_while_retracting) {
-    brush.data = false;
-    brush_pub_.publish(brush);
-  }
-  return result;
+  waitFor([] { return false; }, seconds, preempted, &was_preempted);
+  return was_preempted ? MoveResult::kPreempted : MoveResult::kDone;
 }
 
 }  // namespace control

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cmath>
 #include <exception>
+#include <stdexcept>
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -90,6 +91,9 @@ HarvestRunConfig pottedConfig(unsigned seed) {
   c.machine.tracker.order = control::TargetOrder::kAlongRow;
   c.machine.keep_target = true;
   c.machine.revisit_pending = true;
+  // The arm of the simulated rover; leaves over a boll are swept aside before its pick.
+  c.machine.actions = simActionParams(c.sim);
+  c.machine.actions.clear_leaves_before_pick = true;
   c.time_limit_s = 900.0;
   return c;
 }
@@ -117,11 +121,11 @@ HarvestRunReport runHarvest(const HarvestRunConfig& config) {
         pp, std::make_unique<perception::ColourBollDetector>(config.partial_bolls ? simColourBollParams()
                                                                                   : perception::ColourBollParams()));
     StackParams stack = simStackParams(config.sim);
-    stack.clear_leaves_before_pick = config.clear_leaves_before_pick;
     stack.effector_search_near_arm = config.effector_search_near_arm;
-    SimHarvestPlant plant(sim, stack, std::move(pipeline));
+    SimHarvestPlant plant(sim, stack, config.machine.actions.arm, std::move(pipeline));
     control::HarvestParams mp = config.machine;
     mp.bolls_present = static_cast<int>(sim.bolls().size());
+    if (auto bad = mp.check(); !bad.empty()) throw std::invalid_argument("harvest machine: " + bad);
     control::HarvestMachine machine(plant, mp);
     const bool verbose = config.verbose;
     std::uint32_t printed = 0;
@@ -187,11 +191,11 @@ HarvestRunReport runHarvest(const HarvestRunConfig& config) {
     report.frames_with_effector = plant.framesWithEffector();
     report.effector_rejected = plant.effectorRejected();
     report.effector_from_calibration = plant.effectorFromCalibration();
-    report.picks_cleared = plant.picksCleared();
-    report.picks_redetected = plant.picksRedetected();
+    report.picks_cleared = machine.actions().picksCleared();
+    report.picks_redetected = machine.actions().picksRedetected();
     report.leaves_pushed = sim.leavesPushed();
-    report.leaf_searches = plant.leafSearches();
-    report.leaf_sweeps = plant.leafSweeps();
+    report.leaf_searches = machine.actions().leafSearches();
+    report.leaf_sweeps = machine.actions().leafSweeps();
     report.sim_time_s = sim.time() - t0;
     report.rover_track = plant.track();
     report.bolls = sim.bolls();

@@ -38,7 +38,8 @@ HarvestRunConfig readConfig(thorvald_common::ParamReader& r) {
   c.machine.tracker.order = order == "range" ? cotton_harvester::control::TargetOrder::kRange
                                              : cotton_harvester::control::TargetOrder::kAlongRow;
   c.time_limit_s = r.number("time_limit_s", c.time_limit_s, ParamRange::aboveUpTo(0.0, 36000.0), "s");
-  c.clear_leaves_before_pick = r.flag("clear_leaves_before_pick", c.clear_leaves_before_pick);
+  c.machine.actions.clear_leaves_before_pick =
+      r.flag("clear_leaves_before_pick", c.machine.actions.clear_leaves_before_pick);
   c.effector_search_near_arm = r.flag("effector_search_near_arm", c.effector_search_near_arm);
   c.partial_bolls = r.flag("partial_bolls", c.partial_bolls);
   c.machine.search_under_leaves = r.flag("search_under_leaves", c.machine.search_under_leaves);

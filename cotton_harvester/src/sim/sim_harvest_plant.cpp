@@ -4,7 +4,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "cotton_harvester/control/leaf_clearance.h"
 #include "cotton_harvester/perception/colour_boll_detector.h"
 
 namespace cotton_harvester {
@@ -19,26 +18,11 @@ std::string StackParams::check() const {
   const std::pair<const char*, double> values[] = {
       {"control_period_s", control_period_s},   {"metres_per_pulse", metres_per_pulse},
       {"rover_tolerance_m", rover_tolerance_m}, {"rover_timeout_s", rover_timeout_s},
-      {"arm_timeout_s", arm_timeout_s},         {"pick_dwell_s", pick_dwell_s},
-      {"arm_max_depth_m", arm_max_depth_m},     {"horizontal_travel_m", horizontal_travel_m}};
+      {"arm_timeout_s", arm_timeout_s},         {"effector_half_m", effector_half_m}};
   for (const auto& [key, v] : values)
     if (!positive(v)) return std::string(key) + ": expected > 0";
   if (!(effector_prior_m > 0.0)) return "effector_prior_m: expected > 0";
-  const std::pair<const char*, double> clearing[] = {{"leaf_clearance_m", leaf_clearance_m},
-                                                     {"clear_overshoot_m", clear_overshoot_m},
-                                                     {"clear_standoff_m", clear_standoff_m},
-                                                     {"redetect_radius_m", redetect_radius_m}};
-  for (const auto& [key, v] : clearing)
-    if (!(v >= 0.0) || !std::isfinite(v)) return std::string(key) + ": expected >= 0";
-  if (leaf_points_min < 1) return "leaf_points_min: expected >= 1";
   if (!(settle_s >= 0.0) || !(rover_timeout_per_m_s >= 0.0)) return "settle_s: expected >= 0";
-  if (!(arm_min_depth_m >= 0.0 && arm_min_depth_m < arm_max_depth_m))
-    return "arm_min_depth_m: expected 0 <= min < arm_max_depth_m";
-  if (!(rest_extension_m >= 0.0 && rest_extension_m <= horizontal_travel_m))
-    return "rest_extension_m: expected within [0, horizontal_travel_m]";
-  if (!(rest_depth_m >= arm_min_depth_m && rest_depth_m <= arm_max_depth_m))
-    return "rest_depth_m: expected within the vertical axis' depths";
-  if (auto bad = canopy.check(); !bad.empty()) return "canopy/" + bad;
   return "";
 }
 
@@ -70,20 +54,31 @@ perception::ColourBollParams simColourBollParams() {
 StackParams simStackParams(const RoverSimParams& sim) {
   StackParams s;
   s.metres_per_pulse = sim.drive.metres_per_pulse;
-  s.arm_base_offset_m = sim.geometry.arm_base_offset_m;
-  s.arm_min_depth_m = sim.geometry.min_depth_m;
-  s.arm_max_depth_m = sim.geometry.max_depth_m;
-  s.horizontal_travel_m = sim.geometry.horizontal_travel_m;
   s.effector_half_m = sim.geometry.effector_half_m;
-  s.canopy.effector_half_m = sim.geometry.effector_half_m;
-  s.canopy.housing_height_m = sim.geometry.effector_height_m;
   return s;
 }
 
-SimHarvestPlant::SimHarvestPlant(RoverSim& sim, const StackParams& params,
+control::HarvestActionParams simActionParams(const RoverSimParams& sim) {
+  const RoverGeometry& g = sim.geometry;
+  control::HarvestActionParams a;
+  a.arm.extension_zero_x_m = -g.arm_base_offset_m;
+  a.arm.extension_min_m = 0.0;
+  a.arm.extension_max_m = g.horizontal_travel_m;
+  a.arm.min_depth_m = g.min_depth_m;
+  a.arm.max_depth_m = g.max_depth_m;
+  a.arm.strip_y_m = 0.0;  // the arm's plane is the camera's y = 0
+  a.leaves.effector_half_m = g.effector_half_m;
+  a.canopy.effector_half_m = g.effector_half_m;
+  a.canopy.housing_height_m = g.effector_height_m;
+  return a;
+}
+
+SimHarvestPlant::SimHarvestPlant(RoverSim& sim, const StackParams& params, const control::ArmWorkspace& arm,
                                  std::unique_ptr<perception::PerceptionPipeline> pipeline)
-    : sim_(sim), params_(params), pipeline_(std::move(pipeline)), rover_(params.rover) {
+    : sim_(sim), params_(params), arm_(arm), pipeline_(std::move(pipeline)), rover_(params.rover) {
   if (auto bad = params_.check(); !bad.empty()) throw std::invalid_argument("harvest stack: " + bad);
+  if (!std::isfinite(arm_.extension_zero_x_m) || !std::isfinite(arm_.strip_y_m))
+    throw std::invalid_argument("harvest stack: arm_extension_zero_x_m, arm_y_m: expected finite numbers");
   if (!pipeline_) throw std::invalid_argument("harvest stack: no perception pipeline");
   target_m_ = roverPositionM();
   rover_.setTarget(target_m_);
@@ -108,7 +103,8 @@ std::optional<control::HarvestObservation> SimHarvestPlant::observe(const Preemp
   obs.stamp_s = sim_.time();
   obs.rover_position_m = roverPositionM();
   // Where the arm's calibration puts the housing's top face, from the stepper counters.
-  const control::Point3 expected{sim_.horizontalPosition() - params_.arm_base_offset_m, 0.0, sim_.verticalPosition()};
+  const control::Point3 expected{sim_.horizontalPosition() + arm_.extension_zero_x_m, arm_.strip_y_m,
+                                 sim_.verticalPosition()};
   sim_.renderCamera(&bgr_, &cloud_);
   const perception::FrameResult result = pipeline_->process(bgr_, cloud_, effectorPrior());
   ++frames_;
@@ -140,12 +136,16 @@ std::optional<control::HarvestObservation> SimHarvestPlant::observe(const Preemp
   return obs;
 }
 
-control::MoveResult SimHarvestPlant::moveRover(double distance_m, const Preempted& preempted) {
+void SimHarvestPlant::commandArm(const control::ArmPose& pose) {
+  sim_.commandHorizontal(pose.extension_m);  // NaN: the axis keeps its target
+  sim_.commandVertical(pose.depth_m);
+}
+
+control::MoveResult SimHarvestPlant::moveRover(double distance_m, const control::ArmPose& arm,
+                                               const Preempted& preempted) {
   if (!std::isfinite(distance_m)) return control::MoveResult::kFailed;
-  // Drive with the arm up, clear of the plants: both axes go to their rest as the drive starts (the pump needs
-  // most of a second to cross its deadband, and the arm's steppers are independent of it).
-  sim_.commandHorizontal(params_.rest_extension_m);
-  if (sim_.verticalPosition() > params_.rest_depth_m) sim_.commandVertical(params_.rest_depth_m);
+  // The arm's steppers are independent of the drive: they move while the pump crosses its deadband.
+  commandArm(arm);
   target_m_ = roverPositionM() + distance_m;
   rover_.setTarget(target_m_);
   const double timeout = params_.rover_timeout_s + params_.rover_timeout_per_m_s * std::abs(distance_m);
@@ -177,156 +177,42 @@ bool SimHarvestPlant::waitArm(const Preempted& preempted) {
   return true;
 }
 
-control::MoveResult SimHarvestPlant::moveArmToDepth(double depth_m, const Preempted& preempted) {
-  if (!std::isfinite(depth_m)) return control::MoveResult::kFailed;
-  sim_.commandVertical(std::clamp(depth_m, params_.arm_min_depth_m, params_.arm_max_depth_m));
+control::MoveResult SimHarvestPlant::moveArm(const control::ArmPose& target, const Preempted& preempted) {
+  commandArm(target);
   if (!waitArm(preempted)) return preempted() ? control::MoveResult::kPreempted : control::MoveResult::kFailed;
   return control::MoveResult::kDone;
+}
+
+std::optional<control::ArmPose> SimHarvestPlant::armPose() const {
+  return control::ArmPose{sim_.horizontalPosition(), sim_.verticalPosition()};
+}
+
+control::MoveResult SimHarvestPlant::wait(double seconds, const Preempted& preempted) {
+  run(seconds);
+  return preempted() ? control::MoveResult::kPreempted : control::MoveResult::kDone;
+}
+
+std::optional<control::CameraCloud> SimHarvestPlant::lastCloud(const Preempted&) {
+  if (cloud_.empty()) return std::nullopt;
+  control::CameraCloud c;
+  c.view.data = cloud_.data;
+  c.view.rows = cloud_.rows;
+  c.view.cols = cloud_.cols;
+  c.view.row_step = cloud_.step;
+  c.view.point_step = cloud_.elemSize();
+  c.fx_px = pipeline_->params().intrinsics.fx;
+  c.keep = std::make_shared<cv::Mat>(cloud_);  // holds the pixels; the next frame may render over them
+  return c;
 }
 
 std::optional<perception::EndEffectorPrior> SimHarvestPlant::effectorPrior() const {
   if (!params_.effector_search_near_arm) return std::nullopt;
   perception::EndEffectorPrior p;
-  p.position = cv::Point3d(sim_.horizontalPosition() - params_.arm_base_offset_m, 0.0, sim_.verticalPosition());
+  p.position =
+      cv::Point3d(sim_.horizontalPosition() + arm_.extension_zero_x_m, arm_.strip_y_m, sim_.verticalPosition());
   p.radius_m = params_.effector_prior_m;
   p.housing_half_m = params_.effector_half_m;
   return p;
-}
-
-control::CloudView SimHarvestPlant::cloudView() const {
-  control::CloudView view;
-  if (cloud_.empty()) return view;
-  view.data = cloud_.data;
-  view.rows = cloud_.rows;
-  view.cols = cloud_.cols;
-  view.row_step = cloud_.step;
-  view.point_step = cloud_.elemSize();
-  return view;
-}
-
-perception::FrameResult SimHarvestPlant::newFrame() {
-  run(params_.settle_s);
-  sim_.renderCamera(&bgr_, &cloud_);
-  perception::FrameResult result = pipeline_->process(bgr_, cloud_, effectorPrior());
-  ++frames_;
-  if (hook_) hook_(bgr_, result);
-  return result;
-}
-
-int SimHarvestPlant::pointsOverApproach(double target_x, double depth_m) const {
-  if (cloud_.empty()) return 0;
-  const control::CloudView view = cloudView();
-  control::LeafClearanceParams leaf;
-  leaf.leaf_clearance_m = params_.leaf_clearance_m;
-  leaf.effector_half_m = params_.effector_half_m;
-  return control::pointsOverApproach(view, sim_.horizontalPosition() - params_.arm_base_offset_m, target_x, depth_m,
-                                     leaf);
-}
-
-double SimHarvestPlant::clearAndRelocate(double target_x, const Preempted& preempted, bool* ok) {
-  *ok = true;
-  const double depth = sim_.verticalPosition();
-  const double from = sim_.horizontalPosition();
-  const double target_ext = target_x + params_.arm_base_offset_m;
-  const double dir = target_ext >= from ? 1.0 : -1.0;
-  const auto ext = [this](double e) { return std::clamp(e, 0.0, params_.horizontal_travel_m); };
-  ++picks_cleared_;
-  // Up to the leaf's level, through it past the boll, back off, down to the boll's top again.
-  sim_.commandVertical(std::clamp(depth - params_.leaf_clearance_m, params_.arm_min_depth_m, params_.arm_max_depth_m));
-  if (!(*ok = waitArm(preempted))) return target_x;
-  sim_.commandHorizontal(ext(target_ext + dir * params_.clear_overshoot_m));
-  if (!(*ok = waitArm(preempted))) return target_x;
-  sim_.commandHorizontal(ext(target_ext - dir * params_.clear_standoff_m));
-  if (!(*ok = waitArm(preempted))) return target_x;
-  sim_.commandVertical(depth);
-  if (!(*ok = waitArm(preempted))) return target_x;
-  // Look again: the boll is now in full view, located on its whole top rather than on the part past the leaf.
-  const perception::FrameResult result = newFrame();
-  double best = params_.redetect_radius_m;
-  double corrected = target_x, corrected_depth = depth;
-  for (const auto& b : result.bolls) {
-    const double d = std::hypot(b.position.x - target_x, b.position.y, b.position.z - depth);
-    if (d < best) {
-      best = d;
-      corrected = b.position.x;
-      corrected_depth = b.position.z;
-    }
-  }
-  if (best < params_.redetect_radius_m) {
-    ++picks_redetected_;
-    // A boll seen only at its side past the leaf was located deeper than its top: the housing goes to the top.
-    if (std::abs(corrected_depth - depth) > 0.015) {
-      sim_.commandVertical(std::clamp(corrected_depth, params_.arm_min_depth_m, params_.arm_max_depth_m));
-      *ok = waitArm(preempted);
-    }
-  }
-  return corrected;
-}
-
-control::MoveResult SimHarvestPlant::pick(double offset_m, const Preempted& preempted) {
-  if (!std::isfinite(offset_m)) return control::MoveResult::kFailed;
-  const auto failed = [&] { return preempted() ? control::MoveResult::kPreempted : control::MoveResult::kFailed; };
-  double target_x = sim_.horizontalPosition() - params_.arm_base_offset_m + offset_m;
-  if (params_.clear_leaves_before_pick &&
-      pointsOverApproach(target_x, sim_.verticalPosition()) >= params_.leaf_points_min) {
-    bool ok = true;
-    target_x = clearAndRelocate(target_x, preempted, &ok);
-    if (!ok) return failed();
-  }
-  const double target = std::clamp(target_x + params_.arm_base_offset_m, 0.0, params_.horizontal_travel_m);
-  sim_.commandHorizontal(target);
-  if (!waitArm(preempted)) return failed();
-  sim_.setVacuum(true);
-  run(params_.pick_dwell_s);
-  sim_.commandHorizontal(params_.rest_extension_m);
-  const bool back = waitArm(preempted);
-  sim_.setVacuum(false);
-  if (params_.raise_after_pick) {
-    sim_.commandVertical(params_.rest_depth_m);
-    if (!waitArm(preempted)) return failed();
-  }
-  if (preempted()) return control::MoveResult::kPreempted;
-  return back ? control::MoveResult::kDone : control::MoveResult::kFailed;
-}
-
-std::optional<control::MoveResult> SimHarvestPlant::searchUnderLeaves(const Preempted& preempted) {
-  const control::CanopySearchParams& c = params_.canopy;
-  const auto failed = [&] { return preempted() ? control::MoveResult::kPreempted : control::MoveResult::kFailed; };
-  // The housing above the plants at its rest, then a frame: everything deeper than the housing is the canopy.
-  sim_.commandHorizontal(params_.rest_extension_m);
-  if (sim_.verticalPosition() > params_.rest_depth_m) sim_.commandVertical(params_.rest_depth_m);
-  if (!waitArm(preempted)) return failed();
-  newFrame();
-  ++leaf_searches_;
-  const double fx = pipeline_->params().intrinsics.fx;
-  control::ArmWorkspace arm;
-  arm.extension_zero_x_m = -params_.arm_base_offset_m;
-  arm.extension_max_m = params_.horizontal_travel_m;
-  arm.rest_depth_m = params_.rest_depth_m;
-  arm.max_depth_m = params_.arm_max_depth_m;
-  arm.strip_y_m = 0.0;  // the calibration's arm plane
-  control::CanopySearch search(arm, c);
-  int passes = 0;
-  for (int pass = 0; pass < c.max_passes; ++pass) {
-    const auto sweep = search.next(cloudView(), fx);
-    if (!sweep) break;
-    // Beside the layer above the plants, down (no leaf is pushed by a vertical move), through it, up again.
-    sim_.commandHorizontal(sweep->from_extension_m);
-    if (!waitArm(preempted)) return failed();
-    sim_.commandVertical(sweep->depth_m);
-    if (!waitArm(preempted)) return failed();
-    sim_.commandHorizontal(sweep->to_extension_m);
-    if (!waitArm(preempted)) return failed();
-    sim_.commandVertical(params_.rest_depth_m);
-    if (!waitArm(preempted)) return failed();
-    ++passes;
-    ++leaf_sweeps_;
-    if (pass + 1 < c.max_passes) newFrame();
-  }
-  sim_.commandHorizontal(params_.rest_extension_m);
-  if (!waitArm(preempted)) return failed();
-  if (passes == 0) return std::nullopt;
-  return control::MoveResult::kDone;
 }
 
 }  // namespace sim

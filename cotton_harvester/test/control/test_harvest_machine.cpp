@@ -2,42 +2,31 @@
 // retries, skips, preemption, aborts) and by a simulated row with ideal motion.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <deque>
 #include <thread>
 
 #include "cotton_harvester/control/harvest_machine.h"
 #include "cotton_harvester/control/virtual_row.h"
+#include "fake_harvest_plant.h"
 
 using namespace cotton_harvester::control;
 
 namespace {
 
-/// A plant whose frames come from a script; it records every action.
-class ScriptedPlant : public HarvestPlant {
+/// A plant whose frames come from a script (fake::FakeHarvestPlant); it records the machine's actions as the
+/// primitives show them: "rover" (distance), "arm" (a depth-only move of the arm, to that depth), "pick" (vacuum on,
+/// with the extension's offset from where the arm went out from) and "sweep" (a layer to sweep under the leaves).
+class ScriptedPlant : public fake::FakeHarvestPlant {
  public:
-  std::deque<std::optional<HarvestObservation>> frames;  ///< empty script: frames without bolls
   std::vector<std::string> actions;
   std::vector<double> values;
-  MoveResult result = MoveResult::kDone;
   bool block_rover = false;  ///< moveRover waits until preempted
   std::atomic<bool> blocking{false};
-  double position = 0.0;
-  double time = 0.0;
 
-  std::optional<HarvestObservation> observe(const Preempted&) override {
-    time += 0.1;
-    if (frames.empty()) {
-      HarvestObservation empty;
-      empty.rover_position_m = position;
-      return empty;
-    }
-    auto frame = frames.front();
-    frames.pop_front();
-    if (frame) frame->rover_position_m = position;
-    return frame;
-  }
-  MoveResult moveRover(double distance_m, const Preempted& preempted) override {
+  MoveResult moveRover(double distance_m, const ArmPose& arm, const Preempted& preempted) override {
     actions.push_back("rover");
     values.push_back(distance_m);
     if (block_rover) {
@@ -45,47 +34,73 @@ class ScriptedPlant : public HarvestPlant {
       while (!preempted()) std::this_thread::yield();
       return MoveResult::kPreempted;
     }
-    if (result == MoveResult::kDone) position += distance_m;
-    time += 1.0;
-    return result;
+    return FakeHarvestPlant::moveRover(distance_m, arm, preempted);
   }
-  MoveResult moveArmToDepth(double depth_m, const Preempted&) override {
-    actions.push_back("arm");
-    values.push_back(depth_m);
-    time += 1.0;
-    return result;
+  MoveResult moveArm(const ArmPose& target, const Preempted& preempted) override {
+    if (sweep_moves_ > 0) {
+      --sweep_moves_;
+    } else if (std::isfinite(target.extension_m)) {
+      out_from_ = arm.extension_m;
+    } else if (std::isfinite(target.depth_m)) {
+      actions.push_back("arm");
+      values.push_back(target.depth_m);
+    }
+    return FakeHarvestPlant::moveArm(target, preempted);
   }
-  MoveResult pick(double offset_m, const Preempted&) override {
-    actions.push_back("pick");
-    values.push_back(offset_m);
-    time += 2.0;
-    return result;
+  void setVacuum(bool on) override {
+    if (on) {
+      actions.push_back("pick");
+      values.push_back(arm.extension_m - out_from_);
+    }
+    FakeHarvestPlant::setVacuum(on);
   }
-  double now() const override { return time; }
-  double roverPositionM() const override { return position; }
+
+ protected:
+  int sweep_moves_ = 0;  ///< arm moves of a sweep still to come (not the machine's)
+  double out_from_ = 0.0;
 };
 
-/// A scripted plant that can look under the leaves: it sweeps where `sweep_at` holds its position (to 1 mm),
-/// and reveals `revealed` in the next frame after the first sweep.
+/// A scripted plant with leaves to sweep where `sweep_at` holds its position (to 1 mm), once per place: the cloud
+/// shows a leaf in the arm's strip there until it was swept; after the first sweep the frames show `revealed` (what
+/// lay under the leaf) until the next pick.
 class SearchingPlant : public ScriptedPlant {
  public:
   std::vector<double> sweep_at;
-  std::vector<double> searched_at;
+  std::vector<double> searched_at;  ///< places where the search looked at a cloud
   std::optional<HarvestObservation> revealed;
-  std::optional<MoveResult> searchUnderLeaves(const Preempted&) override {
-    searched_at.push_back(position);
-    time += 3.0;
+
+  std::optional<HarvestObservation> observe(const Preempted& preempted) override {
+    auto observation = ScriptedPlant::observe(preempted);
+    if (showing_ && observation && observation->bolls.empty()) {
+      observation = showing_;
+      observation->rover_position_m = position;
+    }
+    return observation;
+  }
+  void setVacuum(bool on) override {
+    if (on) showing_.reset();
+    ScriptedPlant::setVacuum(on);
+  }
+  std::optional<CameraCloud> lastCloud(const Preempted& preempted) override {
+    if (searched_at.empty() || std::abs(searched_at.back() - position) > 1e-3) searched_at.push_back(position);
+    leaves.clear();
     for (const double s : sweep_at)
-      if (std::abs(s - position) < 1e-3) {
+      if (std::abs(s - position) < 1e-3 && std::find(swept_.begin(), swept_.end(), s) == swept_.end()) {
+        leaves = {{-0.30, -0.18, -0.04, 0.04, 1.40}};
+        swept_.push_back(s);
         actions.push_back("sweep");
+        sweep_moves_ = 4;
         if (revealed) {
-          frames.push_back(revealed);
+          showing_ = revealed;
           revealed.reset();
         }
-        return MoveResult::kDone;
       }
-    return std::nullopt;
+    return FakeHarvestPlant::lastCloud(preempted);
   }
+
+ private:
+  std::vector<double> swept_;
+  std::optional<HarvestObservation> showing_;
 };
 
 HarvestObservation frame(std::vector<Point3> bolls, Point3 effector = Point3{0.0, 0.0, 0.8}) {
@@ -119,6 +134,9 @@ TEST(HarvestMachine, NoBollsPassesOnToTheRowEnd) {
             (std::vector<std::string>{"OBSERVE", "PASS_ON", "OBSERVE", "PASS_ON", "OBSERVE", "PASS_ON"}));
   EXPECT_EQ(machine.machine().status().history.back().next, "-> finished");
   EXPECT_NEAR(machine.counts().distance_m, 0.6, 1e-12);
+  // The moves are the manoeuvres': the arm goes to its rest extension while the rover drives.
+  for (const auto& move : plant.only("rover"))
+    EXPECT_EQ(move.arm.extension_m, HarvestActionParams().arm.rest_extension_m);
 }
 
 TEST(HarvestMachine, SearchesUnderTheLeavesOnceAPlaceBeforePassingOn) {
@@ -331,11 +349,20 @@ TEST(HarvestParams, CheckNamesTheKey) {
   params = HarvestParams();
   params.row_length_m = -1.0;
   EXPECT_NE(params.check().find("row_length_m"), std::string::npos);
+  params = HarvestParams();
+  params.actions.pick_dwell_s = 0.0;  // the manoeuvres' parameters are the machine's too
+  EXPECT_NE(params.check().find("pick_dwell_s"), std::string::npos);
+  params = HarvestParams();
+  params.actions.arm.rest_depth_m = 0.0;
+  EXPECT_EQ(params.check(), "");
+  params.search_under_leaves = true;  // the search looks from above the plants
+  EXPECT_NE(params.check().find("rest_depth_m"), std::string::npos);
 }
 
 namespace {
 
-/// Ideal motion over the simulated row: the rover and the arm go exactly where they are told.
+/// Ideal motion over the simulated row: the rover and the arm go exactly where they are told, the brush runs while
+/// the vacuum is on.
 class IdealRowPlant : public HarvestPlant {
  public:
   explicit IdealRowPlant(const VirtualRowParams& params) : row(params) {}
@@ -350,24 +377,26 @@ class IdealRowPlant : public HarvestPlant {
     observation.rover_position_m = travel;
     return observation;
   }
-  MoveResult moveRover(double d, const Preempted&) override {
+  MoveResult moveRover(double d, const ArmPose& arm, const Preempted& preempted) override {
     travel += d;
     time += 2.0 + std::abs(d) / 0.1;
-    return MoveResult::kDone;
+    return moveArm(arm, preempted);
   }
-  MoveResult moveArmToDepth(double z, const Preempted&) override {
+  MoveResult moveArm(const ArmPose& target, const Preempted&) override {
     time += 1.0;
-    depth = z;
+    if (std::isfinite(target.extension_m)) extension = target.extension_m;
+    if (std::isfinite(target.depth_m)) depth = target.depth_m;
     return MoveResult::kDone;
   }
-  MoveResult pick(double offset, const Preempted&) override {
-    const double before = extension;
-    extension += offset;
-    row.brush(travel, row.endEffector(extension, depth));
-    extension = before;
-    time += 4.0;
+  std::optional<ArmPose> armPose() const override { return ArmPose{extension, depth}; }
+  void setVacuum(bool on) override {
+    if (on) row.brush(travel, row.endEffector(extension, depth));
+  }
+  MoveResult wait(double seconds, const Preempted&) override {
+    time += seconds;
     return MoveResult::kDone;
   }
+  std::optional<CameraCloud> lastCloud(const Preempted&) override { return std::nullopt; }
   double now() const override { return time; }
   double roverPositionM() const override { return travel; }
 };
@@ -380,6 +409,8 @@ TEST(HarvestMachine, HarvestsASimulatedRowOfSixPlants) {
   HarvestParams params;
   params.row_length_m = 2.4;  // the preliminary experiment's distance
   params.bolls_present = plant.row.present();
+  params.actions.arm.extension_max_m = row.arm_length_m;  // the virtual arm: 0.6 m, at rest retracted
+  params.actions.arm.rest_extension_m = 0.0;
   HarvestMachine machine(plant, params);
   EXPECT_EQ(machine.run(), "finished");
   const HarvestCounts counts = machine.counts();

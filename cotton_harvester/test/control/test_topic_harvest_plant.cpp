@@ -1,6 +1,7 @@
 // TopicHarvestPlant against fake perception and manipulator topics: an observation takes the end effector of its
-// own frame only, the arm's calibrated position stands in when perception did not report the housing, and the
-// vacuum stays on while the arm retracts from the boll.
+// own frame only, the arm's calibrated position stands in when perception did not report the housing, the arm goes
+// where a rover move asks; and HarvestActions on this plant: the vacuum stays on while the arm retracts from the
+// boll, the search under the leaves sweeps the leaf in the arm's strip.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -24,6 +25,7 @@
 
 #include "cotton_harvester/BollArray.h"
 #include "../../src/control/topic_harvest_plant.h"
+#include "cotton_harvester/control/harvest_actions.h"
 
 namespace cotton_harvester {
 namespace control {
@@ -187,16 +189,23 @@ TopicPlantParams testParams() {
   p.settle_s = 0.0;
   p.observe_timeout_s = 5.0;
   p.effector_max_age_s = 0.5;
-  p.pick_dwell_s = 0.2;
   p.arm_timeout_s = 10.0;
-  p.arm_extension_zero_x_m = -0.55;
-  p.arm_y_m = 0.02;
   p.joint_max_age_s = 1.0;  // joint states at 50 Hz of wall time, however loaded the machine
   return p;
 }
 
+/// The manoeuvres' settings of these tests: the arm's plane at camera y 0.02, a short dwell.
+HarvestActionParams actionParams() {
+  HarvestActionParams a;
+  a.arm.extension_zero_x_m = -0.55;
+  a.arm.strip_y_m = 0.02;
+  a.pick_dwell_s = 0.2;
+  return a;
+}
+
 struct Rig {
-  explicit Rig(const TopicPlantParams& params) : ns(uniqueNamespace()), fake(ns), nh(ns), plant(nh, params) {
+  explicit Rig(const TopicPlantParams& params, const HarvestActionParams& actions = actionParams())
+      : ns(uniqueNamespace()), fake(ns), nh(ns), plant(nh, params, actions.arm) {
     EXPECT_TRUE(waitUntil([this] { return fake.connected(); }, 30.0)) << "topics did not connect";
     // The plant has the arm's joint states before the test starts.
     EXPECT_TRUE(waitUntil([this] { return plant.hasArmState(); }, 30.0)) << "no joint states";
@@ -262,10 +271,12 @@ TEST(TopicHarvestPlant, NoCalibratedPositionFromStaleJointStates) {
   EXPECT_EQ(rig.plant.effectorFromCalibration(), 0u);
 }
 
+// The pick is HarvestActions' on the topic plant's primitives (arm target, brush, wait).
 TEST(TopicHarvestPlant, VacuumStaysOnWhileTheArmRetracts) {
   Rig rig(testParams());
-  const double start = rig.fake.extension();
-  EXPECT_EQ(rig.plant.pick(0.20, kNever), MoveResult::kDone);
+  const double start = rig.fake.extension();  // the rest extension, 0.35
+  HarvestActions actions(rig.plant, actionParams());
+  EXPECT_EQ(actions.pick(0.20, kNever), MoveResult::kDone);
   ASSERT_TRUE(waitUntil([&] { return rig.fake.brushEvents().size() >= 2; }, 10.0));
   const auto events = rig.fake.brushEvents();
   ASSERT_EQ(events.size(), 2u);
@@ -277,11 +288,12 @@ TEST(TopicHarvestPlant, VacuumStaysOnWhileTheArmRetracts) {
 }
 
 TEST(TopicHarvestPlant, VacuumOffBeforeRetractingWhenAsked) {
-  TopicPlantParams params = testParams();
+  HarvestActionParams params = actionParams();
   params.vacuum_while_retracting = false;
-  Rig rig(params);
+  Rig rig(testParams(), params);
   const double start = rig.fake.extension();
-  EXPECT_EQ(rig.plant.pick(0.15, kNever), MoveResult::kDone);
+  HarvestActions actions(rig.plant, params);
+  EXPECT_EQ(actions.pick(0.15, kNever), MoveResult::kDone);
   ASSERT_TRUE(waitUntil([&] { return rig.fake.brushEvents().size() >= 2; }, 10.0));
   const auto events = rig.fake.brushEvents();
   ASSERT_EQ(events.size(), 2u);
@@ -315,20 +327,21 @@ class FrameStream {
 
 TopicPlantParams searchParams() {
   TopicPlantParams p = testParams();
-  p.search_under_leaves = true;
-  p.rest_depth_m = 1.2;
+  p.cloud = true;
   p.effector_from_calibration = true;
   return p;
 }
 
+// The search is HarvestActions' on the topic plant's primitives (frames, their clouds, arm targets).
 TEST(TopicHarvestPlant, LookingUnderTheLeavesSweepsTheLeafInTheArmsStrip) {
   Rig rig(searchParams());
   FrameStream frames(rig.fake, true);
-  const auto result = rig.plant.searchUnderLeaves(kNever);
+  HarvestActions actions(rig.plant, actionParams());  // rest depth 1.2 m, where the fake arm starts
+  const auto result = actions.searchUnderLeaves(kNever);
   ASSERT_TRUE(result) << "the leaf is a layer to sweep";
   EXPECT_EQ(*result, MoveResult::kDone);
-  EXPECT_EQ(rig.plant.leafSearches(), 1u);
-  EXPECT_EQ(rig.plant.leafSweeps(), 1u);  // nothing deeper than the leaf but the ground
+  EXPECT_EQ(actions.leafSearches(), 1);
+  EXPECT_EQ(actions.leafSweeps(), 1);  // nothing deeper than the leaf but the ground
   // The sweep: to beside the leaf above the plants, down to 1 cm above its top, sideways through it to 15 cm past
   // its far edge (housing half side 5 cm), up to the rest depth.
   const auto t = rig.fake.targets();
@@ -342,22 +355,46 @@ TEST(TopicHarvestPlant, LookingUnderTheLeavesSweepsTheLeafInTheArmsStrip) {
   EXPECT_TRUE(std::isnan(through->second));                       // at the leaf's depth
   ASSERT_NE(std::next(through), t.end());
   EXPECT_NEAR(std::next(through)->second, 1.2, 1e-9);  // up again
+  EXPECT_NEAR(t.back().first, 0.35, 1e-9);             // and back to the rest extension
+  EXPECT_NEAR(rig.fake.extension(), 0.35, 1e-9);
 }
 
 TEST(TopicHarvestPlant, NothingToSweepOverBareGroundOrWithoutARestAboveThePlants) {
   {
     Rig rig(searchParams());
     FrameStream frames(rig.fake, false);
-    EXPECT_FALSE(rig.plant.searchUnderLeaves(kNever));
-    EXPECT_EQ(rig.plant.leafSearches(), 1u);
-    EXPECT_EQ(rig.plant.leafSweeps(), 0u);
+    HarvestActions actions(rig.plant, actionParams());
+    EXPECT_FALSE(actions.searchUnderLeaves(kNever));
+    EXPECT_EQ(actions.leafSearches(), 1);
+    EXPECT_EQ(actions.leafSweeps(), 0);
   }
-  TopicPlantParams params = searchParams();
-  params.rest_depth_m = 0.0;  // the plant does not know where the arm clears the plants
-  Rig rig(params);
+  HarvestActionParams params = actionParams();
+  params.arm.rest_depth_m = 0.0;  // the stack does not know where the arm clears the plants
+  Rig rig(searchParams(), params);
   FrameStream frames(rig.fake, true);
-  EXPECT_FALSE(rig.plant.searchUnderLeaves(kNever));
-  EXPECT_EQ(rig.plant.leafSearches(), 0u);
+  HarvestActions actions(rig.plant, params);
+  EXPECT_FALSE(actions.searchUnderLeaves(kNever));
+  EXPECT_EQ(actions.leafSearches(), 0);
+  EXPECT_TRUE(rig.fake.targets().empty());  // the arm was not moved
+}
+
+TEST(TopicHarvestPlant, TheArmGoesWhereTheRoverMoveAsksWhileTheRoverMoves) {
+  TopicPlantParams params = testParams();
+  params.rover_settle_s = 0.05;
+  Rig rig(params);
+  // The fake rover stands at 0: a move of 0 m is done once the arm arrived.
+  EXPECT_EQ(rig.plant.moveRover(0.0, ArmPose{0.50, std::nan("")}, kNever), MoveResult::kDone);
+  EXPECT_NEAR(rig.fake.extension(), 0.50, 1e-9);
+  ASSERT_EQ(rig.fake.targets().size(), 1u);
+  EXPECT_NEAR(rig.fake.targets()[0].first, 0.50, 1e-9);
+  EXPECT_TRUE(std::isnan(rig.fake.targets()[0].second));
+  // Already there: no arm command at all.
+  EXPECT_EQ(rig.plant.moveRover(0.0, ArmPose{0.50, 1.2}, kNever), MoveResult::kDone);
+  EXPECT_EQ(rig.fake.targets().size(), 1u);
+  const auto pose = rig.plant.armPose();
+  ASSERT_TRUE(pose);
+  EXPECT_NEAR(pose->extension_m, 0.50, 1e-9);
+  EXPECT_NEAR(pose->depth_m, 1.2, 1e-9);
 }
 
 TEST(TopicHarvestPlant, ParametersAreChecked) {
@@ -366,14 +403,18 @@ TEST(TopicHarvestPlant, ParametersAreChecked) {
   p.joint_max_age_s = 0.0;
   EXPECT_NE(TopicHarvestPlant::check(p).find("joint_max_age_s"), std::string::npos);
   p = testParams();
-  p.arm_y_m = std::nan("");
-  EXPECT_NE(TopicHarvestPlant::check(p).find("arm_y_m"), std::string::npos);
-  p = testParams();
   p.effector_stamp_tolerance_s = -1.0;
   EXPECT_NE(TopicHarvestPlant::check(p).find("effector_stamp_tolerance_s"), std::string::npos);
   p = testParams();
-  p.canopy.max_passes = 0;
-  EXPECT_NE(TopicHarvestPlant::check(p).find("canopy/max_passes"), std::string::npos);
+  p.rover_tolerance_m = 0.0;
+  EXPECT_NE(TopicHarvestPlant::check(p).find("rover_tolerance_m"), std::string::npos);
+  // The arm's calibration and the search are the manoeuvres' parameters (one struct for the node and the bench).
+  HarvestActionParams a = actionParams();
+  a.arm.strip_y_m = std::nan("");
+  EXPECT_NE(a.check().find("arm_y_m"), std::string::npos);
+  a = actionParams();
+  a.canopy.max_passes = 0;
+  EXPECT_NE(a.check().find("search_max_passes"), std::string::npos);
 }
 
 }  // namespace

@@ -50,8 +50,12 @@ TEST(RoverSim, RejectsBadParameters) {
   p.capture_radius_m = std::nan("");
   EXPECT_THROW(sim::RoverSim{p}, std::invalid_argument);
   sim::StackParams stack;
-  stack.rest_depth_m = 5.0;
-  EXPECT_NE(stack.check(), "");
+  stack.effector_prior_m = 0.0;
+  EXPECT_NE(stack.check().find("effector_prior_m"), std::string::npos);
+  control::HarvestActionParams manoeuvres = sim::simActionParams(p);
+  EXPECT_EQ(manoeuvres.check(), "");
+  manoeuvres.arm.rest_depth_m = 5.0;  // below the vertical axis' travel
+  EXPECT_NE(manoeuvres.check().find("rest_depth_m"), std::string::npos);
 }
 
 TEST(RoverSim, CameraShowsTheEndEffectorWherePerceptionFindsIt) {
@@ -250,7 +254,9 @@ TEST(SimHarvestPlant, LookingUnderTheLeavesUncoversAHiddenBollAndFindsIt) {
   const sim::RoverSimParams p = overBoll(leafyRow(0.15), &boll);
   sim::RoverSim s(p);
   ASSERT_LT(boll, s.bolls().size()) << "no hidden boll in reach on this row";
-  sim::SimHarvestPlant plant(s, sim::simStackParams(p), simPipeline(p));
+  const control::HarvestActionParams manoeuvres = sim::simActionParams(p);
+  sim::SimHarvestPlant plant(s, sim::simStackParams(p), manoeuvres.arm, simPipeline(p));
+  control::HarvestActions actions(plant, manoeuvres);
   const auto never = [] { return false; };
   const auto before = plant.observe(never);
   ASSERT_TRUE(before);
@@ -261,12 +267,12 @@ TEST(SimHarvestPlant, LookingUnderTheLeavesUncoversAHiddenBollAndFindsIt) {
       if (std::hypot(b.position.x - truth.x(), b.position.y - truth.y()) < 0.05) return true;
     return false;
   };
-  const auto result = plant.searchUnderLeaves(never);
+  const auto result = actions.searchUnderLeaves(never);
   ASSERT_TRUE(result) << "the leaf over the boll is a layer to sweep";
   EXPECT_EQ(*result, control::MoveResult::kDone);
-  EXPECT_EQ(plant.leafSearches(), 1);
-  EXPECT_GE(plant.leafSweeps(), 1);
-  EXPECT_LE(plant.leafSweeps(), sim::StackParams().canopy.max_passes);
+  EXPECT_EQ(actions.leafSearches(), 1);
+  EXPECT_GE(actions.leafSweeps(), 1);
+  EXPECT_LE(actions.leafSweeps(), manoeuvres.canopy.max_passes);
   EXPECT_GE(s.leavesPushed(), 1);
   const auto after = plant.observe(never);
   ASSERT_TRUE(after);
@@ -274,6 +280,6 @@ TEST(SimHarvestPlant, LookingUnderTheLeavesUncoversAHiddenBollAndFindsIt) {
   EXPECT_TRUE(near_truth(*after)) << "the uncovered boll is detected where it is";
   EXPECT_EQ(s.bollsCaptured(), 0);  // the sweeps take nothing
   // The arm is back at its rest, above the plants.
-  EXPECT_NEAR(s.verticalPosition(), sim::StackParams().rest_depth_m, 1e-6);
-  EXPECT_NEAR(s.horizontalPosition(), sim::StackParams().rest_extension_m, 1e-6);
+  EXPECT_NEAR(s.verticalPosition(), manoeuvres.arm.rest_depth_m, 1e-6);
+  EXPECT_NEAR(s.horizontalPosition(), manoeuvres.arm.rest_extension_m, 1e-6);
 }

@@ -45,14 +45,19 @@ std::optional<CanopyLayer> nextCanopyLayer(const CloudView& cloud, double fx, do
                                            double x_max_m, double below_depth_m, double max_depth_m,
                                            const CanopySearchParams& params);
 
-/// The arm as the plant knows it from its calibration: camera x of the housing's centre at extension 0, the
-/// horizontal travel, the housing's depth (top face) at rest above the plants and at its lowest, and the y of the
-/// arm's plane [m].
+/// The arm as the stack knows it from its calibration (the manipulator's travel), camera frame [m]. The defaults are
+/// the simulated rover's build (the harvest_mujoco_nodes.yaml values); the paper's rover has 0.60 m of horizontal
+/// travel and 0.30-1.17 m of vertical (config/harvest.yaml).
 struct ArmWorkspace {
-  double extension_zero_x_m = -0.55;
-  double extension_min_m = 0.0, extension_max_m = 0.70;
-  double rest_depth_m = 1.20, max_depth_m = 1.93;
-  double strip_y_m = 0.0;
+  double extension_zero_x_m = -0.55;                     ///< camera x of the housing's centre at extension 0
+  double extension_min_m = 0.0, extension_max_m = 0.70;  ///< horizontal travel: targets are clamped into it
+  double min_depth_m = 0.30, max_depth_m = 1.93;         ///< housing's top face, highest and lowest
+  /// Rest: where the horizontal axis waits between picks and while the rover drives ...
+  double rest_extension_m = 0.35;
+  /// ... and the depth above the plants the housing goes up to (when deeper) as the rover starts a move and before
+  /// looking under the leaves; 0: none (the arm keeps its depth while driving, and no search is possible).
+  double rest_depth_m = 1.20;
+  double strip_y_m = 0.0;  ///< camera y of the arm's plane (the housing's centre)
 };
 
 /// One sweep through a layer: the housing goes to `from_extension_m` above the plants, down to `depth_m`, sideways

@@ -1,6 +1,5 @@
 #pragma once
 
-#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -10,38 +9,13 @@
 #include <thorvald_state_machine/state_machine.h>
 
 #include "cotton_harvester/control/boll_tracker.h"
+#include "cotton_harvester/control/harvest_actions.h"
 #include "cotton_harvester/control/harvest_decision.h"
 #include "cotton_harvester/control/harvest_metrics.h"
+#include "cotton_harvester/control/harvest_plant.h"
 
 namespace cotton_harvester {
 namespace control {
-
-/// Result of one action of the rover or the arm.
-enum class MoveResult { kDone, kFailed, kPreempted };
-
-/// What the harvest machine drives: the camera, the rover and the arm. The node implements it on
-/// topics; tests implement it with scripted observations. Every blocking call must return promptly
-/// (kPreempted / nullopt) once `preempted()` turns true.
-class HarvestPlant {
- public:
-  using Preempted = std::function<bool()>;
-  virtual ~HarvestPlant() = default;
-  /// A camera frame taken after the last action finished; nullopt on timeout or preemption.
-  virtual std::optional<HarvestObservation> observe(const Preempted& preempted) = 0;
-  /// Moves the rover by `distance_m` along the row (negative: back) and waits until it settled.
-  virtual MoveResult moveRover(double distance_m, const Preempted& preempted) = 0;
-  /// Moves the vertical axis so the end effector is `depth_m` from the camera.
-  virtual MoveResult moveArmToDepth(double depth_m, const Preempted& preempted) = 0;
-  /// The pick: horizontal axis by `offset_m`, brush on for a while, back.
-  virtual MoveResult pick(double offset_m, const Preempted& preempted) = 0;
-  /// Looking under the leaves in the arm's strip of the row (CanopySearchParams): the arm sweeps the foliage there
-  /// aside, layer by layer; kDone when it swept, nullopt when the strip holds nothing to sweep or the plant cannot
-  /// sweep (the default).
-  virtual std::optional<MoveResult> searchUnderLeaves(const Preempted& /*preempted*/) { return std::nullopt; }
-  /// Time [s] and the rover's position along the row [m].
-  virtual double now() const = 0;
-  virtual double roverPositionM() const = 0;
-};
 
 struct HarvestParams {
   DecisionParams decision;
@@ -73,16 +47,20 @@ struct HarvestParams {
   /// paper's Algorithm 1).
   bool search_under_leaves = false;
   double search_spacing_m = 0.2;  ///< [m] along the row
-  std::string check() const;      ///< empty when sound, otherwise "key: expected ..."
+  /// How the rover's arm picks, clears leaves, looks under them and rests (the manoeuvres, HarvestActions).
+  HarvestActionParams actions;
+  std::string check() const;  ///< empty when sound, otherwise "key: expected ..."
 };
 
 /// The harvest state machine (paper §2.9, Algorithm 1, Figures 13–14) on thorvald_state_machine:
 /// OBSERVE (state 0) decides from the nearest reachable pending boll and the end effector and goes
 /// to MOVE_FORWARD, MOVE_BACKWARD, ARM_UP, ARM_DOWN, PICK or PASS_ON; every one of them returns to
 /// OBSERVE. Failed picks are retried up to max_pick_attempts, then the boll is skipped and counted.
-/// Outcomes: "finished" (row done), "aborted" (no frames, or actions keep failing), "preempted".
+/// Outcomes: "finished" (row done), "aborted" (no frames, or actions keep failing), "preempted". The moves, the pick
+/// and the search under the leaves are HarvestActions on the plant's primitives.
 class HarvestMachine {
  public:
+  /// Throws std::invalid_argument naming the key when params.actions are not sound.
   HarvestMachine(HarvestPlant& plant, const HarvestParams& params);
 
   /// Runs the machine (blocking) and returns its outcome.
@@ -92,6 +70,8 @@ class HarvestMachine {
   /// The bolls of the run so far and their fates (thread-safe copy).
   std::vector<TrackedBoll> tracks() const;
   thorvald_state_machine::StateMachine& machine() { return *machine_; }
+  /// The manoeuvres the machine runs (their counters: picks that cleared leaves, searches under the leaves).
+  const HarvestActions& actions() const { return actions_; }
   /// The boll (camera frame, from the frame it was chosen in) and the end effector of the last decision.
   std::optional<std::pair<Point3, Point3>> lastDecisionPoints() const;
   /// Sightings that could not be used: bolls without an end effector in the frame, NaN points.
@@ -116,6 +96,7 @@ class HarvestMachine {
 
   HarvestPlant& plant_;
   HarvestParams params_;
+  HarvestActions actions_;
   std::unique_ptr<thorvald_state_machine::StateMachine> machine_;
   mutable std::mutex mutex_;
   BollTracker tracker_;

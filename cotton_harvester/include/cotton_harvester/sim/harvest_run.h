@@ -17,15 +17,15 @@ namespace sim {
 /// One harvest of a simulated row: the simulator, the stack and the state machine's settings.
 struct HarvestRunConfig {
   RoverSimParams sim;
-  control::HarvestParams machine;  ///< row_length_m is how far the rover drives
-  double time_limit_s = 900.0;     ///< simulated time after which the run is stopped (preempted)
-  std::string debug_image_path;    ///< when set: a PNG of the first frame with a boll and the end-effector found
-  std::string frames_dir;          ///< when set: every camera frame with its detections as PNG (frame_NNNN.png)
+  /// row_length_m is how far the rover drives; actions: the arm's manoeuvres, as the robot's node has them
+  control::HarvestParams machine;
+  double time_limit_s = 900.0;   ///< simulated time after which the run is stopped (preempted)
+  std::string debug_image_path;  ///< when set: a PNG of the first frame with a boll and the end-effector found
+  std::string frames_dir;        ///< when set: every camera frame with its detections as PNG (frame_NNNN.png)
   /// Called with the machine's status on every change (e.g. to publish it).
   std::function<void(const thorvald_state_machine::StatusSnapshot&)> status_observer;
   bool verbose = false;  ///< print every transition of the machine (simulated time, state, outcome)
-  /// StackParams::clear_leaves_before_pick and StackParams::effector_search_near_arm of the stack on the rover.
-  bool clear_leaves_before_pick = true;
+  /// StackParams::effector_search_near_arm of the stack on the rover (how the arm picks: machine.actions).
   bool effector_search_near_arm = true;
   bool partial_bolls = true;  ///< the colour detector reports partial bolls (simColourBollParams)
 };
