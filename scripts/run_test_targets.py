@@ -1,0 +1,131 @@
+#!/usr/bin/python3
+"""Runs every catkin test target of a configured and built workspace, JOBS at a time, and prints how long each took.
+
+    scripts/run_test_targets.py BUILD_DIR [--jobs N] [--log FILE] [--serial-file FILE]
+
+The targets are the leaves of catkin's run_tests tree (`run_tests_<pkg>_gtest_<name>`, `..._rostest_...`,
+`..._pyunit_...`, `..._roslaunch-check_...`): those no other run_tests target extends. Each runs as its own
+`make <target>`, so one failing or hanging test does not stop the others; its output goes to the log. Tests named in
+the serial file (one pattern a line, fnmatch style, # comments) run alone, after the others: scenario-length
+simulations whose wall-clock deadlines would suffer from a neighbour. The longest tests of the last run on this
+machine (kept in BUILD_DIR/test_durations.tsv) start first, so the two workers end together. Results are the JUnit
+files catkin writes; this script reports only what ran, how long, and the ten slowest, and exits 0 (the results are
+counted from the JUnit files).
+"""
+import argparse
+import fnmatch
+import os
+import re
+import subprocess
+import sys
+import threading
+import time
+
+
+def leaf_targets(build_dir):
+    out = subprocess.run(["make", "-C", build_dir, "help"], capture_output=True, text=True, check=True).stdout
+    names = sorted({m.group(1) for m in re.finditer(r"^\.\.\. (run_tests_\S+)", out, re.M)})
+    return [n for n in names if not any(o.startswith(n + "_") for o in names)]
+
+
+def read_patterns(path):
+    if not path or not os.path.exists(path):
+        return []
+    with open(path) as f:
+        return [line.split("#", 1)[0].strip() for line in f if line.split("#", 1)[0].strip()]
+
+
+def read_durations(path):
+    durations = {}
+    if os.path.exists(path):
+        with open(path) as f:
+            for line in f:
+                parts = line.split("\t")
+                if len(parts) == 2:
+                    try:
+                        durations[parts[0]] = float(parts[1])
+                    except ValueError:
+                        pass
+    return durations
+
+
+def short(target):
+    return target[len("run_tests_"):]
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("build_dir")
+    parser.add_argument("--jobs", type=int, default=2)
+    parser.add_argument("--log", default=None, help="all the tests' output (default BUILD_DIR/run_tests.log)")
+    parser.add_argument("--serial-file", default=None, help="patterns of tests that run alone, after the others")
+    args = parser.parse_args()
+    if args.jobs < 1:
+        parser.error("--jobs must be at least 1")
+    build_dir = os.path.abspath(args.build_dir)
+    log_path = args.log or os.path.join(build_dir, "run_tests.log")
+    durations_path = os.path.join(build_dir, "test_durations.tsv")
+
+    targets = leaf_targets(build_dir)
+    serial_patterns = read_patterns(args.serial_file)
+    last = read_durations(durations_path)
+    is_serial = lambda t: any(fnmatch.fnmatch(short(t), p) for p in serial_patterns)  # noqa: E731
+    # Unknown durations first (a new test may be long), then the longest first.
+    order = sorted(targets, key=lambda t: -last.get(t, 1e9))
+    parallel = [t for t in order if not is_serial(t)]
+    serial = [t for t in order if is_serial(t)]
+    print(f"[tests] {len(targets)} test targets: {len(parallel)} on {args.jobs} workers, then {len(serial)} alone",
+          flush=True)
+
+    lock = threading.Lock()
+    took = {}
+    log = open(log_path, "w")
+    start_all = time.monotonic()
+
+    def run(target):
+        start = time.monotonic()
+        proc = subprocess.run(["make", "-C", build_dir, target], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                              text=True, errors="replace")
+        seconds = time.monotonic() - start
+        with lock:
+            took[target] = seconds
+            log.write(f"===== {target} ({seconds:.1f} s, make exit {proc.returncode})\n{proc.stdout}\n")
+            log.flush()
+            failed = proc.returncode != 0 or re.search(r"RESULT: FAIL|\[  FAILED  \]", proc.stdout)
+            done = len(took)
+            print(f"[tests] {done:3d}/{len(targets)} {seconds:6.1f} s  {'FAILED ' if failed else ''}{short(target)}",
+                  flush=True)
+
+    queue = list(parallel)
+
+    def worker():
+        while True:
+            with lock:
+                if not queue:
+                    return
+                target = queue.pop(0)
+            run(target)
+
+    threads = [threading.Thread(target=worker) for _ in range(args.jobs)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for target in serial:
+        run(target)
+    log.close()
+
+    total = time.monotonic() - start_all
+    with open(durations_path, "w") as f:
+        for target, seconds in sorted(took.items()):
+            f.write(f"{target}\t{seconds:.1f}\n")
+    print("[tests] the ten slowest:")
+    for target, seconds in sorted(took.items(), key=lambda kv: -kv[1])[:10]:
+        print(f"[tests]   {seconds:6.1f} s  {short(target)}")
+    print(f"[tests] all {len(took)} test targets in {total:.0f} s wall clock ({sum(took.values()):.0f} s of test time)",
+          flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
