@@ -22,7 +22,7 @@ RULES = {
                 "libraries only, and no node links a *_testing library",
     "package-arrows": "an application (thorvald_navigation, greenhouse_rail_nav, cotton_harvester) does not "
                       "depend on the simulator or on bringup (package.xml, CMake outside tests)",
-    "command-line": "no program calls CLI11_PARSE or CLI::App::exit itself (thorvald_base/command_line.h does)",
+    "command-line": "no program calls CLI11_PARSE or CLI::App::exit itself (thorvald_common/command_line.h does)",
 }
 APPLICATIONS = {"thorvald_navigation", "greenhouse_rail_nav", "cotton_harvester"}
 TOP_LAYER = {"thorvald_sim", "thorvald_bringup"}
@@ -364,7 +364,7 @@ def check_command_lines(root, files, pkgs, report):
         for n, line in enumerate(text.split("\n"), 1):
             if "CLI11_PARSE" in line or ("CLI::" in text and re.search(r"\.\s*exit\s*\(", line)):
                 report("command-line", f"{f}:{n}", "parses its command line itself: use "
-                       "thorvald_base::parseCommandLine (--help exits 0, a usage error 2)")
+                       "thorvald_common::parseCommandLine (--help exits 0, a usage error 2)")
 
 def main():
     root, rules = parse_args(sys.argv[1:])

@@ -31,8 +31,9 @@ BANDS = [  # top to bottom: (title, packages)
     ("bringup and simulator scenarios", ["thorvald_bringup", "thorvald_sim"]),
     ("applications", ["thorvald_navigation", "greenhouse_rail_nav", "cotton_harvester"]),
     ("platform: ROS-free core library + ROS adapters and nodes in each package",
-     ["thorvald_twist_mux", "thorvald_teleop", "thorvald_model", "thorvald_can_devices", "thorvald_state_machine",
-      "thorvald_base"]),
+     ["thorvald_twist_mux", "thorvald_teleop", "thorvald_model", "thorvald_can_devices", "thorvald_map",
+      "thorvald_state_machine", "thorvald_base"]),
+    ("shared by every package (arrows to it not drawn)", ["thorvald_common"]),
 ]
 ROLES = {  # package: (nodes and adapters, core library)
     "thorvald_bringup": ("robot.launch, sim.launch, multi_robot.launch,\nsafety_heartbeat", "robot files (config/*.yaml)"),
@@ -43,12 +44,14 @@ ROLES = {  # package: (nodes and adapters, core library)
                             "greenhouse_rail_nav, _mission"),
     "cotton_harvester": ("harvest_perception, harvest_state_machine,\nrover, manipulator",
                          "cotton_harvester_perception, _control"),
-    "thorvald_twist_mux": ("twist_mux", "thorvald_twist_mux (priorities, locks)"),
-    "thorvald_teleop": ("joy_teleop, joystick, keyboard_teleop", "thorvald_teleop (pad, keys)"),
-    "thorvald_model": ("urdf_generator, passive_joint_states", "thorvald_model (URDF)"),
-    "thorvald_can_devices": ("can_device_sim, CAN hardware plugin", "thorvald_can_devices (bus, drives)"),
+    "thorvald_twist_mux": ("twist_mux", "thorvald_twist_mux\n(priorities, locks)"),
+    "thorvald_teleop": ("joy_teleop, joystick,\nkeyboard_teleop", "thorvald_teleop (pad, keys)"),
+    "thorvald_model": ("urdf_generator,\npassive_joint_states", "thorvald_model (URDF)"),
+    "thorvald_can_devices": ("can_device_sim,\nCAN hardware plugin", "thorvald_can_devices\n(bus, drives)"),
     "thorvald_state_machine": ("status publisher\n(thorvald_state_machine_ros)", "thorvald_state_machine"),
-    "thorvald_base": ("base_driver, kinematics plugins,\nthorvald_base_ros", "thorvald_base (robot file, kinematics)"),
+    "thorvald_base": ("base_driver, kinematics plugins,\nthorvald_base_ros", "thorvald_base\n(robot file, kinematics)"),
+    "thorvald_map": ("message conversions (ros/)", "thorvald_map\n(grid, map files)"),
+    "thorvald_common": ("parameter reader, runNode, waitFor", "stop signals, command line, bench statistics"),
 }
 
 
@@ -71,16 +74,19 @@ def package_arrows():
 
 
 def draw_packages(path):
-    fig, ax = plt.subplots(figsize=(16, 8.6))
+    height = 0.4 + len(BANDS) * 2.75
+    fig, ax = plt.subplots(figsize=(16, height))
     ax.set_xlim(0, 16)
-    ax.set_ylim(0, 8.6)
+    ax.set_ylim(0, height)
     ax.axis("off")
-    where, band_h, w, h = {}, 2.55, 2.45, 1.55
-    colours = ["#f3e1c7", "#d9e8f5", "#dcefd9"]
+    where, band_h, w, h = {}, 2.55, 2.1, 1.55
+    colours = ["#f3e1c7", "#d9e8f5", "#dcefd9", "#eeeeee"]
     for b, (title, pkgs) in enumerate(BANDS):
-        y0 = 8.6 - (b + 1) * band_h - 0.2 * b
+        y0 = height - (b + 1) * band_h - 0.2 * b
         box(ax, 0.1, y0, 15.8, band_h, colours[b], edge="#999999", radius=0.05)
         ax.text(0.25, y0 + band_h - 0.22, title, fontsize=11, weight="bold", va="top")
+        w = min(2.45, (15.8 - 0.15 * (len(pkgs) + 1)) / len(pkgs))
+        small = 0.88 if w < 2.3 else 1.0
         gap = (15.8 - len(pkgs) * w) / (len(pkgs) + 1)
         for i, p in enumerate(pkgs):
             x = 0.1 + gap + i * (w + gap)
@@ -88,10 +94,10 @@ def draw_packages(path):
             where[p] = (x + w / 2, y, y + h, b)
             box(ax, x, y, w, h, "white")
             ax.add_patch(Rectangle((x, y), w, 0.5, fc="#eeeeee", ec="#444444", lw=0.6))
-            ax.text(x + w / 2, y + h - 0.15, p, ha="center", va="top", fontsize=9, weight="bold")
+            ax.text(x + w / 2, y + h - 0.15, p, ha="center", va="top", fontsize=9 * small, weight="bold")
             nodes, core = ROLES.get(p, ("", ""))
-            ax.text(x + w / 2, y + 0.78, nodes, ha="center", va="center", fontsize=6.3)
-            ax.text(x + w / 2, y + 0.25, core, ha="center", va="center", fontsize=6.5, style="italic")
+            ax.text(x + w / 2, y + 0.78, nodes, ha="center", va="center", fontsize=6.3 * small)
+            ax.text(x + w / 2, y + 0.25, core, ha="center", va="center", fontsize=6.5 * small, style="italic")
     deps = package_arrows()
     for src, targets in sorted(deps.items()):
         for dst in sorted(targets):
@@ -100,8 +106,8 @@ def draw_packages(path):
             xs, ys_bottom, ys_top, bs = where[src]
             xd, yd_bottom, yd_top, bd = where[dst]
             up = bd < bs
-            if bd == bs:
-                continue  # inside one band (the platform's own arrows): not drawn
+            if bd == bs or BANDS[bd][1] == ["thorvald_common"]:
+                continue  # inside one band (the platform's own arrows), or to the shared helpers: not drawn
             ax.add_patch(FancyArrowPatch((xs, ys_top if up else ys_bottom), (xd, yd_bottom if up else yd_top),
                                          arrowstyle="-|>", mutation_scale=10, lw=2.0 if up else 0.6,
                                          color="#cc2222" if up else "#555555", alpha=0.9 if up else 0.45,
