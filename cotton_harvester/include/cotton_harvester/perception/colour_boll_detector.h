@@ -4,78 +4,27 @@
 #include <string>
 #include <vector>
 
-#include "cotton_harvester/perception/boll_circle.h"
+#include "cotton_harvester/perception/boll_circle_fit.h"
 #include "cotton_harvester/perception/boll_detector.h"
+#include "cotton_harvester/perception/boll_region.h"
+#include "cotton_harvester/perception/colour_boll_params.h"
 
 namespace cotton_harvester {
 namespace perception {
-
-/// Thresholds of the colour and shape boll segmenter: open bolls are white (low saturation), bright and
-/// compact. Sizes are not in pixels: they follow from the BollGeometry and the focal length (setGeometry), so the
-/// same parameters hold at 640x360 and at 1920x1080, and at another camera height.
-struct ColourBollParams {
-  int value_min = 150;      ///< minimum HSV value (brightness) of boll pixels in a well exposed image [0, 255]
-  int saturation_max = 70;  ///< maximum HSV saturation of boll pixels [0, 255]
-  /// Exposure and shade: the value threshold drops to value_contrast times the scene's median value (soil and
-  /// leaves; open bolls reflect about twice as much), but not below value_floor.
-  double value_contrast = 1.35;       ///< [-]
-  int value_floor = 60;               ///< [0, 255]
-  double opening_fraction = 0.45;     ///< side of the speckle-removing opening as a share of the smallest boll
-                                      ///< radius in pixels [-]; a side <= 1 px: no opening
-  double closing_fraction = 1.0;      ///< side of the closing that joins a boll cut by a twig, same unit [-]
-  double min_visible_fraction = 0.4;  ///< smallest region: this share of the smallest boll's disc [0, 1]
-  int max_cluster_bolls = 8;          ///< largest region split into bolls, in largest-boll discs [-]
-  double min_circularity = 0.45;      ///< single bolls: 4 pi area / perimeter^2 [0, 1]
-  double min_solidity = 0.80;         ///< single bolls: area / convex hull area [0, 1]
-  double max_aspect_ratio = 2.5;      ///< long side / short side of the smallest rotated rectangle [-]
-  /// Touching bolls are split where the region narrows: two maxima of the distance transform are two bolls when
-  /// the region's half width between them drops below this share of the smaller one's inscribed radius [0, 1].
-  double split_neck_ratio = 0.75;
-  /// A single region that fails the shape tests but covers at least partial_min_fraction of the smallest boll's
-  /// disc and fits inside the largest boll's disc is reported as a partial detection (BollDetection::partial,
-  /// confidence scaled by 0.3) instead of dropped: a boll seen past a leaf, for a picker that can push the leaf aside
-  /// and look again. 0: off (the default; in an open field a pale crescent is as likely to be glare on a leaf).
-  double partial_min_fraction = 0.0;
-  /// A boll partly hidden by a leaf, a branch or the image border: a region that fails the whole-boll shape tests is
-  /// still a boll when its own silhouette (the outline on its convex hull, fitOuterCircle) is a circular arc (RMS
-  /// distance at most circle_max_rms_fraction of the radius, covering at least circle_min_arc_deg), the circle's
-  /// radius is a boll's at some allowed height, and the region covers at least this share of that circle's disc.
-  /// Reported with BollDetection::partial set and its full confidence. 0: off [0, 1].
-  double partial_min_visible = 0.35;
-  double circle_max_rms_fraction = 0.08;  ///< [-]
-  double circle_min_arc_deg = 135.0;      ///< [deg]
-  /// true: a region that passes the whole-boll shape tests must also show a boll's arc (as above), which refuses
-  /// straight-sided white things (labels, pieces of a bar) but also sunlit bolls whose lobes and shading make their
-  /// outline ragged (recall drops by several points on perception_bench's sunny frames). false: the shape tests alone.
-  bool whole_needs_arc = false;
-};
-
-/// Returns an empty string when valid, otherwise the bad field and what was expected.
-std::string validate(const ColourBollParams& params);
 
 /// The lint-coloured pixels of an 8-bit BGR image: HSV value (the largest channel) at least value_min and HSV
 /// saturation at most saturation_max (both [0, 255]), tested exactly on the integers: 255 (V - min) <=
 /// saturation_max V. CV_8U, 255 on such pixels, else 0. Throws cv::Exception for another image type.
 cv::Mat whitePixels(const cv::Mat& bgr, int value_min, int saturation_max);
 
-/// The pixel thresholds the detector derives from its parameters, the geometry and the focal length.
-struct ColourBollScale {
-  double radius_min_px = 0.0;        ///< smallest boll [px]
-  double radius_max_px = 0.0;        ///< largest boll [px]
-  double min_area_px = 0.0;          ///< smallest region kept [px^2]
-  double partial_min_area_px = 0.0;  ///< smallest region reported as a partial boll [px^2]
-  double max_single_area_px = 0.0;   ///< largest region taken as one boll without a split [px^2]
-  double max_area_px = 0.0;          ///< largest region considered at all [px^2]
-  int opening_px = 0;                ///< side of the opening [px]
-  int closing_px = 0;                ///< side of the closing [px]
-};
-
-/// The default detector: HSV threshold for white and bright, opening, external contours; each region's distance
+/// The default detector: HSV threshold for white and bright, opening, closing, external contours (the region mask:
+/// cutBollRegion, findBollPeaks); each region's distance
 /// transform maxima that are separated by a neck are touching bolls and the region is split between them (each
 /// pixel to the nearest maximum, relative to its inscribed radius; a part's circle is that of its own outline when it
 /// holds the part's inscribed disc); single regions pass shape tests (area, circularity, solidity, aspect ratio) or,
 /// when their outline is no circle, give up the boll on their maximum's own circle (peelBoll). Confidence grows with
-/// circularity, solidity and brightness.
+/// circularity, solidity and brightness (boll_shape.h). The stages live in boll_region.h, boll_shape.h,
+/// boll_circle_fit.h, touching_bolls.h and boll_peeling.h; this class chains them.
 class ColourBollDetector : public BollDetector {
  public:
   /// Throws std::invalid_argument on bad parameters. Until setGeometry, the paper's camera at 1280x720 and the
@@ -89,27 +38,28 @@ class ColourBollDetector : public BollDetector {
 
  private:
   int valueThreshold(const cv::Mat& bgr) const;
-  /// The circle of an outline's own silhouette when it is round and of a boll's size, else std::nullopt.
-  std::optional<BollCircle> roundOutline(const std::vector<cv::Point>& outline) const;
-  /// The circle of a boll whose disc holds the inscribed disc (centre, radius) of a region, fitted to the part of
-  /// the region's outline that runs around that disc, when it is round and of a boll's size; else std::nullopt.
-  std::optional<BollCircle> lobeCircle(const std::vector<cv::Point>& outline, const cv::Point2d& centre,
-                                       double radius) const;
-  /// Whether the circle holds the disc (centre, radius) [px], within a pixel's slack.
-  bool holdsDisc(const BollCircle& circle, const cv::Point2d& centre, double radius) const;
+  /// The limits of a boll's circle at the current scale.
+  BollCircleLimits circleLimits() const;
   /// Least share of its disc that a boll's visible part must cover (partial_min_visible; a whole boll's when 0).
   double visibleShareMin() const;
-  /// Bolls in one region (an external contour of the mask). peels_left: how many more times a boll may be taken out
-  /// of a region that is not one round boll (peelBoll), the rest looked at again.
+  /// Bolls in one region (an external contour of the mask): split between its distance-transform peaks when it has
+  /// several (splitTouchingBolls), else looked at as one (detectSingle). peels_left: how many more times a boll may be
+  /// taken out of a region that is not one round boll (peelBoll), the rest looked at again.
   void detectRegion(const std::vector<cv::Point>& contour, const cv::Mat& bgr, const cv::Mat& mask, int peels_left,
                     std::vector<BollDetection>* bolls) const;
+  /// A region with at most one peak (area: its contour's [px^2]): one whole boll (the shape tests), a boll partly
+  /// hidden (its silhouette is a boll's circle, partial_min_visible), a boll peeled off something joined to it
+  /// (peelBoll), a part of a boll (partial_min_fraction), or nothing.
+  void detectSingle(const std::vector<cv::Point>& contour, double area, const BollRegion& region,
+                    const std::vector<BollPeak>& peaks, const cv::Mat& bgr, const cv::Mat& mask, int peels_left,
+                    std::vector<BollDetection>* bolls) const;
   /// The boll on the lobeCircle of the region's distance-transform maximum (peak, peak_radius; image pixels): the
-  /// region's pixels on its disc, when the region crosses the circle only through a neck and they cover
-  /// visibleShareMin of it; what lies off the disc goes through detectRegion again. region: the region's pixels (255),
-  /// origin: the image pixel of region's (0, 0). false: no such boll (nothing is added).
-  bool peelBoll(const std::vector<cv::Point>& contour, const cv::Mat& region, const cv::Point& origin,
-                const cv::Point2d& peak, double peak_radius, double brightness, const cv::Mat& bgr, const cv::Mat& mask,
-                int peels_left, std::vector<BollDetection>* bolls) const;
+  /// region's pixels on its disc (discBoll), when the region crosses the circle only through a neck
+  /// (rimCrossingHalfWidth within split_neck_ratio of the radius) and they cover visibleShareMin of it; what lies off
+  /// the disc (restOffDisc) goes through detectRegion again. false: no such boll (nothing is added).
+  bool peelBoll(const std::vector<cv::Point>& contour, const BollRegion& region, const cv::Point2d& peak,
+                double peak_radius, const cv::Mat& bgr, const cv::Mat& mask, int peels_left,
+                std::vector<BollDetection>* bolls) const;
 
   ColourBollParams params_;
   ColourBollScale scale_;
