@@ -55,7 +55,7 @@ GreenhouseLayout drawLayout(std::mt19937* rng, int m) {
   // Half the maps with a missing side wall show the rear wall ending at the corner, half running on over
   // the floor beyond (taken from the map's number, so the other conditions stay as drawn before).
   layout.rear_wall_ends_at_corner = m % 2 == 0;
-  layout.layout_in_map = Pose2D(10.0 * u(), 10.0 * u(), M_PI * (2.0 * u() - 1.0));
+  layout.layout_in_map = thorvald_base::Pose2D(10.0 * u(), 10.0 * u(), M_PI * (2.0 * u() - 1.0));
   return layout;
 }
 
@@ -89,11 +89,11 @@ MapScore score(const GreenhouseLayout& layout, const SyntheticGreenhouseMap& tru
         best = i;
       }
     }
-    const Pose2D& t = truth.rail_frames[best];
+    const thorvald_base::Pose2D& t = truth.rail_frames[best];
     // Across = perpendicular to the true rails' direction.
     const double across =
         std::abs(-std::sin(t.yaw) * (set.rail_frame.x - t.x) + std::cos(t.yaw) * (set.rail_frame.y - t.y));
-    const double heading = std::abs(normalizeAngle(set.rail_frame.yaw - t.yaw));
+    const double heading = std::abs(thorvald_base::normalizeAngle(set.rail_frame.yaw - t.yaw));
     const bool close = across <= across_tol && heading <= heading_tol && best_d < 0.5 * spacing;
     if (set.good) {
       ++out.good_sets;
@@ -289,7 +289,7 @@ int main(int argc, char** argv) {
     layout.rail_sets = static_cast<int>((sz.w - 2.3) / layout.spacing_m);
     layout.headland_depth_m = 5.0;
     layout.visible_row_depth_m = sz.h - 2.0 - 0.15 - layout.headland_depth_m;
-    layout.layout_in_map = Pose2D(0.0, 0.0, 0.0);
+    layout.layout_in_map = thorvald_base::Pose2D(0.0, 0.0, 0.0);
     layout.clutter_objects = 6;
     const auto truth = makeGreenhouseMap(layout);
     MapAnalyzerParams params;

@@ -18,24 +18,24 @@
 #include "greenhouse_rail_nav/testing/synthetic_depth_cloud.h"
 
 using greenhouse_rail_nav::DepthSceneParams;
-using greenhouse_rail_nav::normalizeAngle;
-using greenhouse_rail_nav::Pose2D;
 using greenhouse_rail_nav::RailDetection;
 using greenhouse_rail_nav::RailDetector;
 using greenhouse_rail_nav::RailDetectorParams;
 using greenhouse_rail_nav::RailFitMethod;
+using thorvald_base::normalizeAngle;
+using thorvald_base::Pose2D;
 
 namespace {
 
 struct Errors {
   int tried = 0, found = 0;
   double sx = 0, sy = 0, syaw = 0, max_x = 0, max_y = 0, max_yaw = 0;
-  void add(const Pose2D& truth, const RailDetection& d) {
+  void add(const thorvald_base::Pose2D& truth, const RailDetection& d) {
     ++tried;
     if (!d.found()) return;
     ++found;
     const double ex = d.base_in_rail.x - truth.x, ey = d.base_in_rail.y - truth.y;
-    const double eyaw = normalizeAngle(d.base_in_rail.yaw - truth.yaw);
+    const double eyaw = thorvald_base::normalizeAngle(d.base_in_rail.yaw - truth.yaw);
     sx += ex * ex;
     sy += ey * ey;
     syaw += eyaw * eyaw;
@@ -69,8 +69,8 @@ double threadMs() {
 }
 
 /// True when both rails' start points project inside the image (with a margin of a few pixels).
-bool startInView(const DepthSceneParams& scene, const Pose2D& base_in_rail) {
-  const Pose2D rail_in_base = base_in_rail.inverse();
+bool startInView(const DepthSceneParams& scene, const thorvald_base::Pose2D& base_in_rail) {
+  const thorvald_base::Pose2D rail_in_base = base_in_rail.inverse();
   const Eigen::Isometry3d base_to_camera = scene.camera_in_base.inverse();
   const auto& k = scene.intrinsics;
   for (const double side : {-0.5, 0.5}) {
@@ -184,11 +184,11 @@ int main(int argc, char** argv) {
   std::fflush(stdout);
   for (int i = 0; i < poses; ++i) {
     const int set = i % 2;
-    Pose2D truth;
+    thorvald_base::Pose2D truth;
     if (set == 0) {
-      truth = Pose2D(-0.71 + 0.11 * unit(rng), 0.09 * unit(rng), 0.045 * unit(rng));
+      truth = thorvald_base::Pose2D(-0.71 + 0.11 * unit(rng), 0.09 * unit(rng), 0.045 * unit(rng));
     } else {
-      truth = Pose2D(-0.85 + 0.45 * unit(rng), 0.35 * unit(rng), 0.35 * unit(rng));
+      truth = thorvald_base::Pose2D(-0.85 + 0.45 * unit(rng), 0.35 * unit(rng), 0.35 * unit(rng));
     }
     scene.seed = 1000 + static_cast<std::uint32_t>(i);
     RailDetectorParams pose_params;
@@ -202,8 +202,8 @@ int main(int argc, char** argv) {
     if (found.found()) {
       gauge_sum += found.gauge_m - scene.rail_gauge_m;
       ++gauges;
-      scatter.push_back({found.base_in_rail.y - truth.y, normalizeAngle(found.base_in_rail.yaw - truth.yaw),
-                         static_cast<double>(set)});
+      scatter.push_back({found.base_in_rail.y - truth.y,
+                         thorvald_base::normalizeAngle(found.base_in_rail.yaw - truth.yaw), static_cast<double>(set)});
       y_pairs.push_back({truth.y, found.base_in_rail.y});
       yaw_pairs.push_back({truth.yaw, found.base_in_rail.yaw});
       if (startInView(scene, truth)) {
@@ -227,8 +227,8 @@ int main(int argc, char** argv) {
       std::printf("  %d / %d poses\n", i + 1, poses);
       std::fflush(stdout);
     }
-    baseline[set].add(truth,
-                      pose_detector.detect(cloud, scene.camera_in_base, Pose2D(), RailFitMethod::kRansacBaseline));
+    baseline[set].add(truth, pose_detector.detect(cloud, scene.camera_in_base, thorvald_base::Pose2D(),
+                                                  RailFitMethod::kRansacBaseline));
   }
   Errors ours_all, base_all;
   for (int s = 0; s < 2; ++s) {
@@ -262,7 +262,8 @@ int main(int argc, char** argv) {
     double total = 0.0;
     for (int r = 0; r < runs; ++r) {
       sized.seed = 500 + static_cast<std::uint32_t>(r);
-      const auto cloud = greenhouse_rail_nav::renderDepthCloud(sized, Pose2D(-0.75, 0.02 * (r % 5), 0.01));
+      const auto cloud =
+          greenhouse_rail_nav::renderDepthCloud(sized, thorvald_base::Pose2D(-0.75, 0.02 * (r % 5), 0.01));
       const double t0 = threadMs();
       const auto d = detector.detect(cloud, sized.camera_in_base);
       total += (threadMs() - t0);

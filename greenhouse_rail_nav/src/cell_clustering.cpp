@@ -30,10 +30,10 @@ class DisjointSets {
 
 }  // namespace
 
-std::vector<CellCluster> clusterOccupiedCells(const OccupancyMap& map, double link_radius_m, std::size_t min_cells,
-                                              int occupied_value) {
+std::vector<CellCluster> clusterOccupiedCells(const thorvald_map::OccupancyGrid& map, double link_radius_m,
+                                              std::size_t min_cells, int occupied_value) {
   // Index of each occupied cell in a compact list (-1 elsewhere).
-  std::vector<int> index(map.cells.size(), -1);
+  std::vector<int> index(map.data.size(), -1);
   std::vector<std::pair<int, int>> occupied;
   for (int r = 0; r < map.height; ++r) {
     for (int c = 0; c < map.width; ++c) {
@@ -44,7 +44,7 @@ std::vector<CellCluster> clusterOccupiedCells(const OccupancyMap& map, double li
     }
   }
   // Neighbour offsets within the link radius; only the "forward" half so each pair is visited once.
-  const int reach = std::max(1, static_cast<int>(std::floor(link_radius_m / map.resolution + 1e-9)));
+  const int reach = std::max(1, static_cast<int>(std::floor(link_radius_m / map.resolution_m + 1e-9)));
   std::vector<std::pair<int, int>> offsets;
   for (int dr = 0; dr <= reach; ++dr) {
     for (int dc = -reach; dc <= reach; ++dc) {

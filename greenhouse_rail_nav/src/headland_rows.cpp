@@ -38,16 +38,16 @@ bool fitRowLine(const LineSegment& segment, const HeadlandFrame& frame, double v
 /// on the floor between two paths, while a side wall (or a piece of one behind a door) has the outside of
 /// the greenhouse, never mapped as floor, on one side. A side has floor when at least a third of the samples
 /// along the line find a free cell between lateral_min_m and lateral_max_m from it.
-bool floorOnBothSides(const OccupancyMap& map, const HeadlandFrame& frame, double u0, double slope, double v_from,
-                      double v_to, double lateral_min_m, double lateral_max_m) {
+bool floorOnBothSides(const thorvald_map::OccupancyGrid& map, const HeadlandFrame& frame, double u0, double slope,
+                      double v_from, double v_to, double lateral_min_m, double lateral_max_m) {
   int samples = 0, left = 0, right = 0;
-  const double step = std::max(map.resolution, 0.1);
+  const double step = std::max(map.resolution_m, 0.1);
   for (double v = v_from; v <= v_to; v += step) {
     ++samples;
     const double u_line = u0 + slope * v;
     for (const double side : {-1.0, 1.0}) {
       bool free = false;
-      for (double d = lateral_min_m; d <= lateral_max_m && !free; d += map.resolution) {
+      for (double d = lateral_min_m; d <= lateral_max_m && !free; d += map.resolution_m) {
         const std::int8_t value = map.valueAt(frame.toMap(u_line + side * d, v));
         free = value >= 0 && value < 25;
       }
@@ -68,8 +68,9 @@ double directionSigma(const LineFit2D& fit, double resolution) {
   return sigma * std::sqrt(12.0 / n) / std::max(fit.length(), resolution);
 }
 
-std::vector<RowCandidate> findRowCandidates(const OccupancyMap& map, const std::vector<LineSegment>& lines,
-                                            int rear_wall, const HeadlandFrame& frame, double span_lo, double span_hi,
+std::vector<RowCandidate> findRowCandidates(const thorvald_map::OccupancyGrid& map,
+                                            const std::vector<LineSegment>& lines, int rear_wall,
+                                            const HeadlandFrame& frame, double span_lo, double span_hi,
                                             const MapAnalyzerParams& params) {
   const LineFit2D& wall = lines[static_cast<std::size_t>(rear_wall)].fit;
   std::vector<RowCandidate> candidates;
@@ -89,7 +90,7 @@ std::vector<RowCandidate> findRowCandidates(const OccupancyMap& map, const std::
     // A line reaching back to the rear wall is a side wall (or a partition), not a row.
     if (v_lo < 0.5 * params.min_headland_depth_m) continue;
     const auto starts =
-        rowRunStarts(map, frame, row.u0, row.slope, std::max(0.0, v_lo - 1.0), v_hi + map.resolution, &row.far_v);
+        rowRunStarts(map, frame, row.u0, row.slope, std::max(0.0, v_lo - 1.0), v_hi + map.resolution_m, &row.far_v);
     // A line that looks like a row right from the rear wall is a side wall (or a partition), not a row.
     if (starts.empty() || starts.front() < 0.5 * params.min_headland_depth_m) continue;
     for (const double s : starts)
@@ -166,8 +167,8 @@ std::vector<EdgeRow> rowsAtEdge(const std::vector<RowCandidate>& candidates, con
   return merged;
 }
 
-int placeRowsByFaces(const OccupancyMap& input, const OccupancyMap& cleaned, const HeadlandFrame& frame,
-                     const LineFit2D& wall, double edge_v, std::vector<EdgeRow>* rows) {
+int placeRowsByFaces(const thorvald_map::OccupancyGrid& input, const thorvald_map::OccupancyGrid& cleaned,
+                     const HeadlandFrame& frame, const LineFit2D& wall, double edge_v, std::vector<EdgeRow>* rows) {
   // The rows' axis from their line fits and the rear wall's normal; offsets are measured across it (rows are
   // parallel): a short piece of a row with a gap has a poor direction of its own, but its cells still say
   // where it is.
@@ -203,8 +204,8 @@ int placeRowsByFaces(const OccupancyMap& input, const OccupancyMap& cleaned, con
       ++rows_one_face;
     }
     r.u += centre / std::max(0.5, across.dot(frame.u));
-    r.d_min = p.d_min - centre - 0.5 * cleaned.resolution;
-    r.d_max = p.d_max - centre + 0.5 * cleaned.resolution;
+    r.d_min = p.d_min - centre - 0.5 * cleaned.resolution_m;
+    r.d_max = p.d_max - centre + 0.5 * cleaned.resolution_m;
     if (std::isfinite(slope_sigmas[k])) {
       r.direction = (row_direction + slopes[k] * across).normalized();
       r.direction_sigma = slope_sigmas[k];

@@ -20,9 +20,10 @@ double median(std::vector<double> v) {
 /// Range noise puts some of the ends of a wall whose face is near a cell boundary into the cell in front, which is
 /// then drawn occupied: the first occupied cell is up to a cell in front of the face, the mean of the ends is not.
 /// NaN without a surface or with fewer than 3 ends there.
-double surfaceFaceU(const OccupancyMap& map, const HeadlandFrame& frame, double face_u, double v, double direction) {
+double surfaceFaceU(const thorvald_map::OccupancyGrid& map, const HeadlandFrame& frame, double face_u, double v,
+                    double direction) {
   if (map.surface.empty()) return NAN;
-  const double res = map.resolution;
+  const double res = map.resolution_m;
   std::vector<std::size_t> seen;
   double sum = 0.0, weight = 0.0;
   for (double du = -1.5 * res; du <= 2.5 * res + 1e-9; du += 0.5 * res) {
@@ -43,10 +44,10 @@ double surfaceFaceU(const OccupancyMap& map, const HeadlandFrame& frame, double 
 
 }  // namespace
 
-std::vector<double> rowRunStarts(const OccupancyMap& map, const HeadlandFrame& frame, double u0, double slope,
-                                 double v_from, double v_to, double* far_v, double row_half_width_m,
+std::vector<double> rowRunStarts(const thorvald_map::OccupancyGrid& map, const HeadlandFrame& frame, double u0,
+                                 double slope, double v_from, double v_to, double* far_v, double row_half_width_m,
                                  double clutter_reach_m, double max_gap_m, double min_run_m) {
-  const double step = map.resolution;
+  const double step = map.resolution_m;
   std::vector<double> starts;
   *far_v = v_from;
   bool in_run = false;
@@ -85,11 +86,11 @@ std::vector<double> rowRunStarts(const OccupancyMap& map, const HeadlandFrame& f
   return starts;
 }
 
-RowProfile measureRowProfile(const OccupancyMap& map, const Eigen::Vector2d& start, const Eigen::Vector2d& along,
-                             double half_width_m, double length_m) {
+RowProfile measureRowProfile(const thorvald_map::OccupancyGrid& map, const Eigen::Vector2d& start,
+                             const Eigen::Vector2d& along, double half_width_m, double length_m) {
   RowProfile out;
   const Eigen::Vector2d across(along.y(), -along.x());
-  const double res = map.resolution, t_from = -0.05;
+  const double res = map.resolution_m, t_from = -0.05;
   // Cells of the band, from the grid cells under its bounding box.
   int c0 = map.width, c1 = -1, r0 = map.height, r1 = -1;
   for (const double t : {t_from, length_m}) {
@@ -200,10 +201,10 @@ RowProfile measureRowProfile(const OccupancyMap& map, const Eigen::Vector2d& sta
   return out;
 }
 
-SideScan scanToSideWall(const OccupancyMap& map, const HeadlandFrame& frame, double u_start, double edge_v,
-                        double direction, double min_support, double max_travel_m) {
+SideScan scanToSideWall(const thorvald_map::OccupancyGrid& map, const HeadlandFrame& frame, double u_start,
+                        double edge_v, double direction, double min_support, double max_travel_m) {
   SideScan scan;
-  const double step = 0.5 * map.resolution;
+  const double step = 0.5 * map.resolution_m;
   const int lines = std::clamp(static_cast<int>(edge_v / 0.1), 10, 80);
   struct Stop {
     double distance;
@@ -238,7 +239,7 @@ SideScan scanToSideWall(const OccupancyMap& map, const HeadlandFrame& frame, dou
     if (stop.occupied) {
       const double face_u = surfaceFaceU(map, frame, u_start + direction * stop.distance, v, direction);
       const double d = direction * (face_u - u_start);
-      if (std::isfinite(d) && std::abs(d - stop.distance) <= 2.0 * map.resolution) stop.distance = d;
+      if (std::isfinite(d) && std::abs(d - stop.distance) <= 2.0 * map.resolution_m) stop.distance = d;
     }
     stop.v = v;
     stops.push_back(stop);
@@ -252,7 +253,7 @@ SideScan scanToSideWall(const OccupancyMap& map, const HeadlandFrame& frame, dou
   for (const auto& s : stops)
     if (s.occupied) occupied.push_back(s.distance);
   std::sort(occupied.rbegin(), occupied.rend());
-  const double agree = std::max(0.06, 2.5 * map.resolution);
+  const double agree = std::max(0.06, 2.5 * map.resolution_m);
   const int needed = std::max(3, static_cast<int>(std::ceil(min_support * lines)));
   for (const double h : occupied) {
     std::vector<double> at;

@@ -73,9 +73,9 @@ std::string MapAnalyzerParams::validate() const {
   return "";
 }
 
-MapAnalysis analyzeMap(const OccupancyMap& input, const MapAnalyzerParams& params) {
+MapAnalysis analyzeMap(const thorvald_map::OccupancyGrid& input, const MapAnalyzerParams& params) {
   MapAnalysis result;
-  OccupancyMap map = input;
+  thorvald_map::OccupancyGrid map = input;
   result.speckle_cells_removed = removeSpeckle(&map, params.speckle_max_area_m2, params.speckle_link_radius_m);
   const auto clusters =
       clusterOccupiedCells(map, params.cluster_link_radius_m, static_cast<std::size_t>(params.min_cluster_cells));
@@ -135,8 +135,8 @@ MapAnalysis analyzeMap(const OccupancyMap& input, const MapAnalyzerParams& param
   int rows_off_heading = 0;
   for (auto& r : rows) {
     // A short row's direction is known only to about a cell (and the scatter of its pots) over its length.
-    const double allowed =
-        params.row_heading_tolerance_rad + (map.resolution + 2.0 * r.fit.rms_residual) / std::max(0.5, r.fit.length());
+    const double allowed = params.row_heading_tolerance_rad +
+                           (map.resolution_m + 2.0 * r.fit.rms_residual) / std::max(0.5, r.fit.length());
     r.heading_ok = angleBetweenLines(r.fit.direction, rows_mean) <= allowed;
     rows_off_heading += !r.heading_ok;
   }
@@ -200,7 +200,7 @@ MapAnalysis analyzeMap(const OccupancyMap& input, const MapAnalyzerParams& param
   // The greenhouse's heading: every straight piece along its axis, each weighted by how well it fixes a
   // direction (inverse variance): the rear wall's normal, the rows' faces and the side walls, which are
   // the longest lines of a headland map.
-  Eigen::Vector2d axis = frame.v / std::pow(directionSigma(wall, map.resolution), 2);
+  Eigen::Vector2d axis = frame.v / std::pow(directionSigma(wall, map.resolution_m), 2);
   for (const auto& r : rows)
     if (std::isfinite(r.direction_sigma)) axis += r.direction / (r.direction_sigma * r.direction_sigma);
   for (const auto& [found, wall_u] :
@@ -215,7 +215,7 @@ MapAnalysis analyzeMap(const OccupancyMap& input, const MapAnalyzerParams& param
       const double dv = f.direction.dot(frame.v);
       const double u_at_edge = c.x() + f.direction.dot(frame.u) / dv * (edge_v - c.y());
       if (std::abs(u_at_edge - wall_u) > 0.3) continue;
-      const double sigma = directionSigma(f, map.resolution);
+      const double sigma = directionSigma(f, map.resolution_m);
       axis += (dv > 0 ? 1.0 : -1.0) * f.direction / (sigma * sigma);
     }
   }
@@ -228,7 +228,7 @@ MapAnalysis analyzeMap(const OccupancyMap& input, const MapAnalyzerParams& param
   if (right.wall_found) bounds.push_back({right.wall_u, "right side wall", true});
   std::vector<double> gaps;
   for (std::size_t k = 0; k + 1 < bounds.size(); ++k) gaps.push_back(bounds[k + 1].u - bounds[k].u);
-  const double fit_tol = std::max(params.spacing_fit_tolerance_m, 1.5 * map.resolution);
+  const double fit_tol = std::max(params.spacing_fit_tolerance_m, 1.5 * map.resolution_m);
   const SpacingEstimate spacing =
       estimateSpacing(gaps, params.rail_set_spacing_m, params.spacing_search_ratio, fit_tol);
   result.spacing_m = gaps.empty() ? 0.0 : spacing.spacing_m;
@@ -250,10 +250,10 @@ MapAnalysis analyzeMap(const OccupancyMap& input, const MapAnalyzerParams& param
             edge_rms, params.edge_straightness_m,
             "RMS of the row starts about the edge [m]; " + std::to_string(with_start) + " of " +
                 std::to_string(rows.size()) + " rows start at it");
-  const bool heading_ok = check("rows_agree_in_heading",
-                                rows_vs_wall <= params.row_heading_tolerance_rad + 2.0 * map.resolution / wall.length(),
-                                rows_vs_wall, params.row_heading_tolerance_rad,
-                                "angle between the rows' mean direction and the rear wall's normal [rad]");
+  const bool heading_ok = check(
+      "rows_agree_in_heading",
+      rows_vs_wall <= params.row_heading_tolerance_rad + 2.0 * map.resolution_m / wall.length(), rows_vs_wall,
+      params.row_heading_tolerance_rad, "angle between the rows' mean direction and the rear wall's normal [rad]");
   check("each_row_parallel", rows_off_heading == 0, rows_off_heading, 0,
         "rows whose own direction disagrees with the others' (the sets beside them are uncertain)");
   double worst_residual = 0.0;
@@ -327,8 +327,8 @@ MapAnalysis analyzeMap(const OccupancyMap& input, const MapAnalyzerParams& param
     RailSetEstimate set;
     set.index = static_cast<int>(result.rail_sets.size());
     const Eigen::Vector2d origin = frame.toMap(plan.u, edge_v);
-    set.rail_frame = Pose2D(origin.x(), origin.y(), heading);
-    set.target_pose = set.rail_frame.compose(params.target_in_rail);
+    set.rail_frame = thorvald_base::Pose2D(origin.x(), origin.y(), heading);
+    set.target_pose = set.rail_frame * params.target_in_rail;
     std::vector<std::string> reasons = global_reasons;
     reasons.insert(reasons.end(), plan.reasons.begin(), plan.reasons.end());
     set.good = reasons.empty();

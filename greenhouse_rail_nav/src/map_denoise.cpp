@@ -6,18 +6,19 @@
 
 namespace greenhouse_rail_nav {
 
-std::size_t removeSpeckle(OccupancyMap* map, double min_area_m2, double link_radius_m, int occupied_value) {
-  const std::size_t min_cells =
-      std::max<std::size_t>(2, static_cast<std::size_t>(std::ceil(min_area_m2 / (map->resolution * map->resolution))));
-  std::vector<bool> seen(map->cells.size(), false);
+std::size_t removeSpeckle(thorvald_map::OccupancyGrid* map, double min_area_m2, double link_radius_m,
+                          int occupied_value) {
+  const std::size_t min_cells = std::max<std::size_t>(
+      2, static_cast<std::size_t>(std::ceil(min_area_m2 / (map->resolution_m * map->resolution_m))));
+  std::vector<bool> seen(map->data.size(), false);
   std::vector<std::size_t> component, stack;
   std::size_t cleared = 0;
   const auto w = static_cast<std::size_t>(map->width);
   // Neighbours: the 8 around a cell, or every cell within link_radius_m of it.
-  const int reach = std::max(1, static_cast<int>(std::floor(link_radius_m / map->resolution + 1e-9)));
-  const double reach2 = std::max(2.0, std::pow(link_radius_m / map->resolution, 2) + 1e-9);
-  for (std::size_t start = 0; start < map->cells.size(); ++start) {
-    if (seen[start] || map->cells[start] < occupied_value) continue;
+  const int reach = std::max(1, static_cast<int>(std::floor(link_radius_m / map->resolution_m + 1e-9)));
+  const double reach2 = std::max(2.0, std::pow(link_radius_m / map->resolution_m, 2) + 1e-9);
+  for (std::size_t start = 0; start < map->data.size(); ++start) {
+    if (seen[start] || map->data[start] < occupied_value) continue;
     component.clear();
     stack.assign(1, start);
     seen[start] = true;
@@ -35,14 +36,14 @@ std::size_t removeSpeckle(OccupancyMap* map, double min_area_m2, double link_rad
           const int nc = c + dc, nr = r + dr;
           if (!map->inside(nc, nr)) continue;
           const std::size_t j = static_cast<std::size_t>(nr) * w + static_cast<std::size_t>(nc);
-          if (seen[j] || map->cells[j] < occupied_value) continue;
+          if (seen[j] || map->data[j] < occupied_value) continue;
           seen[j] = true;
           stack.push_back(j);
         }
       }
     }
     if (large) continue;
-    for (const std::size_t i : component) map->cells[i] = OccupancyMap::kFree;
+    for (const std::size_t i : component) map->data[i] = thorvald_map::kFree;
     cleared += component.size();
   }
   return cleared;

@@ -8,9 +8,9 @@
 
 namespace greenhouse_rail_nav {
 
-bool writeMapOverlayPng(const OccupancyMap& map, const MapAnalysis& analysis, const std::string& path,
+bool writeMapOverlayPng(const thorvald_map::OccupancyGrid& map, const MapAnalysis& analysis, const std::string& path,
                         std::string* error, double keep_out_margin_m, int max_pixels) {
-  if (map.width <= 0 || map.height <= 0 || map.cells.size() != static_cast<std::size_t>(map.width) * map.height) {
+  if (map.width <= 0 || map.height <= 0 || map.data.size() != static_cast<std::size_t>(map.width) * map.height) {
     *error = "map overlay: empty or malformed map";
     return false;
   }
@@ -27,9 +27,9 @@ bool writeMapOverlayPng(const OccupancyMap& map, const MapAnalysis& analysis, co
   }
   cv::Mat img;
   cv::resize(grey, img, cv::Size(), scale, scale, scale >= 1.0 ? cv::INTER_NEAREST : cv::INTER_AREA);
-  const Pose2D to_grid = map.origin.inverse();
+  const thorvald_base::Pose2D to_grid = map.origin.inverse();
   auto px = [&](const Eigen::Vector2d& p) {
-    const Eigen::Vector2d g = to_grid.transformPoint(p) / map.resolution * scale;
+    const Eigen::Vector2d g = to_grid.transformPoint(p) / map.resolution_m * scale;
     return cv::Point(static_cast<int>(std::lround(g.x())), static_cast<int>(std::lround(img.rows - g.y())));
   };
   const int thick = std::max(1, static_cast<int>(std::lround(scale)));
@@ -58,12 +58,12 @@ bool writeMapOverlayPng(const OccupancyMap& map, const MapAnalysis& analysis, co
   }
   for (const auto& set : analysis.rail_sets) {
     const cv::Scalar colour = set.good ? cv::Scalar(0, 170, 0) : cv::Scalar(0, 140, 255);
-    const Pose2D& f = set.rail_frame;
+    const thorvald_base::Pose2D& f = set.rail_frame;
     const Eigen::Vector2d o(f.x, f.y), dir(std::cos(f.yaw), std::sin(f.yaw));
     cv::arrowedLine(img, px(o), px(o + 0.8 * dir), colour, thick, cv::LINE_AA, 0, 0.3);
-    const Pose2D& t = set.target_pose;
+    const thorvald_base::Pose2D& t = set.target_pose;
     const Eigen::Vector2d to(t.x, t.y), tdir(std::cos(t.yaw), std::sin(t.yaw));
-    cv::circle(img, px(to), std::max(2, static_cast<int>(0.15 / map.resolution * scale)), colour, thick, cv::LINE_AA);
+    cv::circle(img, px(to), std::max(2, static_cast<int>(0.15 / map.resolution_m * scale)), colour, thick, cv::LINE_AA);
     cv::line(img, px(to), px(to + 0.3 * tdir), colour, thick, cv::LINE_AA);
   }
   try {

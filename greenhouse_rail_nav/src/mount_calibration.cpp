@@ -7,16 +7,16 @@
 
 namespace greenhouse_rail_nav {
 
-bool computeMountCorrection(const Pose2D& rail_in_base_uncorrected, double max_y_m, double max_yaw_rad,
+bool computeMountCorrection(const thorvald_base::Pose2D& rail_in_base_uncorrected, double max_y_m, double max_yaw_rad,
                             MountCorrection* correction, std::string* error) {
-  const Pose2D& seen = rail_in_base_uncorrected;
+  const thorvald_base::Pose2D& seen = rail_in_base_uncorrected;
   if (!std::isfinite(seen.x) || !std::isfinite(seen.y) || !std::isfinite(seen.yaw)) {
     *error = "rail frame is not finite";
     return false;
   }
   // Rotating by -yaw makes the rails point straight ahead; the centre line's remaining sideways offset
   // (the same for every point on it) is what the shift must cancel.
-  const double yaw = normalizeAngle(-seen.yaw);
+  const double yaw = thorvald_base::normalizeAngle(-seen.yaw);
   const double offset = std::sin(yaw) * seen.x + std::cos(yaw) * seen.y;
   if (std::abs(seen.yaw) > max_yaw_rad || std::abs(offset) > max_y_m) {
     *error = "rails seen at yaw " + std::to_string(seen.yaw) + " rad, offset " + std::to_string(offset) +

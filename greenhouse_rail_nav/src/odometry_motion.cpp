@@ -26,7 +26,7 @@ std::string MotionLimits::validate() const {
   return e.str();
 }
 
-void OdometryMotion::start(const MotionStep& step, const Pose2D& odom_pose, double t_s) {
+void OdometryMotion::start(const MotionStep& step, const thorvald_base::Pose2D& odom_pose, double t_s) {
   step_ = step;
   start_pose_ = last_pose_ = odom_pose;
   progress_ = 0.0;
@@ -43,7 +43,7 @@ double OdometryMotion::profile(double remaining, double elapsed, double max_rate
   return std::copysign(std::max(rate, min_rate), remaining);
 }
 
-OdometryMotion::Command OdometryMotion::update(const Pose2D& pose, double t_s) {
+OdometryMotion::Command OdometryMotion::update(const thorvald_base::Pose2D& pose, double t_s) {
   Command c;
   if (!active_) {
     c.done = true;
@@ -57,7 +57,7 @@ OdometryMotion::Command OdometryMotion::update(const Pose2D& pose, double t_s) {
   }
   const bool rotate = step_.kind == MotionStep::Kind::kRotate;
   if (rotate) {
-    progress_ += normalizeAngle(pose.yaw - last_pose_.yaw);  // unwrapped: rotations beyond pi add up
+    progress_ += thorvald_base::normalizeAngle(pose.yaw - last_pose_.yaw);  // unwrapped: rotations beyond pi add up
   } else {
     progress_ = (pose.position() - start_pose_.position()).dot(start_pose_.heading());
   }
@@ -89,7 +89,7 @@ OdometryMotion::Command OdometryMotion::update(const Pose2D& pose, double t_s) {
         profile(rem, elapsed, limits_.max_turn_rate_rps, limits_.turn_accel_rps2, limits_.min_turn_rate_rps);
   } else {
     c.linear_mps = profile(rem, elapsed, limits_.max_speed_mps, limits_.accel_mps2, limits_.min_speed_mps);
-    const double heading_error = normalizeAngle(start_pose_.yaw - pose.yaw);
+    const double heading_error = thorvald_base::normalizeAngle(start_pose_.yaw - pose.yaw);
     c.angular_rps =
         std::clamp(limits_.heading_gain * heading_error, -limits_.max_turn_rate_rps, limits_.max_turn_rate_rps);
   }

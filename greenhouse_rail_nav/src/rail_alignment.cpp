@@ -18,9 +18,9 @@ std::string AlignmentParams::validate() const {
   return e.str();
 }
 
-bool withinEntryLimits(const Pose2D& r, bool x_observed, const AlignmentParams& p) {
+bool withinEntryLimits(const thorvald_base::Pose2D& r, bool x_observed, const AlignmentParams& p) {
   if (!std::isfinite(r.x) || !std::isfinite(r.y) || !std::isfinite(r.yaw)) return false;
-  if (std::fabs(r.y) > p.y_limit_m || std::fabs(normalizeAngle(r.yaw)) > p.yaw_limit_rad) return false;
+  if (std::fabs(r.y) > p.y_limit_m || std::fabs(thorvald_base::normalizeAngle(r.yaw)) > p.yaw_limit_rad) return false;
   return !x_observed || std::fabs(r.x - p.approach_x_m) <= p.x_window_m;
 }
 
@@ -33,10 +33,10 @@ void addTranslation(std::vector<MotionStep>* plan, double d, const AlignmentPara
 }
 }  // namespace
 
-std::vector<MotionStep> planAlignment(const Pose2D& r, const AlignmentParams& p) {
+std::vector<MotionStep> planAlignment(const thorvald_base::Pose2D& r, const AlignmentParams& p) {
   std::vector<MotionStep> plan;
   if (!std::isfinite(r.x) || !std::isfinite(r.y) || !std::isfinite(r.yaw)) return plan;
-  addRotation(&plan, -normalizeAngle(r.yaw), p, "rotate to align");
+  addRotation(&plan, -thorvald_base::normalizeAngle(r.yaw), p, "rotate to align");
   const double xt = p.approach_x_m;
   // Driving diagonally towards the centre line needs this much run-up along x to stay within max_turn.
   const double run_up = std::fabs(r.y) / std::tan(p.max_turn_rad);
@@ -53,11 +53,11 @@ std::vector<MotionStep> planAlignment(const Pose2D& r, const AlignmentParams& p)
   return plan;
 }
 
-Pose2D applyPlan(const Pose2D& start, const std::vector<MotionStep>& plan) {
-  Pose2D pose = start;
+thorvald_base::Pose2D applyPlan(const thorvald_base::Pose2D& start, const std::vector<MotionStep>& plan) {
+  thorvald_base::Pose2D pose = start;
   for (const MotionStep& s : plan) {
     if (s.kind == MotionStep::Kind::kRotate) {
-      pose.yaw = normalizeAngle(pose.yaw + s.amount);
+      pose.yaw = thorvald_base::normalizeAngle(pose.yaw + s.amount);
     } else {
       pose.x += s.amount * std::cos(pose.yaw);
       pose.y += s.amount * std::sin(pose.yaw);

@@ -68,10 +68,10 @@ double lineAngle(const LineFit2D& a, const LineFit2D& b) {
   return std::acos(std::min(1.0, std::abs(a.direction.dot(b.direction))));
 }
 
-RailLine transformed(const RailLine& rail, const Pose2D& t) {
+RailLine transformed(const RailLine& rail, const thorvald_base::Pose2D& t) {
   RailLine out = rail;
   out.fit.centroid = t.transformPoint(rail.fit.centroid);
-  out.fit.direction = Pose2D(0, 0, t.yaw).transformPoint(rail.fit.direction);
+  out.fit.direction = thorvald_base::Pose2D(0, 0, t.yaw).transformPoint(rail.fit.direction);
   return out;
 }
 
@@ -150,7 +150,7 @@ std::vector<Eigen::Vector3f> RailDetector::cropToRailBand(const OrganisedCloud& 
 }
 
 RailDetection RailDetector::detect(const OrganisedCloud& cloud, const Eigen::Isometry3d& camera_in_base,
-                                   const Pose2D& mount_correction, RailFitMethod method) const {
+                                   const thorvald_base::Pose2D& mount_correction, RailFitMethod method) const {
   RailDetection out;
   const auto& p = params_;
   if (cloud.points.empty()) {
@@ -274,7 +274,7 @@ RailDetection RailDetector::detect(const OrganisedCloud& cloud, const Eigen::Iso
   }
 
   // Mount correction, then the paper's output: base_link in the rail frame.
-  out.rail_in_base = mount_correction.compose(out.rail_in_base);
+  out.rail_in_base = mount_correction * out.rail_in_base;
   for (auto& rail : out.rails) rail = transformed(rail, mount_correction);
   out.base_in_rail = out.rail_in_base.inverse();
   out.status = RailDetection::Status::kFound;
@@ -402,7 +402,7 @@ bool RailDetector::pairFromLines(const std::vector<RailLine>& lines, const std::
     }
     if (!partner) continue;
     const RailPair pair = makeRailPair(axisLine(best, camera_xyz, raw_band), axisLine(*partner, camera_xyz, raw_band));
-    const Pose2D base_in_rail = pair.rail_in_base.inverse();
+    const thorvald_base::Pose2D base_in_rail = pair.rail_in_base.inverse();
     if (std::abs(base_in_rail.y) > p.max_lateral_offset_m) {
       why = "rail pair found " + fmt(base_in_rail.y) + " m to the side (limit " + fmt(p.max_lateral_offset_m) +
             " m): a neighbouring rail set";

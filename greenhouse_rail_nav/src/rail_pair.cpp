@@ -73,7 +73,7 @@ RailPair makeRailPair(const RailLine& a, const RailLine& b) {
   const double start_b = d.dot(b.fit.centroid + b.near_end * b.fit.direction - centre);
   // The nearer of the two starts: occlusion (a dropout, a leaf) can only make a rail look shorter.
   const Eigen::Vector2d origin = centre + std::min(start_a, start_b) * d;
-  pair.rail_in_base = Pose2D(origin.x(), origin.y(), std::atan2(d.y(), d.x()));
+  pair.rail_in_base = thorvald_base::Pose2D(origin.x(), origin.y(), std::atan2(d.y(), d.x()));
   return pair;
 }
 

@@ -12,9 +12,9 @@ std::string RailPoseGateParams::validate() const {
   return "";
 }
 
-bool RailPoseGate::consistent(const Pose2D& a, const Pose2D& b) const {
+bool RailPoseGate::consistent(const thorvald_base::Pose2D& a, const thorvald_base::Pose2D& b) const {
   return std::abs(a.x - b.x) <= params_.max_step_xy_m && std::abs(a.y - b.y) <= params_.max_step_xy_m &&
-         std::abs(normalizeAngle(a.yaw - b.yaw)) <= params_.max_step_yaw_rad;
+         std::abs(thorvald_base::normalizeAngle(a.yaw - b.yaw)) <= params_.max_step_yaw_rad;
 }
 
 void RailPoseGate::reset() {
@@ -24,7 +24,7 @@ void RailPoseGate::reset() {
   held_back_ = 0;
 }
 
-RailPoseGate::Verdict RailPoseGate::update(const Pose2D& estimate, double stamp_s) {
+RailPoseGate::Verdict RailPoseGate::update(const thorvald_base::Pose2D& estimate, double stamp_s) {
   const bool stale = accepted_ && (stamp_s - accepted_stamp_s_ > params_.reset_after_s || stamp_s < accepted_stamp_s_);
   if (!accepted_ || stale || consistent(*accepted_, estimate)) {
     accepted_ = estimate;

@@ -8,7 +8,7 @@
 namespace greenhouse_rail_nav {
 namespace {
 
-void emitPose(YAML::Emitter& out, const char* key, const Pose2D& pose) {
+void emitPose(YAML::Emitter& out, const char* key, const thorvald_base::Pose2D& pose) {
   out << YAML::Key << key << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "x" << YAML::Value << pose.x
       << YAML::Key << "y" << YAML::Value << pose.y << YAML::Key << "yaw" << YAML::Value << pose.yaw << YAML::EndMap;
 }
@@ -17,9 +17,9 @@ void emitPoint(YAML::Emitter& out, const char* key, const Eigen::Vector2d& p) {
   out << YAML::Key << key << YAML::Value << YAML::Flow << YAML::BeginSeq << p.x() << p.y() << YAML::EndSeq;
 }
 
-bool readPose(const YAML::Node& node, const std::string& where, Pose2D* pose, std::string* error) {
+bool readPose(const YAML::Node& node, const std::string& where, thorvald_base::Pose2D* pose, std::string* error) {
   try {
-    *pose = Pose2D(node["x"].as<double>(), node["y"].as<double>(), node["yaw"].as<double>());
+    *pose = thorvald_base::Pose2D(node["x"].as<double>(), node["y"].as<double>(), node["yaw"].as<double>());
   } catch (const YAML::Exception&) {
     *error = where + ": expected {x: m, y: m, yaw: rad}";
     return false;

@@ -70,9 +70,9 @@ int selectRearWall(const std::vector<LineSegment>& lines, double tolerance, doub
   return chosen;
 }
 
-double rearWallEnd(const OccupancyMap& map, const HeadlandFrame& frame, double u_from, double direction,
+double rearWallEnd(const thorvald_map::OccupancyGrid& map, const HeadlandFrame& frame, double u_from, double direction,
                    double max_travel_m, bool* floor_beyond) {
-  const double step = 0.5 * map.resolution;
+  const double step = 0.5 * map.resolution_m;
   double last = NAN;
   *floor_beyond = false;
   for (double travelled = 0.0; travelled <= max_travel_m; travelled += step) {

@@ -50,7 +50,7 @@ bool UvMission::Impl::holdWhileStopped(tsm::ExecutionContext& ctx) {
 UvMission::Impl::Loop UvMission::Impl::runStep(const MotionStep& step, tsm::ExecutionContext& ctx,
                                                const MotionLimits& limits) {
   OdometryMotion motion(limits);
-  Pose2D pose;
+  thorvald_base::Pose2D pose;
   if (!io_.odomPose(&pose)) {
     log("no odometry: cannot execute '" + step.label + "'");
     return Loop::kFailed;
@@ -201,7 +201,7 @@ std::string UvMission::Impl::search(tsm::ExecutionContext& ctx) {
 
 std::string UvMission::Impl::check() {
   const bool x_observed = last_obs_.status == RailObservation::Status::kFound;
-  const Pose2D& r = last_obs_.robot_in_rail;
+  const thorvald_base::Pose2D& r = last_obs_.robot_in_rail;
   std::ostringstream s;
   s << "pose in the rail frame x " << r.x << (x_observed ? "" : " (unobserved)") << ", y " << r.y << ", yaw " << r.yaw;
   if (withinEntryLimits(r, x_observed, p_.alignment)) {
@@ -219,7 +219,7 @@ std::string UvMission::Impl::check() {
 
 std::string UvMission::Impl::align(tsm::ExecutionContext& ctx) {
   ++report_.align_attempts;
-  Pose2D r = last_obs_.robot_in_rail;
+  thorvald_base::Pose2D r = last_obs_.robot_in_rail;
   if (last_obs_.status == RailObservation::Status::kXUnobserved) {
     // The rail start is out of view, so the robot is closer than the camera can see: plan from the nearest x
     // that is seen, which makes the plan reverse far enough to see the start again.

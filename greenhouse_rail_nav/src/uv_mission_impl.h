@@ -51,8 +51,8 @@ class UvMission::Impl {
   Loop runStep(const MotionStep& step, tsm::ExecutionContext& ctx, const MotionLimits& limits);
   bool freshObservation(double since_s, tsm::ExecutionContext& ctx, RailObservation* obs);
   double headingHold(double yaw_ref, double yaw) const {
-    return std::clamp(p_.motion.heading_gain * normalizeAngle(yaw_ref - yaw), -p_.motion.max_turn_rate_rps,
-                      p_.motion.max_turn_rate_rps);
+    return std::clamp(p_.motion.heading_gain * thorvald_base::normalizeAngle(yaw_ref - yaw),
+                      -p_.motion.max_turn_rate_rps, p_.motion.max_turn_rate_rps);
   }
 
   /// Turn rate on and off the rails: while the wheel sensors read rail the pipes guide the robot, and steering
@@ -93,8 +93,8 @@ class UvMission::Impl {
   std::string skip_reason_;
   RailObservation last_obs_;
   // The pose stored before entering the rails (odometry and map) and the distance driven since.
-  Pose2D entry_odom_;
-  Pose2D entry_map_;
+  thorvald_base::Pose2D entry_odom_;
+  thorvald_base::Pose2D entry_map_;
   bool entry_map_known_ = false;
   bool set_started_ = false;     // the robot has moved for the current set (skipping it needs a safety check)
   bool rail_phase_ = false;      // the robot has started entering the current set's rails

@@ -23,9 +23,9 @@ std::string UvMission::Impl::enter(tsm::ExecutionContext& ctx) {
   slow.min_speed_mps = std::min(slow.min_speed_mps, 0.5 * p_.enter_speed_mps);
   OdometryMotion motion(slow);
   motion.start({MotionStep::Kind::kTranslate, p_.enter_max_distance_m, "enter"}, entry_odom_, io_.now());
-  Pose2D pose = entry_odom_;
+  thorvald_base::Pose2D pose = entry_odom_;
   // The rail frame as seen by the last detection, carried on by odometry: rail <- odom.
-  const Pose2D rail_from_odom = last_obs_.robot_in_rail.compose(entry_odom_.inverse());
+  const thorvald_base::Pose2D rail_from_odom = last_obs_.robot_in_rail * entry_odom_.inverse();
   const double w0 = p_.enter_line_frequency_rps;
   double rail_seen_at_m = -1.0;  // entered_m_ when the range finders first read rail under front and wheels
   while (io_.ok()) {
@@ -65,7 +65,7 @@ std::string UvMission::Impl::enter(tsm::ExecutionContext& ctx) {
     OdometryMotion::Command c = motion.update(pose, io_.now());
     if (w0 > 0.0 && c.linear_mps > 0.0) {
       // Follow the centre line y = 0, yaw = 0 of the rail frame: critically damped for small errors.
-      const Pose2D r = rail_from_odom.compose(pose);
+      const thorvald_base::Pose2D r = rail_from_odom * pose;
       c.angular_rps = std::clamp(-2.0 * w0 * r.yaw - w0 * w0 * r.y / std::max(c.linear_mps, 0.02),
                                  -p_.motion.max_turn_rate_rps, p_.motion.max_turn_rate_rps);
     }
@@ -82,7 +82,7 @@ std::string UvMission::Impl::enter(tsm::ExecutionContext& ctx) {
 }
 
 std::string UvMission::Impl::backOut(tsm::ExecutionContext& ctx) {
-  Pose2D pose;
+  thorvald_base::Pose2D pose;
   double back = entered_m_;
   if (io_.odomPose(&pose)) back = (pose.position() - entry_odom_.position()).dot(entry_odom_.heading());
   // The edge check stays on while backing out: the wheels must not leave the floor backwards either, but a
@@ -101,14 +101,14 @@ std::string UvMission::Impl::backOut(tsm::ExecutionContext& ctx) {
 }
 
 std::string UvMission::Impl::treat(tsm::ExecutionContext& ctx) {
-  Pose2D pose, last;
+  thorvald_base::Pose2D pose, last;
   if (!io_.odomPose(&pose)) {
     skip_reason_ = "no odometry on the rails";
     return "failed";
   }
   last = pose;
   const double yaw_ref = pose.yaw;
-  const Pose2D rail_start = pose;
+  const thorvald_base::Pose2D rail_start = pose;
   double v = 0.0, t_last = io_.now(), lights_since = t_last;
   double sum = 0.0, sum2 = 0.0, window_m = 0.0, window_s = 0.0;
   constexpr double kSpeedWindowS = 0.5;
@@ -191,7 +191,7 @@ std::string UvMission::Impl::treat(tsm::ExecutionContext& ctx) {
 }
 
 UvMission::Impl::Loop UvMission::Impl::reverseToEntry(tsm::ExecutionContext& ctx, std::string* why) {
-  Pose2D pose;
+  thorvald_base::Pose2D pose;
   const double yaw_ref = entry_odom_.yaw;
   double v = 0.0, t_last = io_.now();
   const double extra_m = 0.5;  // beyond the stored pose, to find the floor if odometry came up short
@@ -239,7 +239,7 @@ UvMission::Impl::Loop UvMission::Impl::reverseToEntry(tsm::ExecutionContext& ctx
 }
 
 std::string UvMission::Impl::comeBack(tsm::ExecutionContext& ctx) {
-  Pose2D pose;
+  thorvald_base::Pose2D pose;
   if (!io_.odomPose(&pose)) {
     addReason("return: no odometry");
     return "failed";
@@ -290,7 +290,7 @@ std::string UvMission::Impl::resume(tsm::ExecutionContext& ctx) {
     return "unsafe";
   }
   if (wheels == Surface::kRail) {
-    Pose2D pose;
+    thorvald_base::Pose2D pose;
     if (!io_.odomPose(&pose)) {
       owner_.stop_reason_ = "resuming on the rails: no odometry to reverse on";
       log(owner_.stop_reason_);
@@ -316,7 +316,7 @@ std::string UvMission::Impl::resume(tsm::ExecutionContext& ctx) {
 }
 
 UvMission::Impl::Safety UvMission::Impl::reverseToFloor(tsm::ExecutionContext& ctx, std::string* note) {
-  Pose2D start, pose;
+  thorvald_base::Pose2D start, pose;
   if (!io_.odomPose(&start)) {
     *note = "rail under the wheels and no odometry to reverse on";
     return Safety::kUnsafe;
@@ -396,7 +396,7 @@ UvMission::Impl::Safety UvMission::Impl::secure(tsm::ExecutionContext& ctx, std:
     const Safety r = reverseToFloor(ctx, note);
     if (r != Safety::kSafe) return r;
   }
-  Pose2D pose;
+  thorvald_base::Pose2D pose;
   if (!io_.odomPose(&pose)) {
     *note = "no odometry";
     return Safety::kUnsafe;

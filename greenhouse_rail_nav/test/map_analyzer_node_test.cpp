@@ -11,7 +11,7 @@
 #include <std_msgs/String.h>
 #include <visualization_msgs/MarkerArray.h>
 
-#include "../src/nodes/map_messages.h"
+#include "thorvald_map/ros/conversions.h"
 #include "greenhouse_rail_nav/rail_set_file.h"
 #include "greenhouse_rail_nav/testing/synthetic_greenhouse_map.h"
 
@@ -43,10 +43,10 @@ bool waitFor(F condition, double timeout_s = 20.0) {
 void expectTargets(const geometry_msgs::PoseArray& targets, const SyntheticGreenhouseMap& truth) {
   ASSERT_EQ(targets.poses.size(), truth.rail_frames.size());
   for (std::size_t i = 0; i < truth.rail_frames.size(); ++i) {
-    const Pose2D expected = truth.rail_frames[i].compose(Pose2D(-0.8, 0.0, 0.0));
+    const thorvald_base::Pose2D expected = truth.rail_frames[i] * thorvald_base::Pose2D(-0.8, 0.0, 0.0);
     const auto& p = targets.poses[i];
     EXPECT_LT(std::hypot(p.position.x - expected.x, p.position.y - expected.y), 0.07) << i;
-    EXPECT_LT(std::abs(normalizeAngle(yawOf(p.orientation) - expected.yaw)), 0.02) << i;
+    EXPECT_LT(std::abs(thorvald_base::normalizeAngle(thorvald_map::yawOf(p.orientation) - expected.yaw)), 0.02) << i;
   }
 }
 
@@ -88,9 +88,9 @@ TEST(MapAnalyzerNode, AnalysesMapsOnTheTopicAndNeverInventsPoses) {
   GreenhouseLayout rotated;
   rotated.rail_sets = 11;
   rotated.visible_rows = {1, 4, 8, 9};
-  rotated.layout_in_map = Pose2D(4.0, -2.0, 2.2);
+  rotated.layout_in_map = thorvald_base::Pose2D(4.0, -2.0, 2.2);
   const auto truth = makeGreenhouseMap(rotated);
-  map_pub.publish(toMessage(truth.map, "map", ros::Time::now()));
+  map_pub.publish(thorvald_map::toGridMessage(truth.map, "map", ros::Time::now()));
   ASSERT_TRUE(waitFor([&] { return targets.count >= 1 && status.count >= 1; }));
   expectTargets(*targets.last, truth);
   EXPECT_EQ(status.last->data.rfind("ok:", 0), 0u) << status.last->data;
@@ -104,7 +104,7 @@ TEST(MapAnalyzerNode, AnalysesMapsOnTheTopicAndNeverInventsPoses) {
   single.rail_sets = 6;
   single.visible_rows = {2};
   const auto single_truth = makeGreenhouseMap(single);
-  map_pub.publish(toMessage(single_truth.map, "map", ros::Time::now()));
+  map_pub.publish(thorvald_map::toGridMessage(single_truth.map, "map", ros::Time::now()));
   ASSERT_TRUE(waitFor([&] { return targets.count >= 2 && status.count >= 2; }));
   expectTargets(*targets.last, single_truth);
 
@@ -112,19 +112,19 @@ TEST(MapAnalyzerNode, AnalysesMapsOnTheTopicAndNeverInventsPoses) {
   GreenhouseLayout bare;
   bare.rail_sets = 6;
   bare.row_probability = 0.0;
-  map_pub.publish(toMessage(makeGreenhouseMap(bare).map, "map", ros::Time::now()));
+  map_pub.publish(thorvald_map::toGridMessage(makeGreenhouseMap(bare).map, "map", ros::Time::now()));
   ASSERT_TRUE(waitFor([&] { return targets.count >= 3 && status.count >= 3; }));
   EXPECT_TRUE(targets.last->poses.empty());
   EXPECT_EQ(status.last->data.rfind("failed:", 0), 0u) << status.last->data;
   EXPECT_NE(status.last->data.find("expected"), std::string::npos);
 
   // A malformed map (data shorter than width x height) is rejected; the node lives on.
-  nav_msgs::OccupancyGrid bad = toMessage(single_truth.map, "map", ros::Time::now());
+  nav_msgs::OccupancyGrid bad = thorvald_map::toGridMessage(single_truth.map, "map", ros::Time::now());
   bad.data.resize(10);
   map_pub.publish(bad);
   ASSERT_TRUE(waitFor([&] { return status.count >= 4; }));
   EXPECT_NE(status.last->data.find("rejected"), std::string::npos) << status.last->data;
-  map_pub.publish(toMessage(single_truth.map, "map", ros::Time::now()));
+  map_pub.publish(thorvald_map::toGridMessage(single_truth.map, "map", ros::Time::now()));
   ASSERT_TRUE(waitFor([&] { return targets.count >= 4; }));
   EXPECT_EQ(targets.last->poses.size(), 6u);
 
@@ -139,7 +139,7 @@ TEST(MapAnalyzerNode, AnalysesMapsOnTheTopicAndNeverInventsPoses) {
   open_left.rear_wall_ends_at_corner = false;
   const auto open_truth = makeGreenhouseMap(open_left);
   const int before = targets.count;
-  map_pub.publish(toMessage(open_truth.map, "map", ros::Time::now()));
+  map_pub.publish(thorvald_map::toGridMessage(open_truth.map, "map", ros::Time::now()));
   ASSERT_TRUE(waitFor([&] { return targets.count > before && uncertain.count >= 1; }));
   ASSERT_TRUE(waitFor([&] { return status.last->data.rfind("uncertain:", 0) == 0u; })) << status.last->data;
   EXPECT_NE(status.last->data.find("no left side wall"), std::string::npos) << status.last->data;

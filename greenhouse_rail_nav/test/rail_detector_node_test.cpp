@@ -69,7 +69,7 @@ class RailDetectorNodeTest : public ::testing::Test {
     return answer;
   }
 
-  sensor_msgs::PointCloud2 render(const Pose2D& base_in_rail, std::uint32_t seed,
+  sensor_msgs::PointCloud2 render(const thorvald_base::Pose2D& base_in_rail, std::uint32_t seed,
                                   const Eigen::Isometry3d& true_mount = opticalFrameInBase(0.35, 0.0, 0.70, 0.70)) {
     DepthSceneParams scene;
     scene.seed = seed;
@@ -99,7 +99,7 @@ class RailDetectorNodeTest : public ::testing::Test {
 }  // namespace
 
 TEST_F(RailDetectorNodeTest, PublishesThePoseInTheRailFrame) {
-  const Pose2D truth(-0.76, 0.04, -0.02);
+  const thorvald_base::Pose2D truth(-0.76, 0.04, -0.02);
   const auto status = sendOnceTfIsKnown(render(truth, 3));
   ASSERT_TRUE(status);
   ASSERT_EQ(status->status, StatusMsg::FOUND) << status->reason;
@@ -116,7 +116,7 @@ TEST_F(RailDetectorNodeTest, PublishesThePoseInTheRailFrame) {
 }
 
 TEST_F(RailDetectorNodeTest, RejectsBadCloudsAndLivesOn) {
-  ASSERT_TRUE(sendOnceTfIsKnown(render(Pose2D(-0.8, 0.0, 0.0), 4)));
+  ASSERT_TRUE(sendOnceTfIsKnown(render(thorvald_base::Pose2D(-0.8, 0.0, 0.0), 4)));
   OrganisedCloud empty;
   auto status = send(toMessage(empty, kCameraFrame, ros::Time::now()));
   ASSERT_TRUE(status);
@@ -151,14 +151,14 @@ TEST_F(RailDetectorNodeTest, RejectsBadCloudsAndLivesOn) {
   EXPECT_EQ(status->status, StatusMsg::BAD_INPUT);
   EXPECT_NE(status->reason.find("malformed"), std::string::npos) << status->reason;
 
-  auto truncated = render(Pose2D(-0.8, 0.0, 0.0), 5);
+  auto truncated = render(thorvald_base::Pose2D(-0.8, 0.0, 0.0), 5);
   truncated.data.resize(truncated.data.size() / 2);
   status = send(truncated);
   ASSERT_TRUE(status);
   EXPECT_EQ(status->status, StatusMsg::BAD_INPUT);
 
   // Still working.
-  status = send(render(Pose2D(-0.8, 0.0, 0.0), 6));
+  status = send(render(thorvald_base::Pose2D(-0.8, 0.0, 0.0), 6));
   ASSERT_TRUE(status);
   EXPECT_TRUE(status->status == StatusMsg::FOUND || status->status == StatusMsg::HELD_BACK) << status->reason;
 }
@@ -169,7 +169,8 @@ TEST_F(RailDetectorNodeTest, MountCalibrationIsComputedAppliedAndPersisted) {
   ASSERT_TRUE(pnh.getParam("calibration_file", calibration_file));
   // The real camera sits 2 cm to the left and turned 0.04 rad; the tf says it is straight.
   const Eigen::Isometry3d true_mount = opticalFrameInBase(0.35, 0.02, 0.70, 0.70, 0.04);
-  auto status = sendOnceTfIsKnown(render(Pose2D(1.0, 0.0, 0.0), 7, true_mount));  // standing on the rails
+  auto status =
+      sendOnceTfIsKnown(render(thorvald_base::Pose2D(1.0, 0.0, 0.0), 7, true_mount));  // standing on the rails
   ASSERT_TRUE(status);
   ASSERT_TRUE(status->status == StatusMsg::FOUND || status->status == StatusMsg::HELD_BACK) << status->reason;
   ros::ServiceClient client = nh_.serviceClient<std_srvs::Trigger>("rail_detector/calibrate_mount");
@@ -183,7 +184,7 @@ TEST_F(RailDetectorNodeTest, MountCalibrationIsComputedAppliedAndPersisted) {
   EXPECT_NEAR(stored.yaw_rad, 0.04, 0.01);  // rails seen turned -0.04 rad: turn them back
 
   // In front of the rails, the corrected estimate is within tolerance of the truth.
-  const Pose2D truth(-0.75, -0.03, 0.02);
+  const thorvald_base::Pose2D truth(-0.75, -0.03, 0.02);
   status = send(render(truth, 8, true_mount));
   ASSERT_TRUE(status);
   ASSERT_EQ(status->status, StatusMsg::FOUND) << status->reason;

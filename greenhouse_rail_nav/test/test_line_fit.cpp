@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "greenhouse_rail_nav/line_fit.h"
-#include "greenhouse_rail_nav/pose2d.h"
+#include "thorvald_base/pose2d.h"
 
 using namespace greenhouse_rail_nav;
 
@@ -55,13 +55,14 @@ TEST(LineFit, FlipKeepsExtents) {
 }
 
 TEST(Pose2D, ComposeInverseAndNormalise) {
-  const Pose2D a(1.0, 2.0, 0.5), b(-0.3, 0.7, -2.0);
-  const Pose2D identity = a.compose(a.inverse());
+  const thorvald_base::Pose2D a(1.0, 2.0, 0.5), b(-0.3, 0.7, -2.0);
+  const thorvald_base::Pose2D identity = a * a.inverse();
   EXPECT_NEAR(identity.x, 0.0, 1e-12);
   EXPECT_NEAR(identity.y, 0.0, 1e-12);
   EXPECT_NEAR(identity.yaw, 0.0, 1e-12);
   const Eigen::Vector2d p(0.4, -1.1);
-  EXPECT_TRUE(a.compose(b).transformPoint(p).isApprox(a.transformPoint(b.transformPoint(p))));
-  EXPECT_NEAR(normalizeAngle(3 * M_PI), M_PI, 1e-12);
-  EXPECT_NEAR(normalizeAngle(-3 * M_PI / 2), M_PI / 2, 1e-12);
+  EXPECT_TRUE((a * b).transformPoint(p).isApprox(a.transformPoint(b.transformPoint(p))));
+  // One convention across the workspace: thorvald_base::normalizeAngle wraps into [-pi, pi), so 3 pi lands on -pi.
+  EXPECT_NEAR(thorvald_base::normalizeAngle(3 * M_PI), -M_PI, 1e-12);
+  EXPECT_NEAR(thorvald_base::normalizeAngle(-3 * M_PI / 2), M_PI / 2, 1e-12);
 }

@@ -5,7 +5,7 @@
 
 #include "greenhouse_rail_nav/keep_out_grid.h"
 #include "greenhouse_rail_nav/map_analyzer.h"
-#include "greenhouse_rail_nav/map_file.h"
+#include "thorvald_map/map_file.h"
 #include "greenhouse_rail_nav/testing/synthetic_greenhouse_map.h"
 
 using namespace greenhouse_rail_nav;
@@ -20,10 +20,10 @@ void expectMatchesTruth(const SyntheticGreenhouseMap& truth, const MapAnalysis& 
   ASSERT_TRUE(result.ok) << result.message;
   ASSERT_EQ(result.rail_sets.size(), truth.rail_frames.size()) << result.message;
   for (std::size_t i = 0; i < truth.rail_frames.size(); ++i) {
-    const Pose2D& est = result.rail_sets[i].rail_frame;
-    const Pose2D& tru = truth.rail_frames[i];
+    const thorvald_base::Pose2D& est = result.rail_sets[i].rail_frame;
+    const thorvald_base::Pose2D& tru = truth.rail_frames[i];
     EXPECT_LT(std::hypot(est.x - tru.x, est.y - tru.y), kOriginTolerance) << "rail set " << i;
-    EXPECT_LT(std::abs(normalizeAngle(est.yaw - tru.yaw)), kHeadingTolerance) << "rail set " << i;
+    EXPECT_LT(std::abs(thorvald_base::normalizeAngle(est.yaw - tru.yaw)), kHeadingTolerance) << "rail set " << i;
     EXPECT_EQ(result.rail_sets[i].index, static_cast<int>(i));
   }
 }
@@ -50,7 +50,7 @@ TEST(MapAnalyzer, TargetPoseIsTheRequestedPoseInEachRailFrame) {
   layout.rail_sets = 6;
   layout.visible_rows = {3};
   MapAnalyzerParams params;
-  params.target_in_rail = Pose2D(-0.8, 0.1, 0.2);
+  params.target_in_rail = thorvald_base::Pose2D(-0.8, 0.1, 0.2);
   const auto result = analyzeMap(makeGreenhouseMap(layout).map, params);
   ASSERT_TRUE(result.ok) << result.message;
   for (const auto& set : result.rail_sets) {
@@ -58,7 +58,7 @@ TEST(MapAnalyzer, TargetPoseIsTheRequestedPoseInEachRailFrame) {
     const double c = std::cos(set.rail_frame.yaw), s = std::sin(set.rail_frame.yaw);
     EXPECT_NEAR(set.target_pose.x, set.rail_frame.x + c * -0.8 - s * 0.1, 1e-9);
     EXPECT_NEAR(set.target_pose.y, set.rail_frame.y + s * -0.8 + c * 0.1, 1e-9);
-    EXPECT_NEAR(normalizeAngle(set.target_pose.yaw - set.rail_frame.yaw - 0.2), 0.0, 1e-9);
+    EXPECT_NEAR(thorvald_base::normalizeAngle(set.target_pose.yaw - set.rail_frame.yaw - 0.2), 0.0, 1e-9);
   }
 }
 
@@ -67,7 +67,7 @@ TEST(MapAnalyzer, RotatedGreenhouse) {
     GreenhouseLayout layout;
     layout.rail_sets = 9;
     layout.visible_rows = {1, 4, 5, 7};
-    layout.layout_in_map = Pose2D(-3.0, 5.0, yaw);
+    layout.layout_in_map = thorvald_base::Pose2D(-3.0, 5.0, yaw);
     layout.seed = 11;
     SCOPED_TRACE(yaw);
     const auto truth = makeGreenhouseMap(layout);
@@ -84,7 +84,7 @@ TEST(MapAnalyzer, DifferentRailCountsAndNoise) {
     layout.speckle_per_m2 = 0.05;
     layout.gap_probability = 0.5;
     layout.seed = 20 + static_cast<std::uint32_t>(sets);
-    layout.layout_in_map = Pose2D(1.0, 1.0, 0.1 * sets);
+    layout.layout_in_map = thorvald_base::Pose2D(1.0, 1.0, 0.1 * sets);
     if (sets == 2) layout.visible_rows = {1};
     const auto truth = makeGreenhouseMap(layout);
     if (truth.rows_drawn.empty()) continue;  // nothing to find; covered by NoRows
@@ -117,12 +117,12 @@ TEST(MapAnalyzer, NoRowsGivesNoPosesAndSaysWhy) {
 }
 
 TEST(MapAnalyzer, EmptyAndUnknownMapsGiveNoPoses) {
-  const OccupancyMap empty(0, 0, 0.05, Pose2D());
+  const thorvald_map::OccupancyGrid empty(0, 0, 0.05, thorvald_base::Pose2D());
   auto result = analyzeMap(empty, MapAnalyzerParams());
   EXPECT_FALSE(result.ok);
   EXPECT_TRUE(result.rail_sets.empty());
   EXPECT_NE(result.message.find("expected"), std::string::npos);
-  const OccupancyMap unknown(100, 80, 0.05, Pose2D());
+  const thorvald_map::OccupancyGrid unknown(100, 80, 0.05, thorvald_base::Pose2D());
   result = analyzeMap(unknown, MapAnalyzerParams());
   EXPECT_FALSE(result.ok);
   EXPECT_NE(result.message.find("0 straight lines"), std::string::npos) << result.message;
@@ -142,13 +142,13 @@ TEST(MapAnalyzer, WithoutSideWallsOnlyTheSetsBetweenRowsAreGood) {
   EXPECT_FALSE(result.right_wall_found);
   EXPECT_TRUE(result.left_open);
   EXPECT_TRUE(result.right_open);
-  std::vector<Pose2D> good;
+  std::vector<thorvald_base::Pose2D> good;
   for (const auto& set : result.rail_sets) {
     if (set.good) good.push_back(set.rail_frame);
   }
   ASSERT_EQ(good.size(), 3u);  // between rows 2 and 5: sets 2, 3, 4; those beyond the rows are uncertain
   for (int i = 0; i < 3; ++i) {
-    const Pose2D& tru = truth.rail_frames[static_cast<std::size_t>(2 + i)];
+    const thorvald_base::Pose2D& tru = truth.rail_frames[static_cast<std::size_t>(2 + i)];
     EXPECT_LT(std::hypot(good[static_cast<std::size_t>(i)].x - tru.x, good[static_cast<std::size_t>(i)].y - tru.y),
               kOriginTolerance);
   }
@@ -171,11 +171,12 @@ TEST(KeepOutGrid, MarksEverythingBeyondTheHeadlandEdge) {
   GreenhouseLayout layout;
   layout.rail_sets = 6;
   layout.visible_rows = {2, 4};
-  layout.layout_in_map = Pose2D(3.0, 2.0, 0.6);
+  layout.layout_in_map = thorvald_base::Pose2D(3.0, 2.0, 0.6);
   const auto truth = makeGreenhouseMap(layout);
   const auto result = analyzeMap(truth.map, MapAnalyzerParams());
   ASSERT_TRUE(result.ok) << result.message;
-  const OccupancyMap grid = makeKeepOutGrid(truth.map, result.edge_start, result.edge_end, result.into_rows, 0.2);
+  const thorvald_map::OccupancyGrid grid =
+      makeKeepOutGrid(truth.map, result.edge_start, result.edge_end, result.into_rows, 0.2);
   ASSERT_EQ(grid.width, truth.map.width);
   ASSERT_EQ(grid.height, truth.map.height);
   // Probe in the layout frame: 0.5 m before the edge is free, 0.5 m into the rows is kept out, and the
@@ -199,9 +200,9 @@ TEST(KeepOutGrid, MarksEverythingBeyondTheHeadlandEdge) {
 // fronts a cell short).
 void expectSimMapRight(const std::string& name, int sets) {
   const std::string path = std::string(__FILE__).substr(0, std::string(__FILE__).rfind('/')) + "/data/" + name;
-  OccupancyMap map;
+  thorvald_map::OccupancyGrid map;
   std::string error;
-  ASSERT_TRUE(loadMapYaml(path, &map, &error)) << error;
+  ASSERT_TRUE(thorvald_map::loadMap(path, &map, &error)) << error;
   const auto result = analyzeMap(map, MapAnalyzerParams());
   ASSERT_EQ(result.status, MapStatus::kOk) << result.message << " | " << result.uncertain_reasons;
   ASSERT_EQ(result.rail_sets.size(), static_cast<std::size_t>(sets)) << result.message;
@@ -212,7 +213,7 @@ void expectSimMapRight(const std::string& name, int sets) {
     EXPECT_TRUE(set.good) << name << " set " << i << ": " << set.reason;
     EXPECT_LT(std::abs(set.rail_frame.y - true_y), 0.03) << name << " set " << i;
     EXPECT_LT(std::abs(set.rail_frame.x - true_x), 0.10) << name << " set " << i;
-    EXPECT_LT(std::abs(normalizeAngle(set.rail_frame.yaw)), 0.5 * M_PI / 180.0) << name << " set " << i;
+    EXPECT_LT(std::abs(thorvald_base::normalizeAngle(set.rail_frame.yaw)), 0.5 * M_PI / 180.0) << name << " set " << i;
   }
 }
 

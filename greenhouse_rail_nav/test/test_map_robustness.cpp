@@ -11,7 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "greenhouse_rail_nav/map_analyzer.h"
-#include "greenhouse_rail_nav/map_file.h"
+#include "thorvald_map/map_file.h"
 #include "greenhouse_rail_nav/rail_spacing.h"
 #include "greenhouse_rail_nav/testing/synthetic_greenhouse_map.h"
 
@@ -23,7 +23,7 @@ namespace {
 constexpr double kAcross = 0.05;
 constexpr double kHeading = 0.5 * M_PI / 180.0;
 
-double acrossError(const Pose2D& est, const Pose2D& tru) {
+double acrossError(const thorvald_base::Pose2D& est, const thorvald_base::Pose2D& tru) {
   return std::abs(-std::sin(tru.yaw) * (est.x - tru.x) + std::cos(tru.yaw) * (est.y - tru.y));
 }
 
@@ -35,15 +35,16 @@ void expectAllGoodAndRight(const SyntheticGreenhouseMap& truth, const MapAnalysi
     const auto& set = result.rail_sets[i];
     EXPECT_TRUE(set.good) << i << ": " << set.reason;
     EXPECT_LT(acrossError(set.rail_frame, truth.rail_frames[i]), kAcross) << "rail set " << i;
-    EXPECT_LT(std::abs(normalizeAngle(set.rail_frame.yaw - truth.rail_frames[i].yaw)), kHeading) << "rail set " << i;
+    EXPECT_LT(std::abs(thorvald_base::normalizeAngle(set.rail_frame.yaw - truth.rail_frames[i].yaw)), kHeading)
+        << "rail set " << i;
   }
 }
 
 /// Paints a thin line of cells (occupied unless told) between two layout-frame points.
-void paintLine(OccupancyMap* map, const Pose2D& layout_in_map, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
-               std::int8_t value = OccupancyMap::kOccupied) {
+void paintLine(thorvald_map::OccupancyGrid* map, const thorvald_base::Pose2D& layout_in_map, const Eigen::Vector2d& a,
+               const Eigen::Vector2d& b, std::int8_t value = thorvald_map::kOccupied) {
   const double length = (b - a).norm();
-  for (double s = 0.0; s <= length; s += 0.25 * map->resolution) {
+  for (double s = 0.0; s <= length; s += 0.25 * map->resolution_m) {
     int c = 0, r = 0;
     if (map->worldToCell(layout_in_map.transformPoint(a + (b - a) * (s / length)), &c, &r)) map->at(c, r) = value;
   }
@@ -57,7 +58,7 @@ TEST(MapRobustness, NoiseLineOnTheHeadlandIsNotTakenForTheRearWall) {
     layout.rail_sets = 5;
     layout.visible_rows = {2, 3};
     layout.clutter_objects = 0;
-    layout.layout_in_map = Pose2D(1.0, 2.0, yaw);
+    layout.layout_in_map = thorvald_base::Pose2D(1.0, 2.0, yaw);
     auto truth = makeGreenhouseMap(layout);
     // Decoys: a 2 m line parallel to the rear wall in the middle of the headland, and a 1.5 m line along
     // the rows near a side wall (either could pass for a wall with the rows on one side of it).
@@ -79,7 +80,7 @@ TEST(MapRobustness, SpeckleAcrossTheSideWallsAtFineResolution) {
     layout.row_probability = 0.6;
     layout.speckle_free_fraction = 0.01;  // 1 % of the free cells
     layout.seed = 5;
-    layout.layout_in_map = Pose2D(0.0, 0.0, 0.3);
+    layout.layout_in_map = thorvald_base::Pose2D(0.0, 0.0, 0.3);
     const auto truth = makeGreenhouseMap(layout);
     SCOPED_TRACE(res);
     const auto result = analyzeMap(truth.map, MapAnalyzerParams());
@@ -120,12 +121,12 @@ TEST(MapRobustness, SideWallsBehindDoorsDoNotSetTheHeadlandEdge) {
     layout.visible_rows = {2};
     layout.headland_depth_m = 5.0;
     layout.clutter_objects = 0;
-    layout.layout_in_map = Pose2D(0.5, 1.0, yaw);
+    layout.layout_in_map = thorvald_base::Pose2D(0.5, 1.0, yaw);
     auto truth = makeGreenhouseMap(layout);
     const double width = layout.rail_sets * layout.spacing_m, res = layout.resolution_m;
     for (double d = 0.0; d <= layout.wall_thickness_m + res; d += 0.5 * res) {
-      paintLine(&truth.map, layout.layout_in_map, {-d, 0.6}, {-d, 1.6}, OccupancyMap::kUnknown);
-      paintLine(&truth.map, layout.layout_in_map, {width + d, 0.6}, {width + d, 1.6}, OccupancyMap::kUnknown);
+      paintLine(&truth.map, layout.layout_in_map, {-d, 0.6}, {-d, 1.6}, thorvald_map::kUnknown);
+      paintLine(&truth.map, layout.layout_in_map, {width + d, 0.6}, {width + d, 1.6}, thorvald_map::kUnknown);
     }
     SCOPED_TRACE(yaw);
     expectAllGoodAndRight(truth, analyzeMap(truth.map, MapAnalyzerParams()));
@@ -141,7 +142,7 @@ TEST(MapRobustness, BoxesInFrontOfASideWallDoNotHideIt) {
     layout.visible_rows = {1, 2, 3, 4};
     layout.headland_depth_m = 4.0;
     layout.clutter_objects = 0;
-    layout.layout_in_map = Pose2D(1.0, 1.0, yaw);
+    layout.layout_in_map = thorvald_base::Pose2D(1.0, 1.0, yaw);
     auto truth = makeGreenhouseMap(layout);
     for (const auto& box :
          {Eigen::Vector2d(0.1, 0.9), Eigen::Vector2d(1.2, 2.0), Eigen::Vector2d(2.3, 3.1), Eigen::Vector2d(3.4, 3.9)}) {
@@ -165,7 +166,7 @@ TEST(MapRobustness, ARowWhoseStartIsHiddenIsNamedNotAveragedIntoTheEdge) {
     layout.ventilation_fraction = 1.0;
     layout.gap_probability = 0.0;
     layout.clutter_objects = 0;
-    layout.layout_in_map = Pose2D(1.0, 1.0, yaw);
+    layout.layout_in_map = thorvald_base::Pose2D(1.0, 1.0, yaw);
     auto truth = makeGreenhouseMap(layout);
     const double x = 3 * layout.spacing_m, y1 = layout.headland_depth_m - 0.05;
     for (double dx = -0.1; dx <= 0.1; dx += 0.5 * layout.resolution_m)
@@ -269,12 +270,12 @@ TEST(MapRobustness, MissingSideWallWithTheRearWallEndingOffTheRowsPatternStaysOp
   layout.rear_wall_ends_at_corner = false;
   auto truth = makeGreenhouseMap(layout);
   // Cut the rear wall 0.8 m beyond the corner (layout frame: x across, the corner at x = 0): floor there.
-  const Pose2D to_layout = layout.layout_in_map.inverse();
+  const thorvald_base::Pose2D to_layout = layout.layout_in_map.inverse();
   for (int r = 0; r < truth.map.height; ++r) {
     for (int c = 0; c < truth.map.width; ++c) {
       const Eigen::Vector2d p = to_layout.transformPoint(truth.map.cellCentre(c, r));
-      if (p.x() < -0.8 && p.y() < 0.0 && truth.map.at(c, r) == OccupancyMap::kOccupied)
-        truth.map.at(c, r) = OccupancyMap::kUnknown;
+      if (p.x() < -0.8 && p.y() < 0.0 && truth.map.at(c, r) == thorvald_map::kOccupied)
+        truth.map.at(c, r) = thorvald_map::kUnknown;
     }
   }
   const auto result = analyzeMap(truth.map, MapAnalyzerParams());
@@ -328,8 +329,8 @@ TEST(MapRobustness, SideWallsOffSquareAreTakenWhereTheyMeetTheEdge) {
   layout.headland_depth_m = 5.0;
   layout.visible_rows = {1, 2, 3};
   auto truth = makeGreenhouseMap(layout);
-  OccupancyMap sheared = truth.map;
-  const Pose2D to_layout = layout.layout_in_map.inverse();
+  thorvald_map::OccupancyGrid sheared = truth.map;
+  const thorvald_base::Pose2D to_layout = layout.layout_in_map.inverse();
   const double shear = 0.008;
   // Each cell takes the value the unsheared map has at x - shear * (y - headland depth) (layout frame).
   for (int r = 0; r < sheared.height; ++r) {
@@ -381,17 +382,19 @@ TEST(MapRobustness, HugePgmHeaderIsRefusedWithTheSize) {
     yaml << "image: " << base << ".pgm\nresolution: 0.05\norigin: [0, 0, 0]\nnegate: 0\n"
          << "occupied_thresh: 0.65\nfree_thresh: 0.196\n";
   }
-  OccupancyMap map;
+  thorvald_map::OccupancyGrid map;
   std::string error;
-  EXPECT_FALSE(loadMapYaml(base + ".yaml", &map, &error));
+  EXPECT_FALSE(thorvald_map::loadMap(base + ".yaml", &map, &error));
   EXPECT_NE(error.find("100000 x 50000"), std::string::npos) << error;
   // A small limit refuses an ordinary map too, naming both sizes.
   {
     std::ofstream pgm(base + ".pgm", std::ios::binary);
     pgm << "P5\n30 20\n255\n" << std::string(600, '\xfe');
   }
-  EXPECT_TRUE(loadMapYaml(base + ".yaml", &map, &error)) << error;
-  EXPECT_FALSE(loadMapYaml(base + ".yaml", &map, &error, 500));
+  EXPECT_TRUE(thorvald_map::loadMap(base + ".yaml", &map, &error)) << error;
+  thorvald_map::MapLoadOptions small;
+  small.max_cells = 500;
+  EXPECT_FALSE(thorvald_map::loadMap(base + ".yaml", &map, &error, small));
   EXPECT_NE(error.find("30 x 20"), std::string::npos) << error;
   std::remove((base + ".pgm").c_str());
   std::remove((base + ".yaml").c_str());

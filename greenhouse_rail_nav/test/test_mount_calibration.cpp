@@ -11,11 +11,11 @@ using namespace greenhouse_rail_nav;
 
 TEST(MountCalibration, CorrectionMakesTheRailsStraightAhead) {
   // Rails seen 4 cm to the left and turned 0.05 rad, origin (first visible point) 0.6 m ahead.
-  const Pose2D seen(0.6, 0.04, 0.05);
+  const thorvald_base::Pose2D seen(0.6, 0.04, 0.05);
   MountCorrection c;
   std::string error;
   ASSERT_TRUE(computeMountCorrection(seen, 0.1, 0.1, &c, &error)) << error;
-  const Pose2D corrected = c.asTransform().compose(seen);
+  const thorvald_base::Pose2D corrected = c.asTransform() * seen;
   EXPECT_NEAR(corrected.yaw, 0.0, 1e-12);
   EXPECT_NEAR(corrected.y, 0.0, 1e-12);
   // Any other point on the seen centre line also lands on y = 0.
@@ -27,10 +27,10 @@ TEST(MountCalibration, CorrectionMakesTheRailsStraightAhead) {
 TEST(MountCalibration, RefusesWhenTheRobotCannotBeOnTheRails) {
   MountCorrection c;
   std::string error;
-  EXPECT_FALSE(computeMountCorrection(Pose2D(0.6, 0.3, 0.0), 0.1, 0.1, &c, &error));
+  EXPECT_FALSE(computeMountCorrection(thorvald_base::Pose2D(0.6, 0.3, 0.0), 0.1, 0.1, &c, &error));
   EXPECT_NE(error.find("beyond the limits"), std::string::npos);
-  EXPECT_FALSE(computeMountCorrection(Pose2D(0.6, 0.0, 0.3), 0.1, 0.1, &c, &error));
-  EXPECT_FALSE(computeMountCorrection(Pose2D(NAN, 0.0, 0.0), 0.1, 0.1, &c, &error));
+  EXPECT_FALSE(computeMountCorrection(thorvald_base::Pose2D(0.6, 0.0, 0.3), 0.1, 0.1, &c, &error));
+  EXPECT_FALSE(computeMountCorrection(thorvald_base::Pose2D(NAN, 0.0, 0.0), 0.1, 0.1, &c, &error));
 }
 
 TEST(MountCalibration, PersistsToAFile) {

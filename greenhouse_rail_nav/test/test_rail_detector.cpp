@@ -19,16 +19,16 @@ namespace {
 // 3 cm and yaw within 0.02 rad; x (the rails' start) within 0.15 m.
 constexpr double kTolY = 0.03, kTolYaw = 0.02, kTolX = 0.15;
 
-void expectNear(const Pose2D& truth, const RailDetection& d) {
+void expectNear(const thorvald_base::Pose2D& truth, const RailDetection& d) {
   ASSERT_TRUE(d.found()) << d.reason;
   EXPECT_NEAR(d.base_in_rail.x, truth.x, kTolX);
   EXPECT_NEAR(d.base_in_rail.y, truth.y, kTolY);
-  EXPECT_NEAR(normalizeAngle(d.base_in_rail.yaw - truth.yaw), 0.0, kTolYaw);
+  EXPECT_NEAR(thorvald_base::normalizeAngle(d.base_in_rail.yaw - truth.yaw), 0.0, kTolYaw);
 }
 
 /// True when both pipes' start points (at the pipe's centre height) project inside the image.
-bool startInView(const DepthSceneParams& scene, const Pose2D& base_in_rail) {
-  const Pose2D rail_in_base = base_in_rail.inverse();
+bool startInView(const DepthSceneParams& scene, const thorvald_base::Pose2D& base_in_rail) {
+  const thorvald_base::Pose2D rail_in_base = base_in_rail.inverse();
   const CloudProjection projection(scene.intrinsics);
   for (const double side : {-0.5, 0.5}) {
     const Eigen::Vector2d start = rail_in_base.transformPoint({0.0, side * scene.rail_gauge_m});
@@ -47,7 +47,7 @@ TEST(RailDetector, FindsTheRailsAtPosesLikeTableI) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   for (int i = 0; i < 8; ++i) {
-    const Pose2D truth(-0.71 + 0.1 * unit(rng), 0.09 * unit(rng), 0.045 * unit(rng));
+    const thorvald_base::Pose2D truth(-0.71 + 0.1 * unit(rng), 0.09 * unit(rng), 0.045 * unit(rng));
     scene.seed = 40 + static_cast<std::uint32_t>(i);
     SCOPED_TRACE(i);
     const RailDetection d = detector.detect(renderDepthCloud(scene, truth), scene.camera_in_base);
@@ -64,7 +64,7 @@ TEST(RailDetector, OffsetRobotFindsItsOwnSetNotTheNeighbour) {
   const RailDetector detector{RailDetectorParams()};
   DepthSceneParams scene;
   for (const double y : {-0.3, 0.3}) {
-    const Pose2D truth(-0.9, y, -0.6 * y);  // turned towards the rails
+    const thorvald_base::Pose2D truth(-0.9, y, -0.6 * y);  // turned towards the rails
     SCOPED_TRACE(y);
     expectNear(truth, detector.detect(renderDepthCloud(scene, truth), scene.camera_in_base));
   }
@@ -73,9 +73,9 @@ TEST(RailDetector, OffsetRobotFindsItsOwnSetNotTheNeighbour) {
 TEST(RailDetector, RansacBaselineFindsTheRailsToo) {
   const RailDetector detector{RailDetectorParams()};
   DepthSceneParams scene;
-  const Pose2D truth(-0.75, 0.03, 0.02);
-  const auto d =
-      detector.detect(renderDepthCloud(scene, truth), scene.camera_in_base, Pose2D(), RailFitMethod::kRansacBaseline);
+  const thorvald_base::Pose2D truth(-0.75, 0.03, 0.02);
+  const auto d = detector.detect(renderDepthCloud(scene, truth), scene.camera_in_base, thorvald_base::Pose2D(),
+                                 RailFitMethod::kRansacBaseline);
   ASSERT_TRUE(d.found()) << d.reason;
   EXPECT_NEAR(d.base_in_rail.y, truth.y, 0.05);
   EXPECT_NEAR(d.base_in_rail.yaw, truth.yaw, 0.03);
@@ -112,7 +112,7 @@ TEST(RailDetector, NoRailsInViewIsNotFound) {
   const RailDetector detector{RailDetectorParams()};
   DepthSceneParams scene;
   // Far back on the headland, facing away from the rails: floor only.
-  const auto d = detector.detect(renderDepthCloud(scene, Pose2D(-6.0, 0.0, M_PI)), scene.camera_in_base);
+  const auto d = detector.detect(renderDepthCloud(scene, thorvald_base::Pose2D(-6.0, 0.0, M_PI)), scene.camera_in_base);
   EXPECT_EQ(d.status, RailDetection::Status::kNotFound);
   EXPECT_FALSE(d.reason.empty());
 }
@@ -138,12 +138,12 @@ TEST(RailDetector, MountCalibrationRemovesACameraYawAndShiftError) {
   const Eigen::Isometry3d nominal = scene.camera_in_base;
   scene.camera_in_base = opticalFrameInBase(0.35, 0.03, 0.70, 0.70, 0.04);  // mounted 3 cm left, 0.04 rad off
   // Robot standing on the rails, aligned and centred.
-  const auto on_rails = detector.detect(renderDepthCloud(scene, Pose2D(1.0, 0.0, 0.0)), nominal);
+  const auto on_rails = detector.detect(renderDepthCloud(scene, thorvald_base::Pose2D(1.0, 0.0, 0.0)), nominal);
   ASSERT_TRUE(on_rails.found()) << on_rails.reason;
   MountCorrection correction;
   std::string error;
   ASSERT_TRUE(computeMountCorrection(on_rails.rail_in_base, 0.1, 0.1, &correction, &error)) << error;
-  const Pose2D truth(-0.75, 0.05, -0.03);
+  const thorvald_base::Pose2D truth(-0.75, 0.05, -0.03);
   scene.seed = 9;
   const auto cloud = renderDepthCloud(scene, truth);
   const auto uncorrected = detector.detect(cloud, nominal);
@@ -184,13 +184,15 @@ TEST(RailDetector, RailStartOutOfViewIsReportedAsXUnobserved) {
   DepthSceneParams scene;
   // At the approach pose the floor in front of the rails is seen: x is observed.
   scene.seed = 71;
-  const RailDetection far = detector.detect(renderDepthCloud(scene, Pose2D(-0.8, 0.02, 0.01)), scene.camera_in_base);
+  const RailDetection far =
+      detector.detect(renderDepthCloud(scene, thorvald_base::Pose2D(-0.8, 0.02, 0.01)), scene.camera_in_base);
   ASSERT_TRUE(far.found()) << far.reason;
   EXPECT_TRUE(far.xObserved()) << far.reason;
   EXPECT_LT(far.variance[0], 0.05);
   // 0.3 m from the start the camera (floor seen from about 0.64 m ahead) cannot see it: y and yaw still
   // hold, x is flagged with a large variance, and the true start is nearer than the reported one.
-  for (const Pose2D truth : {Pose2D(-0.3, 0.03, 0.02), Pose2D(-0.45, -0.05, -0.05)}) {
+  for (const thorvald_base::Pose2D truth :
+       {thorvald_base::Pose2D(-0.3, 0.03, 0.02), thorvald_base::Pose2D(-0.45, -0.05, -0.05)}) {
     scene.seed = 72;
     SCOPED_TRACE(truth.x);
     const RailDetection near = detector.detect(renderDepthCloud(scene, truth), scene.camera_in_base);
@@ -200,7 +202,7 @@ TEST(RailDetector, RailStartOutOfViewIsReportedAsXUnobserved) {
     EXPECT_GE(near.variance[0], 0.25 - 1e-9);
     EXPECT_LE(near.base_in_rail.x, truth.x + 0.03);
     EXPECT_NEAR(near.base_in_rail.y, truth.y, kTolY);
-    EXPECT_NEAR(normalizeAngle(near.base_in_rail.yaw - truth.yaw), 0.0, kTolYaw);
+    EXPECT_NEAR(thorvald_base::normalizeAngle(near.base_in_rail.yaw - truth.yaw), 0.0, kTolYaw);
     EXPECT_NE(near.reason.find("out of view"), std::string::npos) << near.reason;
   }
 }
@@ -208,7 +210,7 @@ TEST(RailDetector, RailStartOutOfViewIsReportedAsXUnobserved) {
 TEST(CloudProjection, RecoversTheIntrinsicsFromAnOrganisedCloud) {
   DepthSceneParams scene;
   scene.intrinsics = scene.intrinsics.scaled(320, 240);
-  const OrganisedCloud cloud = renderDepthCloud(scene, Pose2D(-0.8, 0.0, 0.0));
+  const OrganisedCloud cloud = renderDepthCloud(scene, thorvald_base::Pose2D(-0.8, 0.0, 0.0));
   const auto projection = CloudProjection::fromCloud(cloud);
   ASSERT_TRUE(projection.has_value());
   const auto& k = projection->intrinsics();
@@ -247,8 +249,10 @@ TEST(RailDetector, RailsCutByTheImageBorderAreXUnobserved) {
   const RailDetector detector{RailDetectorParams()};
   DepthSceneParams scene;
   // x from 0.05 to 0.3 m beyond the closest pose from which the start is in view, straight and turned.
-  for (const Pose2D truth : {Pose2D(-0.58, 0.0, 0.0), Pose2D(-0.55, 0.1, 0.05), Pose2D(-0.6, -0.2, 0.3),
-                             Pose2D(-0.45, 0.0, -0.2), Pose2D(-0.55, 0.25, -0.3)}) {
+  for (const thorvald_base::Pose2D truth :
+       {thorvald_base::Pose2D(-0.58, 0.0, 0.0), thorvald_base::Pose2D(-0.55, 0.1, 0.05),
+        thorvald_base::Pose2D(-0.6, -0.2, 0.3), thorvald_base::Pose2D(-0.45, 0.0, -0.2),
+        thorvald_base::Pose2D(-0.55, 0.25, -0.3)}) {
     SCOPED_TRACE(std::to_string(truth.x) + " " + std::to_string(truth.y) + " " + std::to_string(truth.yaw));
     ASSERT_FALSE(startInView(scene, truth));
     scene.seed = 81;
@@ -275,7 +279,7 @@ TEST(RailDetector, GaugeIsUnbiasedForPipesOfSeveralSizes) {
     int n = 0;
     for (int i = 0; i < 8; ++i) {
       scene.seed = 90 + static_cast<std::uint32_t>(i);
-      const Pose2D truth(-0.8 + 0.2 * unit(rng), 0.1 * unit(rng), 0.05 * unit(rng));
+      const thorvald_base::Pose2D truth(-0.8 + 0.2 * unit(rng), 0.1 * unit(rng), 0.05 * unit(rng));
       const RailDetection d = detector.detect(renderDepthCloud(scene, truth), scene.camera_in_base);
       if (!d.found()) continue;
       sum += d.gauge_m - scene.rail_gauge_m;

@@ -18,8 +18,8 @@ TEST(RailSetFile, RoundTrip) {
   for (int i = 0; i < 3; ++i) {
     RailSetEstimate set;
     set.index = i;
-    set.rail_frame = Pose2D(1.5 + i * 1.6, 2.1, 1.57);
-    set.target_pose = Pose2D(1.5 + i * 1.6, 1.3, 1.57);
+    set.rail_frame = thorvald_base::Pose2D(1.5 + i * 1.6, 2.1, 1.57);
+    set.target_pose = thorvald_base::Pose2D(1.5 + i * 1.6, 1.3, 1.57);
     set.good = i != 1;
     if (!set.good) set.reason = "no left side wall found";
     file.rail_sets.push_back(set);

@@ -22,7 +22,7 @@ struct RailSetTruth {
 class SimulatedGreenhouse : public grn::MissionIO {
  public:
   explicit SimulatedGreenhouse(std::vector<RailSetTruth> sets, unsigned seed = 1) : sets_(std::move(sets)), rng_(seed) {
-    pose_ = odom_ = grn::Pose2D(-3.0, 0.0, 0.0);
+    pose_ = odom_ = thorvald_base::Pose2D(-3.0, 0.0, 0.0);
   }
 
   // World settings the tests change.
@@ -53,7 +53,7 @@ class SimulatedGreenhouse : public grn::MissionIO {
   double now() override { return t_; }
   bool ok() override { return t_ < 3600.0; }
   void waitTick() override { step(0.02); }
-  void sendNavGoal(const grn::Pose2D& goal) override {
+  void sendNavGoal(const thorvald_base::Pose2D& goal) override {
     ++nav_goals;
     if (surface_.wheels == grn::Surface::kRail) nav_goal_on_rails = true;
     goal_ = goal;
@@ -68,25 +68,25 @@ class SimulatedGreenhouse : public grn::MissionIO {
     }
     if (nav_done_at_ > 0.0) {
       std::normal_distribution<double> exy(0.0, nav_xy_error), eyaw(0.0, nav_yaw_error);
-      pose_ = grn::Pose2D(goal_.x + exy(rng_), goal_.y + exy(rng_), goal_.yaw + eyaw(rng_));
-      odom_ = grn::Pose2D(pose_.x + odom_extra_x_, pose_.y, pose_.yaw);
+      pose_ = thorvald_base::Pose2D(goal_.x + exy(rng_), goal_.y + exy(rng_), goal_.yaw + eyaw(rng_));
+      odom_ = thorvald_base::Pose2D(pose_.x + odom_extra_x_, pose_.y, pose_.yaw);
       v_ = w_ = 0.0;
       nav_done_at_ = 0.0;
     }
     return grn::NavState::kSucceeded;
   }
   void cancelNav() override { nav_done_at_ = -1.0; }
-  bool odomPose(grn::Pose2D* p) override {
+  bool odomPose(thorvald_base::Pose2D* p) override {
     *p = odom_;
     return true;
   }
-  bool mapPose(grn::Pose2D* p) override {
+  bool mapPose(thorvald_base::Pose2D* p) override {
     *p = pose_;
     return true;
   }
   grn::RailObservation railObservation() override { return obs_; }
   grn::SurfaceReading surface() override { return surface_; }
-  grn::Pose2D truePose() const { return pose_; }
+  thorvald_base::Pose2D truePose() const { return pose_; }
   double lastLinearCommand() const { return v_cmd_; }
   double forwardRange() override {
     // The far wall 1 m past the rail end, seen by the lidar 0.45 m ahead of base_link when facing along +x.
@@ -110,7 +110,7 @@ class SimulatedGreenhouse : public grn::MissionIO {
     if (on && !lights_on && std::isnan(first_lights_on_x)) first_lights_on_x = pose_.x;
     lights_on = on;
   }
-  void resetLocalisation(const grn::Pose2D&) override { ++localisation_resets; }
+  void resetLocalisation(const thorvald_base::Pose2D&) override { ++localisation_resets; }
   void log(const std::string& line) override { lines.push_back(line); }
 
   grn::Surface surfaceAt(double lx, double ly) const {
@@ -128,7 +128,7 @@ class SimulatedGreenhouse : public grn::MissionIO {
     const double a = dt / 0.12;
     v_ += a * (v_cmd_ - v_);
     w_ += a * (w_cmd_ - w_);
-    pose_.yaw = grn::normalizeAngle(pose_.yaw + w_ * dt);
+    pose_.yaw = thorvald_base::normalizeAngle(pose_.yaw + w_ * dt);
     pose_.x += v_ * std::cos(pose_.yaw) * dt;
     if (v_ < 0.0 && surface_.wheels == grn::Surface::kRail)
       odom_extra_x_ += (odom_reverse_gain_on_rails - 1.0) * v_ * std::cos(pose_.yaw) * dt;
@@ -170,13 +170,13 @@ class SimulatedGreenhouse : public grn::MissionIO {
     obs_.stamp_s = t_;
     obs_.status = grn::RailObservation::Status::kNotFound;
     for (const auto& set : sets_) {
-      const grn::Pose2D in_rail(pose_.x, pose_.y - set.y, pose_.yaw);
+      const thorvald_base::Pose2D in_rail(pose_.x, pose_.y - set.y, pose_.yaw);
       const double bearing = std::atan2(-in_rail.y, -in_rail.x) - in_rail.yaw;
-      if (in_rail.x > -3.0 && in_rail.x < 0.0 && std::fabs(grn::normalizeAngle(bearing)) < 0.5 &&
+      if (in_rail.x > -3.0 && in_rail.x < 0.0 && std::fabs(thorvald_base::normalizeAngle(bearing)) < 0.5 &&
           std::fabs(in_rail.y) < 0.6) {
         std::normal_distribution<double> n(0.0, 0.004);
-        obs_.robot_in_rail =
-            grn::Pose2D(in_rail.x + 5 * n(rng_), in_rail.y + detector_y_bias + n(rng_), in_rail.yaw + n(rng_));
+        obs_.robot_in_rail = thorvald_base::Pose2D(in_rail.x + 5 * n(rng_), in_rail.y + detector_y_bias + n(rng_),
+                                                   in_rail.yaw + n(rng_));
         obs_.status =
             in_rail.x > -0.65 ? grn::RailObservation::Status::kXUnobserved : grn::RailObservation::Status::kFound;
       }
@@ -185,10 +185,10 @@ class SimulatedGreenhouse : public grn::MissionIO {
 
   std::vector<RailSetTruth> sets_;
   std::mt19937 rng_;
-  grn::Pose2D pose_, goal_;
+  thorvald_base::Pose2D pose_, goal_;
   double odom_extra_x_ = 0.0;
-  grn::Pose2D odom_;         ///< the last odometry message's pose
-  double last_odom_ = -1.0;  ///< when it came
+  thorvald_base::Pose2D odom_;  ///< the last odometry message's pose
+  double last_odom_ = -1.0;     ///< when it came
   double t_ = 0.0, v_ = 0.0, w_ = 0.0, v_cmd_ = 0.0, w_cmd_ = 0.0, nav_done_at_ = -1.0, last_cloud_ = -1.0;
   grn::RailObservation obs_;
   grn::SurfaceReading surface_;
@@ -199,7 +199,7 @@ std::vector<grn::MissionTarget> targetsFor(const std::vector<RailSetTruth>& sets
   for (std::size_t i = 0; i < sets.size(); ++i) {
     grn::MissionTarget m;
     m.index = static_cast<int>(i);
-    m.target_pose = grn::Pose2D(approach_x, sets[i].y, 0.0);
+    m.target_pose = thorvald_base::Pose2D(approach_x, sets[i].y, 0.0);
     t.push_back(m);
   }
   return t;
@@ -463,7 +463,7 @@ TEST(UvMissionRobustness, PerSetFailuresAreReportedAndTheMissionGoesOn) {
   auto targets = targetsFor(sets, -1.2);
   grn::MissionTarget nowhere;
   nowhere.index = 7;
-  nowhere.target_pose = grn::Pose2D(-1.2, -2.4, 0.0);  // no rails within the camera's reach
+  nowhere.target_pose = thorvald_base::Pose2D(-1.2, -2.4, 0.0);  // no rails within the camera's reach
   targets.insert(targets.begin(), nowhere);
   grn::UvMissionParams p;
   p.max_align_attempts = 2;

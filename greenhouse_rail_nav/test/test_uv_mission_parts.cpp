@@ -62,15 +62,15 @@ TEST(RailAlignment, EveryPlanEndsOnTheApproachPoseWithinTheTurnLimit) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> ux(-2.5, -0.2), uy(-0.6, 0.6), uyaw(-0.8, 0.8);
   for (int i = 0; i < 2000; ++i) {
-    const grn::Pose2D start(ux(rng), uy(rng), uyaw(rng));
+    const thorvald_base::Pose2D start(ux(rng), uy(rng), uyaw(rng));
     const auto plan = grn::planAlignment(start, p);
-    const grn::Pose2D end = grn::applyPlan(start, plan);
+    const thorvald_base::Pose2D end = grn::applyPlan(start, plan);
     EXPECT_NEAR(end.x, p.approach_x_m, p.min_step_m + 1e-9) << "start " << start.x << " " << start.y;
     EXPECT_NEAR(end.y, 0.0, p.min_step_m + 1e-9);
     EXPECT_NEAR(end.yaw, 0.0, p.min_rotation_rad + 1e-9);
     EXPECT_LE(plan.size(), 5u);
     // The diagonal leg never points more than max_turn away from the rails' direction.
-    grn::Pose2D pose = start;
+    thorvald_base::Pose2D pose = start;
     for (const auto& s : plan) {
       if (s.kind == grn::MotionStep::Kind::kTranslate) {
         // A residual yaw below min_rotation is not turned away first.
@@ -121,13 +121,13 @@ namespace {
 // A differential robot whose speeds follow the command with a first-order lag, with a small yaw drift while
 // driving (a slightly larger wheel on one side).
 struct LaggedRobot {
-  grn::Pose2D pose;
+  thorvald_base::Pose2D pose;
   double v = 0.0, w = 0.0;
   void step(double v_cmd, double w_cmd, double dt) {
     const double a = dt / 0.15;
     v += a * (v_cmd - v);
     w += a * (w_cmd - w);
-    pose.yaw = grn::normalizeAngle(pose.yaw + (w + 0.02 * v) * dt);
+    pose.yaw = thorvald_base::normalizeAngle(pose.yaw + (w + 0.02 * v) * dt);
     pose.x += v * std::cos(pose.yaw) * dt;
     pose.y += v * std::sin(pose.yaw) * dt;
   }
@@ -138,8 +138,9 @@ TEST(OdometryMotion, ExecutesAnAlignmentPlanOnALaggedRobot) {
   grn::MotionLimits limits;
   ASSERT_EQ(limits.validate(), "");
   grn::AlignmentParams p;
-  for (const grn::Pose2D start : {grn::Pose2D(-1.2, 0.25, 0.3), grn::Pose2D(-0.6, -0.3, -0.2),
-                                  grn::Pose2D(-2.0, 0.05, 0.05), grn::Pose2D(-0.9, 0.0, 3.0)}) {
+  for (const thorvald_base::Pose2D start :
+       {thorvald_base::Pose2D(-1.2, 0.25, 0.3), thorvald_base::Pose2D(-0.6, -0.3, -0.2),
+        thorvald_base::Pose2D(-2.0, 0.05, 0.05), thorvald_base::Pose2D(-0.9, 0.0, 3.0)}) {
     LaggedRobot robot;
     robot.pose = start;
     grn::OdometryMotion motion(limits);
@@ -176,21 +177,21 @@ TEST(OdometryMotion, RotationsBeyondPiAndStalls) {
     c = motion.update(robot.pose, t);
     const double before = robot.pose.yaw;
     robot.step(c.linear_mps, c.angular_rps, 0.02);
-    turned += grn::normalizeAngle(robot.pose.yaw - before);
+    turned += thorvald_base::normalizeAngle(robot.pose.yaw - before);
   }
   ASSERT_TRUE(c.done);
   EXPECT_NEAR(turned, 4.0, 0.02);
 
   // A robot that does not move: the motion fails after the stall timeout and commands zero.
-  motion.start({grn::MotionStep::Kind::kTranslate, 1.0, "blocked"}, grn::Pose2D(), 100.0);
-  c = motion.update(grn::Pose2D(), 100.0 + limits.stall_timeout_s - 0.5);
+  motion.start({grn::MotionStep::Kind::kTranslate, 1.0, "blocked"}, thorvald_base::Pose2D(), 100.0);
+  c = motion.update(thorvald_base::Pose2D(), 100.0 + limits.stall_timeout_s - 0.5);
   EXPECT_FALSE(c.failed);
-  c = motion.update(grn::Pose2D(), 100.0 + limits.stall_timeout_s + 0.5);
+  c = motion.update(thorvald_base::Pose2D(), 100.0 + limits.stall_timeout_s + 0.5);
   EXPECT_TRUE(c.failed);
   EXPECT_EQ(c.linear_mps, 0.0);
   EXPECT_NE(c.reason.find("no progress"), std::string::npos);
-  motion.start({grn::MotionStep::Kind::kTranslate, 1.0, "nan"}, grn::Pose2D(), 0.0);
-  c = motion.update(grn::Pose2D(std::numeric_limits<double>::quiet_NaN(), 0, 0), 0.1);
+  motion.start({grn::MotionStep::Kind::kTranslate, 1.0, "nan"}, thorvald_base::Pose2D(), 0.0);
+  c = motion.update(thorvald_base::Pose2D(std::numeric_limits<double>::quiet_NaN(), 0, 0), 0.1);
   EXPECT_TRUE(c.failed);
 }
 

@@ -39,7 +39,7 @@ LocResult localise(std::uint32_t seed, double seconds) {
   tn::MapLocalizer loc{tn::LocalizerParams{}};
   loc.setMap(world.truthMap(0.025));
   std::mt19937 rng(seed);
-  tn::Pose2D truth{2.0, o.depth_m - 0.9, 0.0}, odom{};
+  thorvald_base::Pose2D truth{2.0, o.depth_m - 0.9, 0.0}, odom{};
   loc.setPose(truth, odom);
   tn::FollowerParams fp;
   fp.max_speed_mps = 0.5;
@@ -50,19 +50,19 @@ LocResult localise(std::uint32_t seed, double seconds) {
   LocResult r;
   for (double t = 0.0; t < seconds; t += dt) {
     if (follower.state() == tn::FollowState::kArrived) {
-      const tn::Pose2D goal{east ? o.length_m - 2.0 : 2.0, o.depth_m - 0.9, east ? 0.0 : tn::kPi};
+      const thorvald_base::Pose2D goal{east ? o.length_m - 2.0 : 2.0, o.depth_m - 0.9, east ? 0.0 : thorvald_base::kPi};
       follower.setPath({{truth.x, truth.y}, {goal.x, goal.y}}, goal);
       east = !east;
     }
-    const tn::Twist2D c = follower.step(truth, dt);
-    truth = truth * tn::Pose2D{c.vx * dt, 0.0, c.wz * dt};
-    odom = odom * tn::Pose2D{c.vx * 1.02 * dt, 0.0, (c.wz * 1.02 + 0.005) * dt};
+    const thorvald_base::Twist2D c = follower.step(truth, dt);
+    truth = truth * thorvald_base::Pose2D{c.vx * dt, 0.0, c.wz * dt};
+    odom = odom * thorvald_base::Pose2D{c.vx * 1.02 * dt, 0.0, (c.wz * 1.02 + 0.005) * dt};
     const auto pts = world.scan(truth, kSensor, 1081, -2.356, 2.356, 30.0, 0.01, &rng);
     const auto t0 = std::chrono::steady_clock::now();
     const tn::LocalizationUpdate u = loc.update(odom, pts);
     ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     const double e = std::hypot(u.pose.x - truth.x, u.pose.y - truth.y),
-                 ey = tn::normalizeAngle(u.pose.yaw - truth.yaw);
+                 ey = thorvald_base::normalizeAngle(u.pose.yaw - truth.yaw);
     sxy += e * e;
     syaw += ey * ey;
     ++r.scans;
@@ -85,45 +85,47 @@ NavResult navigate(std::uint32_t seed, int goals) {
   tn::testing::HeadlandOptions o;
   o.seed = seed;
   const tn::testing::SyntheticHeadland world(o);
-  const tn::Grid2D map = world.truthMap(0.05);
-  tn::Grid2D keep_out(map.width, map.height, map.resolution_m, map.origin_x_m, map.origin_y_m, tn::kFree);
+  const thorvald_map::OccupancyGrid map = world.truthMap(0.05);
+  thorvald_map::OccupancyGrid keep_out(map.width, map.height, map.resolution_m, map.origin.x, map.origin.y,
+                                       thorvald_map::kFree);
   for (int y = 0; y < map.height; ++y)
     for (int x = 0; x < map.width; ++x)
-      if (map.centerOf(x, y).y() > o.depth_m - 0.2) keep_out.at(x, y) = tn::kOccupied;
+      if (map.cellCentre(x, y).y() > o.depth_m - 0.2) keep_out.at(x, y) = thorvald_map::kOccupied;
   tn::CostmapParams cp;
   cp.planning_radius_m = 0.39;
   const tn::Costmap cm(map, keep_out, cp);
   const tn::Footprint fp = tn::rectangleFootprint(-0.91, 0.23, -0.39, 0.39);
   std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> ux(1.0, o.length_m - 1.0), uy(0.5, o.depth_m - 0.5), uyaw(-tn::kPi, tn::kPi);
+  std::uniform_real_distribution<double> ux(1.0, o.length_m - 1.0), uy(0.5, o.depth_m - 0.5),
+      uyaw(-thorvald_base::kPi, thorvald_base::kPi);
   auto freePose = [&] {
     for (;;) {
-      const tn::Pose2D p{ux(rng), uy(rng), uyaw(rng)};
+      const thorvald_base::Pose2D p{ux(rng), uy(rng), uyaw(rng)};
       const Eigen::Vector2i c = cm.geometry().cellOf({p.x, p.y});
       if (cm.cost(c.x(), c.y()) < tn::kInscribedCost && cm.footprintBlocker(p, fp) == tn::Blocker::kNone) return p;
     }
   };
   for (int g = 0; g < goals; ++g) {
-    tn::Pose2D pose = freePose();
-    const tn::Pose2D goal = freePose();
+    thorvald_base::Pose2D pose = freePose();
+    const thorvald_base::Pose2D goal = freePose();
     ++r.goals;
     const tn::PlanResult plan = tn::planPath(cm, {pose.x, pose.y}, {goal.x, goal.y}, tn::PlannerParams{});
     if (!plan.ok) continue;
     tn::PathFollower f{tn::FollowerParams{}};
     f.setPath(plan.path, goal);
-    tn::Twist2D actual;
+    thorvald_base::Twist2D actual;
     double driven = 0.0;
     for (int i = 0; i < 6000 && f.state() != tn::FollowState::kArrived; ++i) {
-      const tn::Twist2D c = f.step(pose, 0.05);
+      const thorvald_base::Twist2D c = f.step(pose, 0.05);
       actual.vx += 0.5 * (c.vx - actual.vx);
       actual.wz += 0.5 * (c.wz - actual.wz);
-      pose = pose * tn::Pose2D{actual.vx * 0.05, 0.0, actual.wz * 0.05};
+      pose = pose * thorvald_base::Pose2D{actual.vx * 0.05, 0.0, actual.wz * 0.05};
       driven += std::abs(actual.vx) * 0.05;
     }
     if (f.state() != tn::FollowState::kArrived) continue;
     ++r.reached;
     r.err_xy.push_back(std::hypot(pose.x - goal.x, pose.y - goal.y));
-    r.err_yaw.push_back(std::abs(tn::normalizeAngle(pose.yaw - goal.yaw)));
+    r.err_yaw.push_back(std::abs(thorvald_base::normalizeAngle(pose.yaw - goal.yaw)));
     if (plan.length_m > 0.05) r.ratio.push_back(driven / plan.length_m);
   }
   return r;

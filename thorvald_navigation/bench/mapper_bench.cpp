@@ -50,17 +50,17 @@ int main(int argc, char** argv) {
   tn::OccupancyMapper mapper(p);
   std::mt19937 rng(seed);
   const Eigen::Vector2d sensor(0.45, 0.0);
-  const tn::Pose2D start{1.5, o.depth_m - 0.7, 0.0};
-  tn::Pose2D truth = start, odom{};
+  const thorvald_base::Pose2D start{1.5, o.depth_m - 0.7, 0.0};
+  thorvald_base::Pose2D truth = start, odom{};
   const double dt = 0.05, v = 0.5, w = 0.5;
-  const double straight_s = (o.length_m - 3.0) / v, turn_s = tn::kPi / w;
+  const double straight_s = (o.length_m - 3.0) / v, turn_s = thorvald_base::kPi / w;
   const double legs[][3] = {{v, 0.0, straight_s}, {0.0, w, turn_s}, {v, 0.0, straight_s}, {0.0, -w, turn_s}};
   std::vector<double> ms;
   std::printf("  headland %.0f m, cells %.4f m, beams 541 to %.0f m\n", length_m, resolution_m, max_range_m);
   for (const auto& leg : legs) {
     for (double t = 0.0; t < leg[2] - 1e-9; t += dt) {
-      truth = truth * tn::Pose2D{leg[0] * dt, 0.0, leg[1] * dt};
-      odom = odom * tn::Pose2D{leg[0] * dt, 0.0, leg[1] * dt};
+      truth = truth * thorvald_base::Pose2D{leg[0] * dt, 0.0, leg[1] * dt};
+      odom = odom * thorvald_base::Pose2D{leg[0] * dt, 0.0, leg[1] * dt};
       const auto pts = world.scan(truth, sensor, 541, -2.356, 2.356, 30.0, 0.01, &rng);
       const double t0 = threadCpuMs();
       const tn::MapperUpdate u = mapper.addScan(odom, sensor, pts, {});
@@ -70,7 +70,7 @@ int main(int argc, char** argv) {
     std::printf("  leg done: %d scans integrated, %.1f m2 mapped\n", mapper.scansUsed(), mapper.knownAreaM2());
     std::fflush(stdout);
   }
-  const tn::Pose2D est = mapper.mapToOdom() * odom, truth_in_map = start.inverse() * truth;
+  const thorvald_base::Pose2D est = mapper.mapToOdom() * odom, truth_in_map = start.inverse() * truth;
   const double err = std::hypot(est.x - truth_in_map.x, est.y - truth_in_map.y);
   double sum = 0.0;
   for (double m : ms) sum += m;

@@ -16,6 +16,7 @@
 
 #include <CLI/CLI.hpp>
 #include <thorvald_common/bench_statistics.h>
+#include <thorvald_common/command_line.h>
 #include <nav_msgs/Odometry.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
@@ -26,7 +27,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "../src/nodes/ros_conversions.h"
-#include "thorvald_navigation/map_file.h"
+#include "thorvald_map/map_file.h"
 #include "thorvald_navigation/occupancy_mapper.h"
 
 namespace tn = thorvald_navigation;
@@ -35,11 +36,11 @@ namespace {
 
 struct Stamped {
   double t;
-  tn::Pose2D pose;
+  thorvald_base::Pose2D pose;
 };
 
 /// Reference pose at time t by linear interpolation; false outside the recorded span.
-bool interpolate(const std::vector<Stamped>& track, double t, tn::Pose2D* out) {
+bool interpolate(const std::vector<Stamped>& track, double t, thorvald_base::Pose2D* out) {
   if (track.empty() || t < track.front().t || t > track.back().t) return false;
   auto it = std::lower_bound(track.begin(), track.end(), t, [](const Stamped& s, double v) { return s.t < v; });
   if (it == track.begin()) {
@@ -51,7 +52,7 @@ bool interpolate(const std::vector<Stamped>& track, double t, tn::Pose2D* out) {
   const double f = b.t > a.t ? (t - a.t) / (b.t - a.t) : 0.0;
   out->x = a.pose.x + f * (b.pose.x - a.pose.x);
   out->y = a.pose.y + f * (b.pose.y - a.pose.y);
-  out->yaw = tn::normalizeAngle(a.pose.yaw + f * tn::normalizeAngle(b.pose.yaw - a.pose.yaw));
+  out->yaw = thorvald_base::normalizeAngle(a.pose.yaw + f * thorvald_base::normalizeAngle(b.pose.yaw - a.pose.yaw));
   return true;
 }
 
@@ -102,7 +103,7 @@ int main(int argc, char** argv) {
   app.add_flag("--cell-centres", cell_centres, "match at wall cell centres (match_surface false)");
   app.add_flag("--match-surface", surface, "match at the walls' surface (match_surface true)");
   app.add_flag("--quiet", quiet, "no trace, only the summary");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto code = thorvald_common::parseCommandLine(app, argc, argv)) return *code;
   // Config first, then the command line's overrides win.
   tn::MapperParams defaults;
   if (!config.empty()) {
@@ -137,7 +138,7 @@ int main(int argc, char** argv) {
         const bool is_static = m.getTopic() == "/tf_static";
         for (const auto& tr : t->transforms) tf.setTransform(tr, "bag", is_static);
       } else if (auto o = m.instantiate<nav_msgs::Odometry>()) {
-        truth.push_back({o->header.stamp.toSec(), tn::fromPose(o->pose.pose)});
+        truth.push_back({o->header.stamp.toSec(), thorvald_map::fromPose(o->pose.pose)});
       }
     }
   }
@@ -147,11 +148,11 @@ int main(int argc, char** argv) {
 
   tn::OccupancyMapper mapper(params);
   bool have_origin = false;
-  tn::Pose2D truth_origin;  // the reference pose at the first integrated scan: the map frame's origin
+  thorvald_base::Pose2D truth_origin;  // the reference pose at the first integrated scan: the map frame's origin
   std::vector<double> err_xy, err_along, err_across, err_yaw, odom_err_xy;
   int scans = 0, skipped = 0, integrated = 0, unmatched = 0;
   double t0 = -1.0, next_print = 0.0;
-  tn::Pose2D sensor;
+  thorvald_base::Pose2D sensor;
   bool have_sensor = false;
   if (!quiet)
     std::printf("%8s %9s %9s %8s %9s %9s %8s %9s %9s %8s %6s\n", "t s", "map x", "map y", "yaw", "err x", "err y",
@@ -163,11 +164,12 @@ int main(int argc, char** argv) {
     ++scans;
     try {
       if (!have_sensor) {
-        sensor = tn::fromTransform(tf.lookupTransform(base_frame, scan->header.frame_id, ros::Time(0)).transform);
+        sensor =
+            thorvald_map::fromTransform(tf.lookupTransform(base_frame, scan->header.frame_id, ros::Time(0)).transform);
         have_sensor = true;
       }
-      const tn::Pose2D odom =
-          tn::fromTransform(tf.lookupTransform(odom_frame, base_frame, scan->header.stamp).transform);
+      const thorvald_base::Pose2D odom =
+          thorvald_map::fromTransform(tf.lookupTransform(odom_frame, base_frame, scan->header.stamp).transform);
       tn::ScanPoints pts;
       const std::string e = tn::scanToPoints(*scan, sensor, params.max_range_m, &pts);
       if (!e.empty()) {
@@ -180,7 +182,7 @@ int main(int argc, char** argv) {
       unmatched += u.matched || integrated == 1 ? 0 : 1;
       const double t = scan->header.stamp.toSec();
       if (t0 < 0.0) t0 = t;
-      tn::Pose2D ref;
+      thorvald_base::Pose2D ref;
       const bool scored = interpolate(truth, t, &ref);
       if (scored && !have_origin) {
         // The map frame is the odometry pose of the first scan; the reference at that moment is its origin.
@@ -189,13 +191,13 @@ int main(int argc, char** argv) {
       }
       double ex = 0.0, ey = 0.0, eyaw = 0.0, oex = 0.0, oey = 0.0;
       if (scored && have_origin) {
-        const tn::Pose2D r = truth_origin.inverse() * ref;
+        const thorvald_base::Pose2D r = truth_origin.inverse() * ref;
         oex = odom.x - r.x;  // odometry alone, in the same frame (the map frame starts on the odometry)
         oey = odom.y - r.y;
         odom_err_xy.push_back(std::hypot(oex, oey));
         ex = u.pose.x - r.x;
         ey = u.pose.y - r.y;
-        eyaw = tn::normalizeAngle(u.pose.yaw - r.yaw);
+        eyaw = thorvald_base::normalizeAngle(u.pose.yaw - r.yaw);
         err_xy.push_back(std::hypot(ex, ey));
         err_along.push_back(std::abs(ex));
         err_across.push_back(std::abs(ey));
@@ -212,9 +214,10 @@ int main(int argc, char** argv) {
   }
   bag.close();
   if (!map_out.empty()) {
-    const tn::WallSurface surface = mapper.wallSurface();
-    const std::string e = tn::saveMap(mapper.occupancyGrid(), map_out, &surface);
-    if (!e.empty()) std::fprintf(stderr, "mapper_replay: %s\n", e.c_str());
+    thorvald_map::OccupancyGrid map = mapper.occupancyGrid();
+    map.surface = mapper.wallSurface();
+    std::string e;
+    if (!thorvald_map::saveMap(map, map_out, &e)) std::fprintf(stderr, "mapper_replay: %s\n", e.c_str());
   }
   const double end_xy = err_xy.empty() ? 0.0 : err_xy.back();
   std::printf("scans %d, integrated %d, unmatched %d, skipped (no tf / bad scan) %d\n", scans, integrated, unmatched,

@@ -66,8 +66,10 @@ std::string CostmapParams::validate() const {
   return {};
 }
 
-Costmap::Costmap(const Grid2D& map, const Grid2D& keep_out, const CostmapParams& params)
-    : params_(params), geometry_(map.width, map.height, map.resolution_m, map.origin_x_m, map.origin_y_m, kFree) {
+Costmap::Costmap(const thorvald_map::OccupancyGrid& map, const thorvald_map::OccupancyGrid& keep_out,
+                 const CostmapParams& params)
+    : params_(params),
+      geometry_(map.width, map.height, map.resolution_m, map.origin.x, map.origin.y, thorvald_map::kFree) {
   geometry_.data.clear();
   const std::size_t n = static_cast<std::size_t>(map.width) * map.height;
   static_blocker_.assign(n, static_cast<std::uint8_t>(Blocker::kNone));
@@ -82,7 +84,7 @@ Costmap::Costmap(const Grid2D& map, const Grid2D& keep_out, const CostmapParams&
         b = Blocker::kUnknown;
       }
       if (b == Blocker::kNone && use_keep_out) {
-        const Eigen::Vector2i k = keep_out.cellOf(geometry_.centerOf(x, y));
+        const Eigen::Vector2i k = keep_out.cellOf(geometry_.cellCentre(x, y));
         if (keep_out.inside(k.x(), k.y()) && keep_out.at(k.x(), k.y()) >= 65) b = Blocker::kKeepOut;
       }
       static_blocker_[geometry_.index(x, y)] = static_cast<std::uint8_t>(b);
@@ -90,12 +92,12 @@ Costmap::Costmap(const Grid2D& map, const Grid2D& keep_out, const CostmapParams&
   }
   blocker_ = static_blocker_;
   // Distance to the known structure (walls and keep-out; not unknown space, which holds nothing known).
-  Grid2D known(geometry_.width, geometry_.height, geometry_.resolution_m, geometry_.origin_x_m, geometry_.origin_y_m,
-               kFree);
+  thorvald_map::OccupancyGrid known(geometry_.width, geometry_.height, geometry_.resolution_m, geometry_.origin.x,
+                                    geometry_.origin.y, thorvald_map::kFree);
   for (std::size_t i = 0; i < static_blocker_.size(); ++i)
     if (static_blocker_[i] == static_cast<std::uint8_t>(Blocker::kWall) ||
         static_blocker_[i] == static_cast<std::uint8_t>(Blocker::kKeepOut))
-      known.data[i] = kOccupied;
+      known.data[i] = thorvald_map::kOccupied;
   const DistanceField field(known, params_.known_structure_tolerance_m + 2.0 * geometry_.resolution_m);
   known_distance_.assign(n, 0.0f);
   for (int y = 0; y < geometry_.height; ++y)
@@ -126,10 +128,10 @@ void Costmap::setObstacles(const std::vector<Eigen::Vector2d>& points_world) {
 }
 
 void Costmap::inflate() {
-  Grid2D lethal(geometry_.width, geometry_.height, geometry_.resolution_m, geometry_.origin_x_m, geometry_.origin_y_m,
-                kFree);
+  thorvald_map::OccupancyGrid lethal(geometry_.width, geometry_.height, geometry_.resolution_m, geometry_.origin.x,
+                                     geometry_.origin.y, thorvald_map::kFree);
   for (std::size_t i = 0; i < blocker_.size(); ++i)
-    if (blocker_[i] != static_cast<std::uint8_t>(Blocker::kNone)) lethal.data[i] = kOccupied;
+    if (blocker_[i] != static_cast<std::uint8_t>(Blocker::kNone)) lethal.data[i] = thorvald_map::kOccupied;
   const DistanceField field(lethal, params_.inflation_radius_m + geometry_.resolution_m);
   cost_.assign(blocker_.size(), 0);
   for (int y = 0; y < geometry_.height; ++y) {
@@ -153,18 +155,19 @@ namespace {
 // Calls visit(cx, cy) for every cell whose centre lies inside the footprint placed at `pose` (cells outside the grid
 // included) until it returns true; true when it did.
 template <typename Visit>
-bool forFootprintCells(const Grid2D& geometry, const Pose2D& pose, const Footprint& footprint, Visit visit) {
+bool forFootprintCells(const thorvald_map::OccupancyGrid& geometry, const thorvald_base::Pose2D& pose,
+                       const Footprint& footprint, Visit visit) {
   std::vector<Eigen::Vector2d> poly;
   Eigen::Vector2d lo(1e18, 1e18), hi(-1e18, -1e18);
   for (const auto& p : footprint.polygon) {
-    poly.push_back(pose.transform(p));
+    poly.push_back(pose.transformPoint(p));
     lo = lo.cwiseMin(poly.back());
     hi = hi.cwiseMax(poly.back());
   }
   const Eigen::Vector2i c0 = geometry.cellOf(lo), c1 = geometry.cellOf(hi);
   for (int cy = c0.y(); cy <= c1.y(); ++cy) {
     for (int cx = c0.x(); cx <= c1.x(); ++cx) {
-      const Eigen::Vector2d q = geometry.centerOf(cx, cy);
+      const Eigen::Vector2d q = geometry.cellCentre(cx, cy);
       bool in = false;  // even-odd rule on the cell centre
       for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
         if ((poly[i].y() > q.y()) != (poly[j].y() > q.y()) &&
@@ -179,7 +182,7 @@ bool forFootprintCells(const Grid2D& geometry, const Pose2D& pose, const Footpri
 
 }  // namespace
 
-Blocker Costmap::footprintBlocker(const Pose2D& pose, const Footprint& footprint) const {
+Blocker Costmap::footprintBlocker(const thorvald_base::Pose2D& pose, const Footprint& footprint) const {
   if (footprint.polygon.size() < 3 || geometry_.width == 0) return Blocker::kNone;
   Blocker found = Blocker::kNone;
   forFootprintCells(geometry_, pose, footprint, [&](int cx, int cy) {
@@ -193,7 +196,7 @@ Blocker Costmap::footprintBlocker(const Pose2D& pose, const Footprint& footprint
   return found;
 }
 
-bool Costmap::footprintTouches(const Pose2D& pose, const Footprint& footprint, Blocker which) const {
+bool Costmap::footprintTouches(const thorvald_base::Pose2D& pose, const Footprint& footprint, Blocker which) const {
   if (footprint.polygon.size() < 3 || geometry_.width == 0) return false;
   return forFootprintCells(geometry_, pose, footprint, [&](int cx, int cy) {
     if (!geometry_.inside(cx, cy)) return which == Blocker::kUnknown && params_.unknown_is_blocked;
@@ -203,7 +206,7 @@ bool Costmap::footprintTouches(const Pose2D& pose, const Footprint& footprint, B
 
 bool turnTouches(const Costmap& costmap, const Footprint& footprint, const Eigen::Vector2d& position, double from_yaw,
                  double to_yaw, Blocker which, double step_m) {
-  const double turn = normalizeAngle(to_yaw - from_yaw);
+  const double turn = thorvald_base::normalizeAngle(to_yaw - from_yaw);
   const double radius = std::max(footprint.circumscribedRadius(), 1e-3);
   auto sweep = [&](double angle) {
     const int steps = std::max(1, static_cast<int>(std::ceil(std::abs(angle) * radius / std::max(step_m, 1e-3))));
@@ -215,11 +218,11 @@ bool turnTouches(const Costmap& costmap, const Footprint& footprint, const Eigen
   };
   // Near a half turn the way the robot turns depends on which side of it the next point lies by a few centimetres:
   // both ways must be clear.
-  constexpr double kEitherWay = kPi - 0.35;
-  return sweep(turn) || (std::abs(turn) > kEitherWay && sweep(turn - std::copysign(2.0 * kPi, turn)));
+  constexpr double kEitherWay = thorvald_base::kPi - 0.35;
+  return sweep(turn) || (std::abs(turn) > kEitherWay && sweep(turn - std::copysign(2.0 * thorvald_base::kPi, turn)));
 }
 
-double sweptObstacleDistance(const Costmap& costmap, const Footprint& footprint, const Pose2D& pose,
+double sweptObstacleDistance(const Costmap& costmap, const Footprint& footprint, const thorvald_base::Pose2D& pose,
                              const std::vector<Eigen::Vector2d>& path, std::size_t next_index, double ahead_m,
                              bool omnidirectional, double goal_yaw, bool reverse) {
   const double step = std::max(0.05, costmap.geometry().resolution_m);
@@ -242,7 +245,8 @@ double sweptObstacleDistance(const Costmap& costmap, const Footprint& footprint,
     const double len = seg.norm();
     if (len < 1e-6) continue;
     if (!omnidirectional && len >= kNoTurnBelow) {
-      const double seg_yaw = normalizeAngle(std::atan2(seg.y(), seg.x()) + (reverse ? kPi : 0.0));
+      const double seg_yaw =
+          thorvald_base::normalizeAngle(std::atan2(seg.y(), seg.x()) + (reverse ? thorvald_base::kPi : 0.0));
       if (turnHits(prev, heading, seg_yaw)) return travelled;
       heading = seg_yaw;
     }
@@ -260,9 +264,9 @@ double sweptObstacleDistance(const Costmap& costmap, const Footprint& footprint,
   return -1.0;
 }
 
-Grid2D Costmap::toDisplayGrid() const {
-  Grid2D g(geometry_.width, geometry_.height, geometry_.resolution_m, geometry_.origin_x_m, geometry_.origin_y_m,
-           kFree);
+thorvald_map::OccupancyGrid Costmap::toDisplayGrid() const {
+  thorvald_map::OccupancyGrid g(geometry_.width, geometry_.height, geometry_.resolution_m, geometry_.origin.x,
+                                geometry_.origin.y, thorvald_map::kFree);
   for (std::size_t i = 0; i < cost_.size(); ++i)
     g.data[i] = static_cast<std::int8_t>(cost_[i] >= kInscribedCost ? 100 : (cost_[i] * 98) / 252);
   return g;

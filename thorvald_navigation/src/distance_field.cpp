@@ -49,7 +49,7 @@ void transform1d(const std::vector<double>& f, std::vector<double>* d, std::vect
 namespace {
 
 // A wall cell with a known-free 4-neighbour: the row of cells that holds a wall's face, seen from the free side.
-bool isFaceCell(const Grid2D& grid, int x, int y) {
+bool isFaceCell(const thorvald_map::OccupancyGrid& grid, int x, int y) {
   constexpr int kFreeBelow = 25;  // map_server's free_thresh is 0.196
   const int nb[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
   for (const auto& d : nb) {
@@ -63,19 +63,13 @@ bool isFaceCell(const Grid2D& grid, int x, int y) {
 
 }  // namespace
 
-std::string WallSurface::check(std::size_t cells) const {
-  if (hits.size() != cells || mean_m.size() != cells)
-    return "wall surface has " + std::to_string(hits.size()) + " cells, the grid " + std::to_string(cells);
-  return {};
-}
-
-DistanceField::DistanceField(const Grid2D& grid, double max_distance_m, int occupied_threshold, bool faces_only,
-                             const WallSurface* surface, double line_half_length_m)
+DistanceField::DistanceField(const thorvald_map::OccupancyGrid& grid, double max_distance_m, int occupied_threshold,
+                             bool faces_only, const thorvald_map::WallSurface* surface, double line_half_length_m)
     : width_(grid.width),
       height_(grid.height),
       resolution_m_(grid.resolution_m),
-      origin_x_m_(grid.origin_x_m),
-      origin_y_m_(grid.origin_y_m),
+      origin_x_m_(grid.origin.x),
+      origin_y_m_(grid.origin.y),
       max_distance_m_(max_distance_m),
       occupied_threshold_(occupied_threshold) {
   if (width_ <= 0 || height_ <= 0 || grid.data.size() != static_cast<std::size_t>(width_) * height_) {
@@ -113,7 +107,7 @@ DistanceField::DistanceField(const Grid2D& grid, double max_distance_m, int occu
         if (site_[grid.index(x, y)]) computeSurfel(*surface, x, y);
 }
 
-bool DistanceField::isSite(const Grid2D& grid, int x, int y) const {
+bool DistanceField::isSite(const thorvald_map::OccupancyGrid& grid, int x, int y) const {
   return grid.at(x, y) >= occupied_threshold_ && (!faces_ || isFaceCell(grid, x, y));
 }
 
@@ -158,8 +152,8 @@ void DistanceField::transformWindow(int wx0, int wy0, int wx1, int wy1, int bx0,
   }
 }
 
-void DistanceField::update(const Grid2D& grid, const WallSurface* surface, const std::vector<int>& changed_cells,
-                           const std::vector<int>& moved_cells) {
+void DistanceField::update(const thorvald_map::OccupancyGrid& grid, const thorvald_map::WallSurface* surface,
+                           const std::vector<int>& changed_cells, const std::vector<int>& moved_cells) {
   if (width_ == 0 || grid.width != width_ || grid.height != height_ || grid.data.size() != dist_.size()) return;
   const int n = static_cast<int>(dist_.size());
   // Site flags of the changed cells and their 4-neighbours (a face cell is one with a free 4-neighbour).
@@ -210,7 +204,7 @@ void DistanceField::update(const Grid2D& grid, const WallSurface* surface, const
 // A site's surfel: the hits of its 3x3 neighbourhood give the point (their mean, which also holds the hits that noise
 // put in the cell behind or in front of the face) and the direction (their principal axis). A wall cell without hits
 // around it (a map drawn by hand) keeps its centre as a point.
-void DistanceField::computeSurfel(const WallSurface& surface, int sx, int sy) {
+void DistanceField::computeSurfel(const thorvald_map::WallSurface& surface, int sx, int sy) {
   double w = 0.0;
   Eigen::Vector2d sum = Eigen::Vector2d::Zero();
   Eigen::Matrix2d sum_sq = Eigen::Matrix2d::Zero();

@@ -6,8 +6,8 @@
 
 namespace thorvald_navigation {
 
-GoalPlan planToGoal(const Costmap& costmap, const Footprint& footprint, const Pose2D& start, const Pose2D& goal,
-                    const PlannerParams& planner, double final_approach_m) {
+GoalPlan planToGoal(const Costmap& costmap, const Footprint& footprint, const thorvald_base::Pose2D& start,
+                    const thorvald_base::Pose2D& goal, const PlannerParams& planner, double final_approach_m) {
   GoalPlan out;
   if (!start.finite() || !goal.finite()) {
     out.error = "goal refused: start or goal is not finite";
@@ -33,7 +33,8 @@ GoalPlan planToGoal(const Costmap& costmap, const Footprint& footprint, const Po
 }
 
 std::vector<Eigen::Vector2d> withFinalApproach(const Costmap& costmap, const Footprint& footprint,
-                                               std::vector<Eigen::Vector2d> path, const Pose2D& goal, double length_m) {
+                                               std::vector<Eigen::Vector2d> path, const thorvald_base::Pose2D& goal,
+                                               double length_m) {
   if (!(length_m > 0.0) || path.empty()) return path;
   const Eigen::Vector2d g(goal.x, goal.y), heading(std::cos(goal.yaw), std::sin(goal.yaw));
   const Eigen::Vector2d pre = g - length_m * heading;
@@ -48,8 +49,8 @@ std::vector<Eigen::Vector2d> withFinalApproach(const Costmap& costmap, const Foo
   return path;
 }
 
-Approach approachAgain(const Costmap& costmap, const Footprint& footprint, const Pose2D& pose, const Pose2D& goal,
-                       double final_approach_m, bool omnidirectional) {
+Approach approachAgain(const Costmap& costmap, const Footprint& footprint, const thorvald_base::Pose2D& pose,
+                       const thorvald_base::Pose2D& goal, double final_approach_m, bool omnidirectional) {
   Approach a;
   const Eigen::Vector2d here(pose.x, pose.y), g(goal.x, goal.y);
   if (!omnidirectional && final_approach_m > 0.0) {
@@ -87,12 +88,12 @@ Blocker turnMeets(const Costmap& costmap, const Footprint& footprint, const Eige
 /// The first turn on the spot that meets a blocker on `legs` (driven backwards when `reverse`), as text; empty when
 /// both are clear: at the start, from the robot's heading to the way to the first point 0.3 m along (the follower
 /// turns on the spot when far off its path), and at the end, from the way the last 0.3 m run to `end_yaw`.
-std::string firstBlockedTurn(const Costmap& costmap, const Footprint& footprint, const Pose2D& start,
+std::string firstBlockedTurn(const Costmap& costmap, const Footprint& footprint, const thorvald_base::Pose2D& start,
                              const std::vector<Eigen::Vector2d>& legs, double end_yaw, bool reverse) {
   constexpr double kChord = 0.3;
   const auto way = [reverse](const Eigen::Vector2d& from, const Eigen::Vector2d& to) {
     const Eigen::Vector2d d = to - from;
-    return normalizeAngle(std::atan2(d.y(), d.x()) + (reverse ? kPi : 0.0));
+    return thorvald_base::normalizeAngle(std::atan2(d.y(), d.x()) + (reverse ? thorvald_base::kPi : 0.0));
   };
   const auto describe = [](const char* which, const Eigen::Vector2d& p, double from, double to, Blocker b) {
     char text[128];
@@ -116,8 +117,9 @@ std::string firstBlockedTurn(const Costmap& costmap, const Footprint& footprint,
 
 }  // namespace
 
-PathDirection choosePathDirection(const Costmap& costmap, const Footprint& footprint, const Pose2D& start,
-                                  const std::vector<Eigen::Vector2d>& path, const Pose2D& goal, bool omnidirectional) {
+PathDirection choosePathDirection(const Costmap& costmap, const Footprint& footprint,
+                                  const thorvald_base::Pose2D& start, const std::vector<Eigen::Vector2d>& path,
+                                  const thorvald_base::Pose2D& goal, bool omnidirectional) {
   PathDirection out;
   out.approach.first_leg = path;
   out.approach.first_target = goal;
@@ -132,7 +134,8 @@ PathDirection choosePathDirection(const Costmap& costmap, const Footprint& footp
   const bool has_final_approach =
       path.size() >= 3 && last.norm() > 1e-3 && std::abs(last.normalized().dot(heading) - 1.0) < 1e-6;
   if (has_final_approach) back.pop_back();
-  const Pose2D target = has_final_approach ? Pose2D{back.back().x(), back.back().y(), goal.yaw} : goal;
+  const thorvald_base::Pose2D target =
+      has_final_approach ? thorvald_base::Pose2D{back.back().x(), back.back().y(), goal.yaw} : goal;
   std::string backward = firstBlockedTurn(costmap, footprint, start, back, target.yaw, true);
   if (backward.empty() && has_final_approach) {
     // The last stretch forward along the goal's heading needs no turn.
@@ -158,14 +161,14 @@ std::string ArrivalParams::validate() const {
   return {};
 }
 
-ArrivalJudgement ArrivalJudge::judge(const Pose2D& settled, const Pose2D& goal) {
+ArrivalJudgement ArrivalJudge::judge(const thorvald_base::Pose2D& settled, const thorvald_base::Pose2D& goal) {
   ArrivalJudgement j;
   if (!settled.finite() || !goal.finite()) {
     j.reason = "settled pose or goal is not finite";
     return j;
   }
   j.xy_err_m = std::hypot(settled.x - goal.x, settled.y - goal.y);
-  j.yaw_err_rad = normalizeAngle(settled.yaw - goal.yaw);
+  j.yaw_err_rad = thorvald_base::normalizeAngle(settled.yaw - goal.yaw);
   if (j.xy_err_m <= params_.xy_tolerance_m && std::abs(j.yaw_err_rad) <= params_.yaw_tolerance_rad) {
     j.verdict = ArrivalVerdict::kReached;
     return j;

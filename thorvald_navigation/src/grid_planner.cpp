@@ -58,7 +58,7 @@ std::vector<Eigen::Vector2d> shorten(const Costmap& cm, const std::vector<Eigen:
 PlanResult planPath(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal,
                     const PlannerParams& params) {
   PlanResult r;
-  const Grid2D& g = costmap.geometry();
+  const thorvald_map::OccupancyGrid& g = costmap.geometry();
   if (!start.allFinite() || !goal.allFinite()) {
     r.error = "start or goal is not finite";
     return r;
@@ -126,7 +126,7 @@ PlanResult planPath(const Costmap& costmap, const Eigen::Vector2d& start, const 
     return r;
   }
   std::vector<Eigen::Vector2d> cells;
-  for (int i = goal_i; i != -1; i = parent[i]) cells.push_back(g.centerOf(i % g.width, i / g.width));
+  for (int i = goal_i; i != -1; i = parent[i]) cells.push_back(g.cellCentre(i % g.width, i / g.width));
   std::reverse(cells.begin(), cells.end());
   cells.front() = start;
   cells.back() = goal;

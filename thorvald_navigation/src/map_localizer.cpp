@@ -16,7 +16,7 @@ std::string LocalizerParams::validate() const {
     return "need 0 <= lost_inlier_fraction <= uncertain_inlier_fraction <= 1";
   if (lost_after_scans < 1 || confirm_scans < 0) return "lost_after_scans must be >= 1, confirm_scans >= 0";
   if (!(max_jump_m > 0.0)) return "max_jump must be > 0";
-  if (!(recheck_xy_m >= 0.0) || !(recheck_yaw_rad > 0.0 && recheck_yaw_rad <= kPi))
+  if (!(recheck_xy_m >= 0.0) || !(recheck_yaw_rad > 0.0 && recheck_yaw_rad <= thorvald_base::kPi))
     return "recheck_xy must be >= 0 m and recheck_yaw in (0, pi] rad";
   if (recheck_every_scans < 1) return "recheck_every_scans must be >= 1";
   if (!(recheck_inlier_fraction >= 0.0 && recheck_inlier_fraction <= 1.0))
@@ -39,7 +39,7 @@ const char* statusName(LocalizationStatus s) {
   return "?";
 }
 
-std::string MapLocalizer::setMap(const Grid2D& map, const WallSurface* surface) {
+std::string MapLocalizer::setMap(const thorvald_map::OccupancyGrid& map, const thorvald_map::WallSurface* surface) {
   const std::string problem = map.check();
   if (!problem.empty()) return problem;
   if (surface) {
@@ -53,7 +53,7 @@ std::string MapLocalizer::setMap(const Grid2D& map, const WallSurface* surface) 
   return {};
 }
 
-void MapLocalizer::setPose(const Pose2D& map_pose, const Pose2D& odom) {
+void MapLocalizer::setPose(const thorvald_base::Pose2D& map_pose, const thorvald_base::Pose2D& odom) {
   map_to_odom_ = map_pose * odom.inverse();
   last_odom_ = odom;
   have_last_odom_ = true;
@@ -65,7 +65,8 @@ void MapLocalizer::setPose(const Pose2D& map_pose, const Pose2D& odom) {
   status_ = LocalizationStatus::kLocalized;
 }
 
-LocalizationUpdate MapLocalizer::update(const Pose2D& odom, const std::vector<Eigen::Vector2d>& points_base) {
+LocalizationUpdate MapLocalizer::update(const thorvald_base::Pose2D& odom,
+                                        const std::vector<Eigen::Vector2d>& points_base) {
   LocalizationUpdate u;
   u.status = status_;
   u.pose = map_to_odom_ * odom;
@@ -111,7 +112,7 @@ LocalizationUpdate MapLocalizer::update(const Pose2D& odom, const std::vector<Ei
     scans_to_recheck_ = params_.recheck_every_scans;
     if (recheck(odom, points_base, &u)) return u;
   }
-  const Pose2D delta = have_last_odom_ ? last_odom_.inverse() * odom : Pose2D{};
+  const thorvald_base::Pose2D delta = have_last_odom_ ? last_odom_.inverse() * odom : thorvald_base::Pose2D{};
   const double moved = std::hypot(delta.x, delta.y), turned = std::abs(delta.yaw);
   ScanMatcherParams mp = params_.matcher;
   mp.prior_sigma_xy_m = params_.odom_sigma_xy_m + params_.odom_sigma_per_m * moved;
@@ -120,7 +121,7 @@ LocalizationUpdate MapLocalizer::update(const Pose2D& odom, const std::vector<Ei
     mp.prior_sigma_xy_m *= 5.0;
     mp.prior_sigma_yaw_rad *= 5.0;
   }
-  const Pose2D predicted = map_to_odom_ * odom;
+  const thorvald_base::Pose2D predicted = map_to_odom_ * odom;
   const MatchResult m = matchScan(field_, pts, predicted, mp);
   last_odom_ = odom;
   have_last_odom_ = true;
@@ -175,7 +176,8 @@ LocalizationUpdate MapLocalizer::update(const Pose2D& odom, const std::vector<Ei
   return u;
 }
 
-void MapLocalizer::adopt(const GlobalResult& g, const Pose2D& odom, const std::string& what, LocalizationUpdate* u) {
+void MapLocalizer::adopt(const GlobalResult& g, const thorvald_base::Pose2D& odom, const std::string& what,
+                         LocalizationUpdate* u) {
   setPose(g.best.pose, odom);
   confirm_left_ = params_.confirm_scans;
   status_ = (g.ambiguous || g.best.inlier_fraction < params_.uncertain_inlier_fraction || confirm_left_ > 0)
@@ -193,7 +195,8 @@ void MapLocalizer::adopt(const GlobalResult& g, const Pose2D& odom, const std::s
   u->status = status_;
 }
 
-bool MapLocalizer::recheck(const Pose2D& odom, const std::vector<Eigen::Vector2d>& points_base, LocalizationUpdate* u) {
+bool MapLocalizer::recheck(const thorvald_base::Pose2D& odom, const std::vector<Eigen::Vector2d>& points_base,
+                           LocalizationUpdate* u) {
   GlobalSearchParams gp = params_.global;
   gp.window_xy_m = params_.recheck_xy_m;
   gp.window_yaw_rad = params_.recheck_yaw_rad;

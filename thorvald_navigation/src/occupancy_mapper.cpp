@@ -10,7 +10,7 @@ namespace {
 constexpr int kWallValue = 65;  // cells at or above are walls for matching (map_server's occupied_thresh 0.65)
 
 std::int8_t occupancyValue(float log_odds) {
-  if (log_odds == 0.0f) return kUnknown;
+  if (log_odds == 0.0f) return thorvald_map::kUnknown;
   const double p = 1.0 - 1.0 / (1.0 + std::exp(static_cast<double>(log_odds)));
   return static_cast<std::int8_t>(std::lround(100.0 * p));
 }
@@ -42,16 +42,16 @@ void OccupancyMapper::ensureInside(const Eigen::Vector2d& p) {
   // Grow by at least half the current size on the side that is short, so growth is amortised.
   const double res = params_.resolution_m;
   const double grow = std::max(5.0, 0.5 * std::max(geometry_.width, geometry_.height) * res);
-  double x0 = geometry_.origin_x_m, y0 = geometry_.origin_y_m;
+  double x0 = geometry_.origin.x, y0 = geometry_.origin.y;
   double x1 = x0 + geometry_.width * res, y1 = y0 + geometry_.height * res;
   if (p.x() < x0) x0 = p.x() - grow;
   if (p.y() < y0) y0 = p.y() - grow;
   if (p.x() >= x1) x1 = p.x() + grow;
   if (p.y() >= y1) y1 = p.y() + grow;
   if (x1 - x0 > params_.max_size_m || y1 - y0 > params_.max_size_m) return;  // caller drops the point
-  const int dx = std::max(0, static_cast<int>(std::ceil((geometry_.origin_x_m - x0) / res)));
-  const int dy = std::max(0, static_cast<int>(std::ceil((geometry_.origin_y_m - y0) / res)));
-  const double new_ox = geometry_.origin_x_m - dx * res, new_oy = geometry_.origin_y_m - dy * res;
+  const int dx = std::max(0, static_cast<int>(std::ceil((geometry_.origin.x - x0) / res)));
+  const int dy = std::max(0, static_cast<int>(std::ceil((geometry_.origin.y - y0) / res)));
+  const double new_ox = geometry_.origin.x - dx * res, new_oy = geometry_.origin.y - dy * res;
   const int w = std::max(dx + geometry_.width, static_cast<int>(std::ceil((x1 - new_ox) / res)));
   const int h = std::max(dy + geometry_.height, static_cast<int>(std::ceil((y1 - new_oy) / res)));
   std::vector<float> grown(static_cast<std::size_t>(w) * h, 0.0f), grown_hits(grown.size(), 0.0f);
@@ -64,7 +64,8 @@ void OccupancyMapper::ensureInside(const Eigen::Vector2d& p) {
     std::copy_n(surface_.mean_m.begin() + from, geometry_.width, grown_mean.begin() + to);
   }
   log_odds_.swap(grown);
-  Grid2D occupancy(w, h, res, geometry_.origin_x_m - dx * res, geometry_.origin_y_m - dy * res, kUnknown);
+  thorvald_map::OccupancyGrid occupancy(w, h, res, geometry_.origin.x - dx * res, geometry_.origin.y - dy * res,
+                                        thorvald_map::kUnknown);
   for (int y = 0; y < geometry_.height; ++y)
     std::copy_n(occupancy_.data.begin() + static_cast<std::ptrdiff_t>(y) * geometry_.width, geometry_.width,
                 occupancy.data.begin() + static_cast<std::ptrdiff_t>(y + dy) * w + dx);
@@ -73,8 +74,8 @@ void OccupancyMapper::ensureInside(const Eigen::Vector2d& p) {
   surface_.mean_m.swap(grown_mean);
   geometry_.width = w;
   geometry_.height = h;
-  geometry_.origin_x_m -= dx * res;
-  geometry_.origin_y_m -= dy * res;
+  geometry_.origin.x -= dx * res;
+  geometry_.origin.y -= dy * res;
 }
 
 bool OccupancyMapper::update(const Eigen::Vector2i& c, double log_odds) {
@@ -99,8 +100,8 @@ void OccupancyMapper::traceFree(const Eigen::Vector2d& from, const Eigen::Vector
   const int sx = d.x() > 0.0 ? 1 : -1, sy = d.y() > 0.0 ? 1 : -1;
   // Ray parameter t in [0, 1] at the next vertical / horizontal cell border, and its step per cell.
   const double inf = std::numeric_limits<double>::infinity();
-  const double next_x = geometry_.origin_x_m + (a.x() + (sx > 0 ? 1 : 0)) * res;
-  const double next_y = geometry_.origin_y_m + (a.y() + (sy > 0 ? 1 : 0)) * res;
+  const double next_x = geometry_.origin.x + (a.x() + (sx > 0 ? 1 : 0)) * res;
+  const double next_y = geometry_.origin.y + (a.y() + (sy > 0 ? 1 : 0)) * res;
   double t_x = std::abs(d.x()) > 1e-12 ? (next_x - from.x()) / d.x() : inf;
   double t_y = std::abs(d.y()) > 1e-12 ? (next_y - from.y()) / d.y() : inf;
   const double dt_x = std::abs(d.x()) > 1e-12 ? res / std::abs(d.x()) : inf;
@@ -120,7 +121,7 @@ void OccupancyMapper::traceFree(const Eigen::Vector2d& from, const Eigen::Vector
   if (include_end) update(b, params_.miss_log_odds);
 }
 
-MapperUpdate OccupancyMapper::addScan(const Pose2D& odom, const Eigen::Vector2d& sensor_base,
+MapperUpdate OccupancyMapper::addScan(const thorvald_base::Pose2D& odom, const Eigen::Vector2d& sensor_base,
                                       const std::vector<Eigen::Vector2d>& points_base,
                                       const std::vector<Eigen::Vector2d>& free_ends_base) {
   MapperUpdate u;
@@ -135,32 +136,34 @@ MapperUpdate OccupancyMapper::addScan(const Pose2D& odom, const Eigen::Vector2d&
   if (first_) {
     const double half = 0.5 * params_.initial_size_m;
     const int n = static_cast<int>(std::ceil(params_.initial_size_m / params_.resolution_m));
-    geometry_ = Grid2D(n, n, params_.resolution_m, odom.x - half, odom.y - half, kUnknown);
+    geometry_ =
+        thorvald_map::OccupancyGrid(n, n, params_.resolution_m, odom.x - half, odom.y - half, thorvald_map::kUnknown);
     geometry_.data.clear();
     log_odds_.assign(static_cast<std::size_t>(n) * n, 0.0f);
-    occupancy_ = Grid2D(n, n, params_.resolution_m, geometry_.origin_x_m, geometry_.origin_y_m, kUnknown);
+    occupancy_ = thorvald_map::OccupancyGrid(n, n, params_.resolution_m, geometry_.origin.x, geometry_.origin.y,
+                                             thorvald_map::kUnknown);
     surface_.hits.assign(log_odds_.size(), 0.0f);
     surface_.mean_m.assign(log_odds_.size(), Eigen::Vector2f::Zero());
-    map_to_odom_ = Pose2D{};
+    map_to_odom_ = thorvald_base::Pose2D{};
   } else {
-    const Pose2D delta = last_integrated_odom_.inverse() * odom;
+    const thorvald_base::Pose2D delta = last_integrated_odom_.inverse() * odom;
     if (std::hypot(delta.x, delta.y) < params_.linear_update_m && std::abs(delta.yaw) < params_.angular_update_rad) {
       u.pose = map_to_odom_ * odom;
       return u;
     }
   }
-  Pose2D pose = map_to_odom_ * odom;
+  thorvald_base::Pose2D pose = map_to_odom_ * odom;
   if (!first_) {
     // Rebuilt for every scan (README, Limits).
     if (params_.match_surface) {
-      const WallSurface surface = wallSurface();
+      const thorvald_map::WallSurface surface = wallSurface();
       field_ = DistanceField(occupancyGrid(), params_.field_max_distance_m, kWallValue, true, &surface,
                              params_.surfel_half_length_m);
     } else {
       field_ = DistanceField(occupancyGrid(), params_.field_max_distance_m, kWallValue, true);
     }
     ScanMatcherParams matcher = params_.matcher;
-    const Pose2D moved = last_integrated_odom_.inverse() * odom;
+    const thorvald_base::Pose2D moved = last_integrated_odom_.inverse() * odom;
     if (params_.odom_sigma_xy_m > 0.0)
       matcher.prior_sigma_xy_m = params_.odom_sigma_xy_m + params_.odom_sigma_fraction * std::hypot(moved.x, moved.y);
     if (params_.odom_sigma_yaw_rad > 0.0)
@@ -185,23 +188,24 @@ MapperUpdate OccupancyMapper::addScan(const Pose2D& odom, const Eigen::Vector2d&
 // Every cell is updated at most once per scan, and a beam's end before any beam's free space: a beam that grazes a
 // wall crosses the cells holding the wall's face (their free part) before it ends, and without this those cells would
 // be cleared by the many grazing beams of each scan and the wall drawn behind its face, the headland too wide.
-void OccupancyMapper::insert(const Pose2D& pose, const Eigen::Vector2d& sensor_base,
+void OccupancyMapper::insert(const thorvald_base::Pose2D& pose, const Eigen::Vector2d& sensor_base,
                              const std::vector<Eigen::Vector2d>& points_base,
                              const std::vector<Eigen::Vector2d>& free_ends_base) {
-  const Eigen::Vector2d origin = pose.transform(sensor_base);
+  const Eigen::Vector2d origin = pose.transformPoint(sensor_base);
   std::vector<Eigen::Vector2d> hits, free_ends;
   hits.reserve(points_base.size());
   free_ends.reserve(points_base.size() + free_ends_base.size());
   auto clipped = [&](const Eigen::Vector2d& p) {
     const Eigen::Vector2d rel = p - sensor_base;
     const double r = rel.norm();
-    return pose.transform(r > params_.max_range_m ? Eigen::Vector2d(sensor_base + rel * (params_.max_range_m / r)) : p);
+    return pose.transformPoint(r > params_.max_range_m ? Eigen::Vector2d(sensor_base + rel * (params_.max_range_m / r))
+                                                       : p);
   };
   for (const auto& p : points_base) {
     if ((p - sensor_base).norm() > params_.max_range_m)
       free_ends.push_back(clipped(p));
     else
-      hits.push_back(pose.transform(p));
+      hits.push_back(pose.transformPoint(p));
   }
   for (const auto& p : free_ends_base) free_ends.push_back(clipped(p));
   ensureInside(origin);
@@ -244,21 +248,25 @@ Eigen::Vector4i OccupancyMapper::observedBounds() const {
           std::min(geometry_.height - 1, y1 + 2)};
 }
 
-Grid2D OccupancyMapper::occupancyGrid() const {
-  if (log_odds_.empty()) return Grid2D(1, 1, params_.resolution_m, 0.0, 0.0, kUnknown);
+thorvald_map::OccupancyGrid OccupancyMapper::occupancyGrid() const {
+  if (log_odds_.empty())
+    return thorvald_map::OccupancyGrid(1, 1, params_.resolution_m, 0.0, 0.0, thorvald_map::kUnknown);
   const Eigen::Vector4i b = observedBounds();
   const int x0 = b[0], y0 = b[1], x1 = b[2], y1 = b[3];
-  if (x1 < 0) return Grid2D(1, 1, params_.resolution_m, geometry_.origin_x_m, geometry_.origin_y_m, kUnknown);
-  Grid2D g(x1 - x0 + 1, y1 - y0 + 1, params_.resolution_m, geometry_.origin_x_m + x0 * params_.resolution_m,
-           geometry_.origin_y_m + y0 * params_.resolution_m, kUnknown);
+  if (x1 < 0)
+    return thorvald_map::OccupancyGrid(1, 1, params_.resolution_m, geometry_.origin.x, geometry_.origin.y,
+                                       thorvald_map::kUnknown);
+  thorvald_map::OccupancyGrid g(x1 - x0 + 1, y1 - y0 + 1, params_.resolution_m,
+                                geometry_.origin.x + x0 * params_.resolution_m,
+                                geometry_.origin.y + y0 * params_.resolution_m, thorvald_map::kUnknown);
   for (int y = y0; y <= y1; ++y)
     std::copy_n(occupancy_.data.begin() + static_cast<std::ptrdiff_t>(geometry_.index(x0, y)), x1 - x0 + 1,
                 g.data.begin() + static_cast<std::ptrdiff_t>(g.index(0, y - y0)));
   return g;
 }
 
-WallSurface OccupancyMapper::wallSurface() const {
-  WallSurface s;
+thorvald_map::WallSurface OccupancyMapper::wallSurface() const {
+  thorvald_map::WallSurface s;
   if (log_odds_.empty()) {
     s.hits.assign(1, 0.0f);
     s.mean_m.assign(1, Eigen::Vector2f::Zero());

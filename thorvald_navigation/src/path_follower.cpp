@@ -11,7 +11,8 @@ std::string FollowerParams::validate() const {
   if (!(max_accel_mps2 > 0.0) || !(max_yaw_accel_radps2 > 0.0)) return "acceleration limits must be > 0";
   if (!(lookahead_m > 0.0)) return "lookahead must be > 0";
   if (!(xy_tolerance_m > 0.0) || !(yaw_tolerance_rad > 0.0)) return "xy and yaw tolerances must be > 0";
-  if (!(rotate_in_place_rad > 0.0 && rotate_in_place_rad <= kPi)) return "rotate_in_place must be in (0, pi]";
+  if (!(rotate_in_place_rad > 0.0 && rotate_in_place_rad <= thorvald_base::kPi))
+    return "rotate_in_place must be in (0, pi]";
   if (!(position_gain > 0.0) || !(yaw_gain > 0.0)) return "gains must be > 0";
   if (!(min_speed_mps >= 0.0 && min_speed_mps <= max_speed_mps)) return "min_speed must be in [0, max_speed]";
   if (!(arrive_fraction > 0.0 && arrive_fraction <= 1.0)) return "arrive_fraction must be in (0, 1]";
@@ -38,7 +39,7 @@ const char* followPhaseName(FollowPhase phase) {
   return "?";
 }
 
-void PathFollower::setPath(const std::vector<Eigen::Vector2d>& path, const Pose2D& goal, bool reverse) {
+void PathFollower::setPath(const std::vector<Eigen::Vector2d>& path, const thorvald_base::Pose2D& goal, bool reverse) {
   path_ = path;
   if (path_.empty() || (path_.back() - Eigen::Vector2d(goal.x, goal.y)).norm() > 1e-6)
     path_.emplace_back(goal.x, goal.y);
@@ -51,7 +52,7 @@ void PathFollower::setPath(const std::vector<Eigen::Vector2d>& path, const Pose2
   turn_reversals_ = 0;
 }
 
-void PathFollower::turnTo(const Pose2D& goal) {
+void PathFollower::turnTo(const thorvald_base::Pose2D& goal) {
   setPath({}, goal);
   state_ = FollowState::kFinalTurn;
 }
@@ -113,11 +114,12 @@ bool PathFollower::sharpCorner(std::size_t i) const {
   const Eigen::Vector2d a = path_[i] - path_[i - 1], b = path_[i + 1] - path_[i];
   // Short legs (a staircase of grid cells in the plan) are smoothed by the pursuit, not turned at one by one.
   if (a.norm() < 2.0 * kCornerReachM || b.norm() < 2.0 * kCornerReachM) return false;
-  return std::abs(normalizeAngle(std::atan2(b.y(), b.x()) - std::atan2(a.y(), a.x()))) > params_.rotate_in_place_rad;
+  return std::abs(thorvald_base::normalizeAngle(std::atan2(b.y(), b.x()) - std::atan2(a.y(), a.x()))) >
+         params_.rotate_in_place_rad;
 }
 
-Twist2D PathFollower::limit(const Twist2D& wanted, double dt) {
-  Twist2D out = wanted;
+thorvald_base::Twist2D PathFollower::limit(const thorvald_base::Twist2D& wanted, double dt) {
+  thorvald_base::Twist2D out = wanted;
   const double v = std::hypot(out.vx, out.vy);
   if (v > params_.max_speed_mps) {
     out.vx *= params_.max_speed_mps / v;
@@ -134,21 +136,22 @@ Twist2D PathFollower::limit(const Twist2D& wanted, double dt) {
   return out;
 }
 
-Twist2D PathFollower::step(const Pose2D& pose_in, double dt) {
+thorvald_base::Twist2D PathFollower::step(const thorvald_base::Pose2D& pose_in, double dt) {
   if (state_ == FollowState::kArrived || path_.empty() || !pose_in.finite()) {
     phase_ = FollowPhase::kIdle;
-    return limit(Twist2D{}, dt);
+    return limit(thorvald_base::Twist2D{}, dt);
   }
   // Reversing: the follower steers the robot's rear as if it were its front, and the speed's sign flips at the end.
   const double sign = reverse_ ? -1.0 : 1.0;
-  const Pose2D pose{pose_in.x, pose_in.y, reverse_ ? normalizeAngle(pose_in.yaw + kPi) : pose_in.yaw};
-  auto out = [&](Twist2D t) {
+  const thorvald_base::Pose2D pose{
+      pose_in.x, pose_in.y, reverse_ ? thorvald_base::normalizeAngle(pose_in.yaw + thorvald_base::kPi) : pose_in.yaw};
+  auto out = [&](thorvald_base::Twist2D t) {
     t.vx *= sign;
     return limit(t, dt);
   };
   const Eigen::Vector2d p(pose.x, pose.y), goal(goal_.x, goal_.y);
   const double dist = (goal - p).norm();
-  const double yaw_err = normalizeAngle(goal_.yaw - pose_in.yaw);
+  const double yaw_err = thorvald_base::normalizeAngle(goal_.yaw - pose_in.yaw);
   const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
   auto toBody = [&](const Eigen::Vector2d& w) {
     return Eigen::Vector2d(c * w.x() + s * w.y(), -s * w.x() + c * w.y());
@@ -172,7 +175,7 @@ Twist2D PathFollower::step(const Pose2D& pose_in, double dt) {
       state_ = FollowState::kFinalTurn;
     } else if (!params_.omnidirectional) {
       phase_ = FollowPhase::kCreep;
-      Twist2D t;
+      thorvald_base::Twist2D t;
       t.vx = std::max(params_.min_speed_mps, params_.position_gain * ahead);
       return out(t);
     }
@@ -196,10 +199,10 @@ Twist2D PathFollower::step(const Pose2D& pose_in, double dt) {
     if (std::abs(yaw_err) <= aim + coast || (dithering && std::abs(yaw_err) < params_.yaw_tolerance_rad)) {
       state_ = FollowState::kArrived;
       phase_ = FollowPhase::kIdle;
-      last_ = Twist2D{};
+      last_ = thorvald_base::Twist2D{};
       return last_;
     }
-    Twist2D t;
+    thorvald_base::Twist2D t;
     t.wz = std::copysign(profile, yaw_err);
     if (last_.wz * t.wz < 0.0) ++turn_reversals_;
     if (params_.omnidirectional) {  // keep correcting small position drift while turning
@@ -220,7 +223,7 @@ Twist2D PathFollower::step(const Pose2D& pose_in, double dt) {
   double speed =
       std::clamp(std::min(params_.position_gain * dist, stop_speed), params_.min_speed_mps, params_.max_speed_mps);
   phase_ = dist < params_.xy_tolerance_m ? FollowPhase::kCreep : FollowPhase::kDrive;
-  Twist2D t;
+  thorvald_base::Twist2D t;
   if (params_.omnidirectional) {
     const Eigen::Vector2d dir =
         to_target.norm() > 1e-9 ? Eigen::Vector2d(to_target.normalized()) : Eigen::Vector2d(0, 0);
@@ -243,7 +246,7 @@ Twist2D PathFollower::step(const Pose2D& pose_in, double dt) {
   const double turn_until = std::min(kTurnDoneRad, 0.5 * params_.rotate_in_place_rad);
   turning_ = std::abs(alpha) > params_.rotate_in_place_rad || (turning_ && std::abs(alpha) > turn_until);
   if (turning_) {
-    if (dist < 0.1 && std::abs(alpha) > kPi - params_.rotate_in_place_rad) {
+    if (dist < 0.1 && std::abs(alpha) > thorvald_base::kPi - params_.rotate_in_place_rad) {
       turning_ = false;
       t.vx = -std::max(params_.min_speed_mps, params_.position_gain * dist);  // just passed it: back up
       return out(t);

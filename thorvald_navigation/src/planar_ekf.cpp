@@ -15,18 +15,18 @@ PlanarEkf::PlanarEkf() {
 void PlanarEkf::setProcessNoise(const State6& diagonal) { q_ = diagonal; }
 void PlanarEkf::setInitialCovariance(const State6& diagonal) { p0_ = diagonal; }
 
-void PlanarEkf::reset(const Pose2D& pose, double t) {
+void PlanarEkf::reset(const thorvald_base::Pose2D& pose, double t) {
   x_.setZero();
   x_(kX) = pose.x;
   x_(kY) = pose.y;
-  x_(kYaw) = normalizeAngle(pose.yaw);
+  x_(kYaw) = thorvald_base::normalizeAngle(pose.yaw);
   p_ = p0_.asDiagonal();
   t_ = t;
   initialized_ = true;
 }
 
 bool PlanarEkf::predict(double t) {
-  if (!initialized_) reset(Pose2D{}, t);
+  if (!initialized_) reset(thorvald_base::Pose2D{}, t);
   const double dt = t - t_;
   if (!(dt >= 0.0)) return false;
   if (dt == 0.0) return true;
@@ -34,7 +34,7 @@ bool PlanarEkf::predict(double t) {
   const double vx = x_(kVx), vy = x_(kVy);
   x_(kX) += (vx * c - vy * s) * dt;
   x_(kY) += (vx * s + vy * c) * dt;
-  x_(kYaw) = normalizeAngle(x_(kYaw) + x_(kVyaw) * dt);
+  x_(kYaw) = thorvald_base::normalizeAngle(x_(kYaw) + x_(kVyaw) * dt);
   Cov6 f = Cov6::Identity();
   f(kX, kYaw) = (-vx * s - vy * c) * dt;
   f(kX, kVx) = c * dt;
@@ -60,7 +60,7 @@ std::string PlanarEkf::update(const State6& z, const State6& variance, const std
     ++m;
   }
   if (m == 0) return "no state entry selected";
-  if (!initialized_) reset(Pose2D{}, t_);
+  if (!initialized_) reset(thorvald_base::Pose2D{}, t_);
   Eigen::MatrixXd h = Eigen::MatrixXd::Zero(m, 6);
   Eigen::VectorXd innovation(m);
   Eigen::MatrixXd r = Eigen::MatrixXd::Zero(m, m);
@@ -68,14 +68,14 @@ std::string PlanarEkf::update(const State6& z, const State6& variance, const std
   for (int i = 0; i < 6; ++i) {
     if (!mask[i]) continue;
     h(row, i) = 1.0;
-    innovation(row) = i == kYaw ? normalizeAngle(z(i) - x_(i)) : z(i) - x_(i);
+    innovation(row) = i == kYaw ? thorvald_base::normalizeAngle(z(i) - x_(i)) : z(i) - x_(i);
     r(row, row) = variance(i);
     ++row;
   }
   const Eigen::MatrixXd s = h * p_ * h.transpose() + r;
   const Eigen::MatrixXd k = p_ * h.transpose() * s.ldlt().solve(Eigen::MatrixXd::Identity(m, m));
   x_ += k * innovation;
-  x_(kYaw) = normalizeAngle(x_(kYaw));
+  x_(kYaw) = thorvald_base::normalizeAngle(x_(kYaw));
   // Joseph form keeps the covariance symmetric positive semi-definite.
   const Cov6 ikh = Cov6::Identity() - k * h;
   p_ = ikh * p_ * ikh.transpose() + k * r * k.transpose();

@@ -19,7 +19,7 @@ std::string ScanMatcherParams::validate() const {
 
 std::string GlobalSearchParams::validate() const {
   if (!(step_xy_m > 0.0)) return "global step_xy_m must be > 0";
-  if (!(step_yaw_rad > 0.0) || step_yaw_rad > kPi) return "global step_yaw_rad must be in (0, pi]";
+  if (!(step_yaw_rad > 0.0) || step_yaw_rad > thorvald_base::kPi) return "global step_yaw_rad must be in (0, pi]";
   if (max_points < 3) return "global max_points must be >= 3";
   if (refine_best < 1) return "global refine_best must be >= 1";
   if (!(min_clearance_m >= 0.0)) return "global min_clearance_m must be >= 0";
@@ -38,12 +38,12 @@ std::vector<Eigen::Vector2d> subsample(const std::vector<Eigen::Vector2d>& point
 
 namespace {
 
-void evaluate(const DistanceField& field, const std::vector<Eigen::Vector2d>& pts, const Pose2D& pose, double inlier_m,
-              MatchResult* r) {
+void evaluate(const DistanceField& field, const std::vector<Eigen::Vector2d>& pts, const thorvald_base::Pose2D& pose,
+              double inlier_m, MatchResult* r) {
   int inliers = 0;
   double sum_sq = 0.0;
   for (const auto& p : pts) {
-    const double d = field.distance(pose.transform(p));
+    const double d = field.distance(pose.transformPoint(p));
     if (d < inlier_m) {
       ++inliers;
       sum_sq += d * d;
@@ -57,14 +57,14 @@ void evaluate(const DistanceField& field, const std::vector<Eigen::Vector2d>& pt
 }  // namespace
 
 MatchResult matchScan(const DistanceField& field, const std::vector<Eigen::Vector2d>& points_base,
-                      const Pose2D& initial, const ScanMatcherParams& params) {
+                      const thorvald_base::Pose2D& initial, const ScanMatcherParams& params) {
   MatchResult result;
   result.pose = initial;
   if (field.empty() || points_base.empty() || !initial.finite()) {
     result.covariance *= 1e6;
     return result;
   }
-  Pose2D start = initial;
+  thorvald_base::Pose2D start = initial;
   if (params.coarse_sigma_m > params.sigma_hit_m) {
     ScanMatcherParams coarse = params;
     coarse.sigma_hit_m = params.coarse_sigma_m;
@@ -76,10 +76,10 @@ MatchResult matchScan(const DistanceField& field, const std::vector<Eigen::Vecto
   const double wxy = params.prior_sigma_xy_m > 0.0 ? 1.0 / (params.prior_sigma_xy_m * params.prior_sigma_xy_m) : 0.0;
   const double wyaw =
       params.prior_sigma_yaw_rad > 0.0 ? 1.0 / (params.prior_sigma_yaw_rad * params.prior_sigma_yaw_rad) : 0.0;
-  Pose2D pose = start;  // the prior stays centred on `initial`
+  thorvald_base::Pose2D pose = start;  // the prior stays centred on `initial`
   Eigen::Matrix3d h = Eigen::Matrix3d::Identity();
   double lambda = 1e-3;
-  auto cost = [&](const Pose2D& q, Eigen::Matrix3d* hess, Eigen::Vector3d* grad) {
+  auto cost = [&](const thorvald_base::Pose2D& q, Eigen::Matrix3d* hess, Eigen::Vector3d* grad) {
     double c = 0.0;
     if (hess) hess->setZero();
     if (grad) grad->setZero();
@@ -100,7 +100,7 @@ MatchResult matchScan(const DistanceField& field, const std::vector<Eigen::Vecto
         *grad += wt * j * d / s2;
       }
     }
-    const double dx = q.x - initial.x, dy = q.y - initial.y, dyaw = normalizeAngle(q.yaw - initial.yaw);
+    const double dx = q.x - initial.x, dy = q.y - initial.y, dyaw = thorvald_base::normalizeAngle(q.yaw - initial.yaw);
     c += wxy * (dx * dx + dy * dy) + wyaw * dyaw * dyaw;
     if (hess) {
       (*hess)(0, 0) += wxy;
@@ -120,7 +120,8 @@ MatchResult matchScan(const DistanceField& field, const std::vector<Eigen::Vecto
     a.diagonal() += lambda * (h.diagonal().array() + 1e-9).matrix();
     const Eigen::Vector3d step = -a.ldlt().solve(g);
     if (!step.allFinite()) break;
-    const Pose2D trial{pose.x + step(0), pose.y + step(1), normalizeAngle(pose.yaw + step(2))};
+    const thorvald_base::Pose2D trial{pose.x + step(0), pose.y + step(1),
+                                      thorvald_base::normalizeAngle(pose.yaw + step(2))};
     Eigen::Matrix3d h2;
     Eigen::Vector3d g2;
     const double c2 = cost(trial, &h2, &g2);
@@ -148,7 +149,7 @@ MatchResult matchScan(const DistanceField& field, const std::vector<Eigen::Vecto
   return result;
 }
 
-GlobalResult globalSearch(const DistanceField& field, const Grid2D& free_space,
+GlobalResult globalSearch(const DistanceField& field, const thorvald_map::OccupancyGrid& free_space,
                           const std::vector<Eigen::Vector2d>& points_base, const GlobalSearchParams& gparams,
                           const ScanMatcherParams& params) {
   GlobalResult out;
@@ -156,13 +157,13 @@ GlobalResult globalSearch(const DistanceField& field, const Grid2D& free_space,
   if (field.empty() || pts.size() < 3 || !free_space.check().empty()) return out;
   struct Candidate {
     double score;
-    Pose2D pose;
+    thorvald_base::Pose2D pose;
   };
   std::vector<Candidate> all;
   const int stride = std::max(1, static_cast<int>(std::lround(gparams.step_xy_m / free_space.resolution_m)));
   const bool windowed = gparams.window_xy_m > 0.0;
-  const double yaw_span = windowed ? std::min(kPi, gparams.window_yaw_rad) : kPi;
-  const double yaw0 = windowed ? gparams.center.yaw - yaw_span : -kPi;
+  const double yaw_span = windowed ? std::min(thorvald_base::kPi, gparams.window_yaw_rad) : thorvald_base::kPi;
+  const double yaw0 = windowed ? gparams.center.yaw - yaw_span : -thorvald_base::kPi;
   const int headings = std::max(1, static_cast<int>(std::ceil(2.0 * yaw_span / gparams.step_yaw_rad)));
   const double yaw_step = 2.0 * yaw_span / headings;
   const double inv_s2 = 1.0 / std::pow(std::max(params.sigma_hit_m, 0.5 * gparams.step_xy_m), 2);
@@ -182,12 +183,12 @@ GlobalResult globalSearch(const DistanceField& field, const Grid2D& free_space,
     x_hi = std::min(x_hi, hi.x());
     y_hi = std::min(y_hi, hi.y());
   }
-  const int last_heading = (windowed && yaw_span < kPi) ? headings : headings - 1;
+  const int last_heading = (windowed && yaw_span < thorvald_base::kPi) ? headings : headings - 1;
   for (int cy = y_lo + stride / 2; cy <= y_hi; cy += stride) {
     for (int cx = x_lo + stride / 2; cx <= x_hi; cx += stride) {
       const int v = free_space.at(cx, cy);
       if (v < 0 || v > 19) continue;
-      const Eigen::Vector2d c = free_space.centerOf(cx, cy);
+      const Eigen::Vector2d c = free_space.cellCentre(cx, cy);
       if (field.distance(c) < gparams.min_clearance_m) continue;
       for (int k = 0; k <= last_heading; ++k) {
         double score = 0.0;
@@ -196,7 +197,7 @@ GlobalResult globalSearch(const DistanceField& field, const Grid2D& free_space,
               field.distance({c.x() + cs[k] * p.x() - sn[k] * p.y(), c.y() + sn[k] * p.x() + cs[k] * p.y()});
           score += 1.0 / (1.0 + d * d * inv_s2);
         }
-        all.push_back({score, {c.x(), c.y(), normalizeAngle(yaw0 + k * yaw_step)}});
+        all.push_back({score, {c.x(), c.y(), thorvald_base::normalizeAngle(yaw0 + k * yaw_step)}});
       }
     }
   }
@@ -215,8 +216,9 @@ GlobalResult globalSearch(const DistanceField& field, const Grid2D& free_space,
   for (std::size_t i = 0; i < keep && static_cast<int>(refined.size()) < gparams.refine_best; ++i) {
     bool duplicate = false;
     for (const auto& r : refined)
-      duplicate = duplicate || (std::hypot(r.pose.x - all[i].pose.x, r.pose.y - all[i].pose.y) < gparams.step_xy_m &&
-                                std::abs(normalizeAngle(r.pose.yaw - all[i].pose.yaw)) < gparams.step_yaw_rad);
+      duplicate =
+          duplicate || (std::hypot(r.pose.x - all[i].pose.x, r.pose.y - all[i].pose.y) < gparams.step_xy_m &&
+                        std::abs(thorvald_base::normalizeAngle(r.pose.yaw - all[i].pose.yaw)) < gparams.step_yaw_rad);
     if (duplicate) continue;
     MatchResult coarse = matchScan(field, refine_pts, all[i].pose, loose);
     MatchResult fine = matchScan(field, refine_pts, coarse.pose, params);
@@ -229,7 +231,7 @@ GlobalResult globalSearch(const DistanceField& field, const Grid2D& free_space,
   for (std::size_t i = 1; i < refined.size(); ++i) {
     const auto& r = refined[i];
     const double dist = std::hypot(r.pose.x - out.best.pose.x, r.pose.y - out.best.pose.y);
-    if (dist > 0.5 || std::abs(normalizeAngle(r.pose.yaw - out.best.pose.yaw)) > 0.3) {
+    if (dist > 0.5 || std::abs(thorvald_base::normalizeAngle(r.pose.yaw - out.best.pose.yaw)) > 0.3) {
       out.runner_up = r;
       break;
     }

@@ -22,7 +22,7 @@ namespace thorvald_navigation {
 namespace testing {
 
 inline geometry_msgs::TransformStamped makeTransform(const std::string& parent, const std::string& child,
-                                                     const Pose2D& p, const ros::Time& stamp) {
+                                                     const thorvald_base::Pose2D& p, const ros::Time& stamp) {
   geometry_msgs::TransformStamped t;
   t.header.stamp = stamp;
   t.header.frame_id = parent;
@@ -38,15 +38,15 @@ inline geometry_msgs::TransformStamped makeTransform(const std::string& parent, 
   return t;
 }
 
-inline nav_msgs::OccupancyGrid gridMessage(const Grid2D& g, const std::string& frame) {
+inline nav_msgs::OccupancyGrid gridMessage(const thorvald_map::OccupancyGrid& g, const std::string& frame) {
   nav_msgs::OccupancyGrid m;
   m.header.frame_id = frame;
   m.header.stamp = ros::Time::now();
   m.info.resolution = static_cast<float>(g.resolution_m);
   m.info.width = g.width;
   m.info.height = g.height;
-  m.info.origin.position.x = g.origin_x_m;
-  m.info.origin.position.y = g.origin_y_m;
+  m.info.origin.position.x = g.origin.x;
+  m.info.origin.position.y = g.origin.y;
   m.info.origin.orientation.w = 1.0;
   m.data.assign(g.data.begin(), g.data.end());
   return m;
@@ -55,7 +55,7 @@ inline nav_msgs::OccupancyGrid gridMessage(const Grid2D& g, const std::string& f
 class FakeHeadlandRobot {
  public:
   /// `parent_frame`: the frame the robot's pose is published in ("odom" or "map").
-  FakeHeadlandRobot(ros::NodeHandle& nh, const HeadlandOptions& options, const Pose2D& start,
+  FakeHeadlandRobot(ros::NodeHandle& nh, const HeadlandOptions& options, const thorvald_base::Pose2D& start,
                     const std::string& parent_frame)
       : world_(options), truth_(start), parent_(parent_frame), rng_(7) {
     scan_pub_ = nh.advertise<sensor_msgs::LaserScan>("scan", 5);
@@ -64,16 +64,16 @@ class FakeHeadlandRobot {
   }
 
   SyntheticHeadland& world() { return world_; }
-  Pose2D truth() {
+  thorvald_base::Pose2D truth() {
     std::lock_guard<std::mutex> l(mutex_);
     return truth_;
   }
-  void setTruth(const Pose2D& p) {
+  void setTruth(const thorvald_base::Pose2D& p) {
     std::lock_guard<std::mutex> l(mutex_);
     truth_ = p;
   }
   /// Pose published on tf (parent -> base_link): truth unless `published` was overridden (kidnapping).
-  void setPublishedOffset(const Pose2D& offset) { offset_ = offset; }
+  void setPublishedOffset(const thorvald_base::Pose2D& offset) { offset_ = offset; }
   geometry_msgs::Twist lastCommand() {
     std::lock_guard<std::mutex> l(mutex_);
     return cmd_;
@@ -91,11 +91,11 @@ class FakeHeadlandRobot {
   /// Integrates the last command for dt [s] (zero after 0.5 s without one), publishes tf and a scan.
   void step(double dt, bool move = true) {
     const ros::Time now = ros::Time::now();
-    Pose2D pose;
+    thorvald_base::Pose2D pose;
     {
       std::lock_guard<std::mutex> l(mutex_);
       if (move && !cmd_time_.isZero() && (now - cmd_time_).toSec() < 0.5)
-        truth_ = truth_ * Pose2D{cmd_.linear.x * dt, cmd_.linear.y * dt, cmd_.angular.z * dt};
+        truth_ = truth_ * thorvald_base::Pose2D{cmd_.linear.x * dt, cmd_.linear.y * dt, cmd_.angular.z * dt};
       pose = truth_;
     }
     tf_.sendTransform(makeTransform(parent_, "base_link", offset_ * pose, now));
@@ -109,7 +109,7 @@ class FakeHeadlandRobot {
     s.range_min = 0.1f;
     s.range_max = 30.0f;
     std::normal_distribution<double> noise(0.0, 0.01);
-    const Eigen::Vector2d origin = pose.transform({0.45, 0.0});
+    const Eigen::Vector2d origin = pose.transformPoint({0.45, 0.0});
     for (int i = 0; i < beams; ++i) {
       const double a = s.angle_min + i * s.angle_increment;
       const double r = world_.castRay(origin, pose.yaw + a, 30.0);
@@ -128,8 +128,8 @@ class FakeHeadlandRobot {
 
   SyntheticHeadland world_;
   std::mutex mutex_;
-  Pose2D truth_;
-  Pose2D offset_;
+  thorvald_base::Pose2D truth_;
+  thorvald_base::Pose2D offset_;
   std::string parent_;
   std::mt19937 rng_;
   geometry_msgs::Twist cmd_;

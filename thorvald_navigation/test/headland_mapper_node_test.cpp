@@ -11,7 +11,7 @@
 #include <std_srvs/Trigger.h>
 
 #include "fake_headland_robot.h"
-#include "thorvald_navigation/map_file.h"
+#include "thorvald_map/map_file.h"
 
 namespace tn = thorvald_navigation;
 
@@ -22,16 +22,16 @@ TEST(HeadlandMapperNode, MapsTheHeadlandAndSavesItOnRequest) {
   tn::testing::HeadlandOptions o;
   o.seed = 4;
   o.clutter_boxes = 1;
-  const tn::Pose2D start{1.5, o.depth_m - 0.7, 0.0};
+  const thorvald_base::Pose2D start{1.5, o.depth_m - 0.7, 0.0};
   tn::testing::FakeHeadlandRobot robot(nh, o, start, "odom");
   robot.setPublishedOffset(start.inverse());
   int maps = 0;
   ros::Subscriber sub =
       nh.subscribe<nav_msgs::OccupancyGrid>("map", 1, [&](const nav_msgs::OccupancyGrid::ConstPtr&) { ++maps; });
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(60.0);
-  tn::Pose2D truth = start;
+  thorvald_base::Pose2D truth = start;
   while (ros::ok() && truth.x < 8.0 && ros::WallTime::now() < deadline) {
-    truth = truth * tn::Pose2D{0.6 * 0.025, 0.0, 0.0};
+    truth = truth * thorvald_base::Pose2D{0.6 * 0.025, 0.0, 0.0};
     robot.setTruth(truth);
     robot.step(0.025, false);
     ros::WallDuration(0.025).sleep();  // 40 Hz scans
@@ -48,8 +48,9 @@ TEST(HeadlandMapperNode, MapsTheHeadlandAndSavesItOnRequest) {
   ASSERT_TRUE(srv.response.success) << srv.response.message;
   std::string stem;
   ASSERT_TRUE(ros::param::get("headland_mapper/map_file", stem));
-  tn::Grid2D saved;
-  ASSERT_EQ(tn::loadMap(stem + ".yaml", &saved), "");
+  thorvald_map::OccupancyGrid saved;
+  std::string error;
+  ASSERT_TRUE(thorvald_map::loadMap(stem + ".yaml", &saved, &error)) << error;
   // Every wall cell of the saved map lies on a true wall (map frame = where mapping started). Distances are
   // measured to the wall segments themselves, not to a rasterised copy (that would round them to 5 cm steps).
   const auto& walls_true = robot.world().segments();
@@ -66,9 +67,9 @@ TEST(HeadlandMapperNode, MapsTheHeadlandAndSavesItOnRequest) {
   std::vector<double> dist;
   for (int y = 0; y < saved.height; ++y)
     for (int x = 0; x < saved.width; ++x)
-      if (saved.at(x, y) == tn::kOccupied) {
+      if (saved.at(x, y) == thorvald_map::kOccupied) {
         ++walls;
-        const double d = wall_distance(start.transform(saved.centerOf(x, y)));
+        const double d = wall_distance(start.transformPoint(saved.cellCentre(x, y)));
         dist.push_back(d);
         off += d > 0.1;
       }

@@ -30,20 +30,22 @@ tn::testing::HeadlandOptions headland() {
 class NavigatorTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    robot_ = std::make_unique<tn::testing::FakeHeadlandRobot>(nh_, headland(), tn::Pose2D{2.0, 2.5, 0.0}, "map");
+    robot_ =
+        std::make_unique<tn::testing::FakeHeadlandRobot>(nh_, headland(), thorvald_base::Pose2D{2.0, 2.5, 0.0}, "map");
     map_pub_ = nh_.advertise<nav_msgs::OccupancyGrid>("map", 1, true);
     keep_out_pub_ = nh_.advertise<nav_msgs::OccupancyGrid>("keep_out_map", 1, true);
     status_pub_ = nh_.advertise<std_msgs::String>("map_localizer/status", 1, true);
     setStatus("localized");  // each test starts localised (the status is latched across tests)
     plan_sub_ = nh_.subscribe<nav_msgs::Path>("headland_navigator/plan", 10,
                                               [this](const nav_msgs::Path::ConstPtr&) { ++plans_; });
-    const tn::Grid2D map = robot_->world().truthMap(0.05);
+    const thorvald_map::OccupancyGrid map = robot_->world().truthMap(0.05);
     map_pub_.publish(tn::testing::gridMessage(map, "map"));
     // The virtual wall: everything beyond 0.3 m before the rows' start (the headland edge) is out of bounds.
-    tn::Grid2D keep_out(map.width, map.height, map.resolution_m, map.origin_x_m, map.origin_y_m, tn::kFree);
+    thorvald_map::OccupancyGrid keep_out(map.width, map.height, map.resolution_m, map.origin.x, map.origin.y,
+                                         thorvald_map::kFree);
     for (int y = 0; y < map.height; ++y)
       for (int x = 0; x < map.width; ++x)
-        if (map.centerOf(x, y).y() > headland().depth_m - 0.3) keep_out.at(x, y) = tn::kOccupied;
+        if (map.cellCentre(x, y).y() > headland().depth_m - 0.3) keep_out.at(x, y) = thorvald_map::kOccupied;
     keep_out_pub_.publish(tn::testing::gridMessage(keep_out, "map"));
     client_ = std::make_unique<Client>("move_base", false);
     ASSERT_TRUE(runUntil([this] { return client_->isServerConnected(); }, 20.0));
@@ -81,10 +83,10 @@ class NavigatorTest : public ::testing::Test {
 
   // Steps the robot for `seconds` and returns how far base_link moved [m].
   double movedDuring(double seconds) {
-    const tn::Pose2D a = robot_->truth();
+    const thorvald_base::Pose2D a = robot_->truth();
     runUntil([] { return false; }, seconds);
-    const tn::Pose2D b = robot_->truth();
-    return std::hypot(b.x - a.x, b.y - a.y) + std::abs(tn::normalizeAngle(b.yaw - a.yaw));
+    const thorvald_base::Pose2D b = robot_->truth();
+    return std::hypot(b.x - a.x, b.y - a.y) + std::abs(thorvald_base::normalizeAngle(b.yaw - a.yaw));
   }
 
   ros::NodeHandle nh_;
@@ -106,9 +108,9 @@ TEST_F(NavigatorTest, ReachesAGoalWithinTolerance) {
   client_->sendGoal(goal(7.0, 3.2, 1.0));
   ASSERT_TRUE(runUntil([this] { return finished(); }, 60.0));
   EXPECT_EQ(client_->getState(), actionlib::SimpleClientGoalState::SUCCEEDED) << client_->getState().getText();
-  const tn::Pose2D p = robot_->truth();
+  const thorvald_base::Pose2D p = robot_->truth();
   EXPECT_LT(std::hypot(p.x - 7.0, p.y - 3.2), 0.03);
-  EXPECT_LT(std::abs(tn::normalizeAngle(p.yaw - 1.0)), 0.03);
+  EXPECT_LT(std::abs(thorvald_base::normalizeAngle(p.yaw - 1.0)), 0.03);
   EXPECT_GE(plans_.load(), 1);
 }
 
@@ -122,7 +124,7 @@ TEST_F(NavigatorTest, AnObstacleStopsTheRobotAndItReplansAroundIt) {
   double closest = 1e9;
   ASSERT_TRUE(runUntil([this] { return finished(); }, 90.0,
                        [&] {
-                         const tn::Pose2D p = robot_->truth();
+                         const thorvald_base::Pose2D p = robot_->truth();
                          closest = std::min(closest, (Eigen::Vector2d(p.x, p.y) - box).norm());
                        }));
   // Zero commands: the stop for the obstacle, and the final one at the goal.
@@ -140,13 +142,13 @@ TEST_F(NavigatorTest, AnObstacleBesideTheRobotStopsATurnOnTheSpot) {
   const Eigen::Vector2d crate(2.2, 3.1);  // 0.2 m ahead of base_link, 0.6 m to its left
   robot_->world().addBox(crate, 0.1);
   runUntil([] { return false; }, 0.5);  // scans with the crate reach the navigator
-  const tn::Pose2D before = robot_->truth();
-  client_->sendGoal(goal(0.9, 2.5, tn::kPi));
+  const thorvald_base::Pose2D before = robot_->truth();
+  client_->sendGoal(goal(0.9, 2.5, thorvald_base::kPi));
   ASSERT_TRUE(runUntil([this] { return finished(); }, 30.0));
   EXPECT_EQ(client_->getState(), actionlib::SimpleClientGoalState::ABORTED) << client_->getState().getText();
   EXPECT_NE(client_->getState().getText().find("obstacle"), std::string::npos) << client_->getState().getText();
-  const tn::Pose2D after = robot_->truth();
-  EXPECT_LT(std::abs(tn::normalizeAngle(after.yaw - before.yaw)), 0.02) << "started the turn into the crate";
+  const thorvald_base::Pose2D after = robot_->truth();
+  EXPECT_LT(std::abs(thorvald_base::normalizeAngle(after.yaw - before.yaw)), 0.02) << "started the turn into the crate";
   EXPECT_LT(std::hypot(after.x - before.x, after.y - before.y), 0.02);
 }
 
@@ -160,7 +162,7 @@ TEST_F(NavigatorTest, MappedWallBesideThePathDoesNotStopTheRobot) {
   client_->sendGoal(goal(8.0, 0.45, 0.0));
   ASSERT_TRUE(runUntil([this] { return finished(); }, 60.0));
   EXPECT_EQ(client_->getState(), actionlib::SimpleClientGoalState::SUCCEEDED) << client_->getState().getText();
-  const tn::Pose2D p = robot_->truth();
+  const thorvald_base::Pose2D p = robot_->truth();
   EXPECT_LT(std::hypot(p.x - 8.0, p.y - 0.39), 0.03);
 }
 

@@ -33,7 +33,7 @@ class LocalizerTest : public ::testing::Test {
     pose_sub_ = nh_.subscribe<geometry_msgs::PoseWithCovarianceStamped>(
         "amcl_pose", 5, [this](const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& m) {
           std::lock_guard<std::mutex> l(mutex_);
-          pose_ = tn::fromPose(m->pose.pose);
+          pose_ = thorvald_map::fromPose(m->pose.pose);
           ++poses_;
         });
     status_sub_ =
@@ -53,21 +53,21 @@ class LocalizerTest : public ::testing::Test {
 
   double error() {
     std::lock_guard<std::mutex> l(mutex_);
-    const tn::Pose2D t = robot_->truth();
-    return std::hypot(pose_.x - t.x, pose_.y - t.y) + std::abs(tn::normalizeAngle(pose_.yaw - t.yaw));
+    const thorvald_base::Pose2D t = robot_->truth();
+    return std::hypot(pose_.x - t.x, pose_.y - t.y) + std::abs(thorvald_base::normalizeAngle(pose_.yaw - t.yaw));
   }
   std::string status() {
     std::lock_guard<std::mutex> l(mutex_);
     return status_;
   }
 
-  const tn::Pose2D start_{4.0, 2.2, 0.3};
+  const thorvald_base::Pose2D start_{4.0, 2.2, 0.3};
   ros::NodeHandle nh_;
   std::unique_ptr<tn::testing::FakeHeadlandRobot> robot_;
   ros::Publisher map_pub_, initial_pub_;
   ros::Subscriber pose_sub_, status_sub_;
   std::mutex mutex_;
-  tn::Pose2D pose_;
+  thorvald_base::Pose2D pose_;
   int poses_ = 0;
   std::string status_;
 };
@@ -75,7 +75,7 @@ class LocalizerTest : public ::testing::Test {
 TEST_F(LocalizerTest, RoughInitialPoseThenKidnappedRobotRecoveredByGlobalLocalization) {
   geometry_msgs::PoseWithCovarianceStamped guess;
   guess.header.frame_id = "map";
-  guess.pose.pose = tn::toPose({start_.x + 0.3, start_.y - 0.2, start_.yaw + 0.15});  // a click in RViz
+  guess.pose.pose = thorvald_map::toPose({start_.x + 0.3, start_.y - 0.2, start_.yaw + 0.15});  // a click in RViz
   ASSERT_TRUE(runUntil([this] { return initial_pub_.getNumSubscribers() > 0; }, 20.0));
   initial_pub_.publish(guess);
   ASSERT_TRUE(runUntil([this] { return status() == "localized" && error() < 0.05; }, 20.0)) << "error " << error();
@@ -83,11 +83,12 @@ TEST_F(LocalizerTest, RoughInitialPoseThenKidnappedRobotRecoveredByGlobalLocaliz
   tf2_ros::Buffer buffer;
   tf2_ros::TransformListener listener(buffer);
   ASSERT_TRUE(runUntil([&] { return buffer.canTransform("map", "base_link", ros::Time(0)); }, 5.0));
-  const tn::Pose2D via_tf = tn::fromTransform(buffer.lookupTransform("map", "base_link", ros::Time(0)).transform);
+  const thorvald_base::Pose2D via_tf =
+      thorvald_map::fromTransform(buffer.lookupTransform("map", "base_link", ros::Time(0)).transform);
   EXPECT_LT(std::hypot(via_tf.x - start_.x, via_tf.y - start_.y), 0.05);
 
   // Kidnapped: carried elsewhere without odometry noticing.
-  const tn::Pose2D elsewhere{11.0, 3.0, 2.5};
+  const thorvald_base::Pose2D elsewhere{11.0, 3.0, 2.5};
   robot_->setTruth(elsewhere);
   robot_->setPublishedOffset(elsewhere.inverse());  // odom -> base_link stays where it was
   ASSERT_TRUE(runUntil([this] { return status() == "lost"; }, 20.0)) << status();

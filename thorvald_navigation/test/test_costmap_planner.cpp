@@ -12,11 +12,11 @@ namespace tn = thorvald_navigation;
 namespace {
 
 // A 10 m x 4 m room with a wall from the bottom up to y = 2.5 in the middle (x = 5 m).
-tn::Grid2D roomWithBaffle() {
-  tn::Grid2D g(200, 80, 0.05, 0.0, 0.0, tn::kFree);
-  for (int x = 0; x < 200; ++x) g.at(x, 0) = g.at(x, 79) = tn::kOccupied;
-  for (int y = 0; y < 80; ++y) g.at(0, y) = g.at(199, y) = tn::kOccupied;
-  for (int y = 0; y < 50; ++y) g.at(100, y) = tn::kOccupied;
+thorvald_map::OccupancyGrid roomWithBaffle() {
+  thorvald_map::OccupancyGrid g(200, 80, 0.05, 0.0, 0.0, thorvald_map::kFree);
+  for (int x = 0; x < 200; ++x) g.at(x, 0) = g.at(x, 79) = thorvald_map::kOccupied;
+  for (int y = 0; y < 80; ++y) g.at(0, y) = g.at(199, y) = thorvald_map::kOccupied;
+  for (int y = 0; y < 50; ++y) g.at(100, y) = thorvald_map::kOccupied;
   return g;
 }
 
@@ -29,7 +29,7 @@ double minClearance(const tn::Costmap& cm, const std::vector<Eigen::Vector2d>& p
       const Eigen::Vector2d p = path[i - 1] + s * (path[i] - path[i - 1]);
       for (int y = 0; y < g.height; ++y)
         for (int x = 0; x < g.width; ++x)
-          if (cm.blocker(x, y) != tn::Blocker::kNone) best = std::min(best, (g.centerOf(x, y) - p).norm());
+          if (cm.blocker(x, y) != tn::Blocker::kNone) best = std::min(best, (g.cellCentre(x, y) - p).norm());
     }
   return best;
 }
@@ -37,7 +37,7 @@ double minClearance(const tn::Costmap& cm, const std::vector<Eigen::Vector2d>& p
 TEST(GridPlanner, GoesAroundTheWallKeepingThePlanningRadius) {
   tn::CostmapParams cp;
   cp.planning_radius_m = 0.4;
-  const tn::Costmap cm(roomWithBaffle(), tn::Grid2D(), cp);
+  const tn::Costmap cm(roomWithBaffle(), thorvald_map::OccupancyGrid(), cp);
   const tn::PlanResult r = tn::planPath(cm, {2.0, 1.0}, {8.0, 1.0}, tn::PlannerParams{});
   ASSERT_TRUE(r.ok) << r.error;
   // Over the baffle's end (y = 2.5 m + radius): at least twice hypot(3, 1.85), not much more.
@@ -49,11 +49,12 @@ TEST(GridPlanner, GoesAroundTheWallKeepingThePlanningRadius) {
 }
 
 TEST(GridPlanner, RefusesGoalsInKeepOutWallsAndUnknownWithTheReason) {
-  tn::Grid2D map = roomWithBaffle();
+  thorvald_map::OccupancyGrid map = roomWithBaffle();
   for (int y = 60; y < 79; ++y)
-    for (int x = 150; x < 199; ++x) map.at(x, y) = tn::kUnknown;
-  tn::Grid2D keep_out(20, 8, 0.5, 0.0, 0.0, tn::kFree);  // coarser grid than the map: resampled
-  for (int x = 0; x < 20; ++x) keep_out.at(x, 6) = keep_out.at(x, 7) = tn::kOccupied;  // y >= 3 m
+    for (int x = 150; x < 199; ++x) map.at(x, y) = thorvald_map::kUnknown;
+  thorvald_map::OccupancyGrid keep_out(20, 8, 0.5, 0.0, 0.0,
+                                       thorvald_map::kFree);  // coarser grid than the map: resampled
+  for (int x = 0; x < 20; ++x) keep_out.at(x, 6) = keep_out.at(x, 7) = thorvald_map::kOccupied;  // y >= 3 m
   const tn::Costmap cm(map, keep_out, tn::CostmapParams{});
   const auto behind = tn::planPath(cm, {2.0, 1.0}, {3.0, 3.5}, tn::PlannerParams{});
   EXPECT_FALSE(behind.ok);
@@ -72,13 +73,13 @@ TEST(GridPlanner, RefusesGoalsInKeepOutWallsAndUnknownWithTheReason) {
 }
 
 TEST(GridPlanner, ObstaclesBlockAndReplanGoesAround) {
-  tn::Grid2D map(200, 80, 0.05, 0.0, 0.0, tn::kFree);
-  tn::Costmap cm(map, tn::Grid2D(), tn::CostmapParams{});
+  thorvald_map::OccupancyGrid map(200, 80, 0.05, 0.0, 0.0, thorvald_map::kFree);
+  tn::Costmap cm(map, thorvald_map::OccupancyGrid(), tn::CostmapParams{});
   const auto straight = tn::planPath(cm, {1.0, 2.0}, {9.0, 2.0}, tn::PlannerParams{});
   ASSERT_TRUE(straight.ok);
   EXPECT_NEAR(straight.length_m, 8.0, 0.05);
   std::vector<Eigen::Vector2d> person;
-  for (double a = 0.0; a < 2 * tn::kPi; a += 0.1)
+  for (double a = 0.0; a < 2 * thorvald_base::kPi; a += 0.1)
     person.emplace_back(5.0 + 0.25 * std::cos(a), 2.0 + 0.25 * std::sin(a));
   cm.setObstacles(person);
   const tn::Footprint fp = tn::rectangleFootprint(-0.5, 0.5, -0.3, 0.3);
@@ -96,15 +97,15 @@ TEST(GridPlanner, ObstaclesBlockAndReplanGoesAround) {
 // starting 0.08 m past it at y = 2.8 m, and a mapped post (0.2 m square) at (3.65, 2.8), 6 cm beside the
 // robot's padded box on its way from (4.2, 2) to (4.2, 3.6).
 struct EdgeScene {
-  tn::Grid2D map{160, 120, 0.05, 0.0, 0.0, tn::kFree};
-  tn::Grid2D keep_out{160, 120, 0.05, 0.0, 0.0, tn::kFree};
+  thorvald_map::OccupancyGrid map{160, 120, 0.05, 0.0, 0.0, thorvald_map::kFree};
+  thorvald_map::OccupancyGrid keep_out{160, 120, 0.05, 0.0, 0.0, thorvald_map::kFree};
   EdgeScene() {
     for (int y = 0; y < map.height; ++y)
       for (int x = 0; x < map.width; ++x) {
-        const Eigen::Vector2d c = map.centerOf(x, y);
-        if (c.x() > 5.0) keep_out.at(x, y) = tn::kOccupied;
-        if (c.x() > 5.08 && std::abs(c.y() - 2.8) < 0.08) map.at(x, y) = tn::kOccupied;
-        if (std::abs(c.x() - 3.65) < 0.1 && std::abs(c.y() - 2.8) < 0.1) map.at(x, y) = tn::kOccupied;
+        const Eigen::Vector2d c = map.cellCentre(x, y);
+        if (c.x() > 5.0) keep_out.at(x, y) = thorvald_map::kOccupied;
+        if (c.x() > 5.08 && std::abs(c.y() - 2.8) < 0.08) map.at(x, y) = thorvald_map::kOccupied;
+        if (std::abs(c.x() - 3.65) < 0.1 && std::abs(c.y() - 2.8) < 0.1) map.at(x, y) = thorvald_map::kOccupied;
       }
   }
 };
@@ -117,7 +118,7 @@ TEST(ObstacleCheck, LidarPointsOnMappedStructureBesideThePathDoNotStopTheRobot) 
   tn::Costmap cm(scene.map, scene.keep_out, tn::CostmapParams{});
   const tn::Footprint fp = greenhouseFootprint();
   // From one target 0.8 m before the edge to the next 1.6 m along it: turn left, drive, turn back.
-  const tn::Pose2D start{4.2, 2.0, 0.0};
+  const thorvald_base::Pose2D start{4.2, 2.0, 0.0};
   const std::vector<Eigen::Vector2d> path{{4.2, 2.0}, {4.2, 3.6}};
   std::mt19937 rng(15);
   std::normal_distribution<double> noise(0.0, 0.02);  // range noise and the localiser's error
@@ -151,7 +152,7 @@ TEST(ObstacleCheck, UnmappedPointsInTheSweptFootprintStopTheRobot) {
   const EdgeScene scene;
   tn::Costmap cm(scene.map, scene.keep_out, tn::CostmapParams{});
   const tn::Footprint fp = greenhouseFootprint();
-  const tn::Pose2D start{4.2, 2.0, 0.0};
+  const thorvald_base::Pose2D start{4.2, 2.0, 0.0};
   const std::vector<Eigen::Vector2d> path{{4.2, 2.0}, {4.2, 3.6}};
   // A small unmapped object (a crate, a foot) on the way: 1 m along the path.
   std::mt19937 rng(7);
@@ -159,7 +160,8 @@ TEST(ObstacleCheck, UnmappedPointsInTheSweptFootprintStopTheRobot) {
   for (int trial = 0; trial < 20; ++trial) {
     const Eigen::Vector2d c(4.2 + jitter(rng), 3.0 + jitter(rng));
     std::vector<Eigen::Vector2d> pts;
-    for (double a = 0.0; a < 2 * tn::kPi; a += 0.3) pts.push_back(c + 0.06 * Eigen::Vector2d(std::cos(a), std::sin(a)));
+    for (double a = 0.0; a < 2 * thorvald_base::kPi; a += 0.3)
+      pts.push_back(c + 0.06 * Eigen::Vector2d(std::cos(a), std::sin(a)));
     cm.setObstacles(pts);
     EXPECT_EQ(cm.obstaclePoints(), pts.size());
     const double d = tn::sweptObstacleDistance(cm, fp, start, path, 1, 2.5, false);
@@ -182,9 +184,9 @@ TEST(ObstacleCheck, UnmappedPointsInTheSweptFootprintStopTheRobot) {
   cm.setObstacles({{4.0, 2.1}});
   EXPECT_NEAR(tn::sweptObstacleDistance(cm, fp, start, {}, 0, 2.5, false), 0.0, 1e-9);
   // An obstacle under a mapped wall's cell is the wall; unknown-space points far from walls are obstacles.
-  tn::Grid2D map = scene.map;
+  thorvald_map::OccupancyGrid map = scene.map;
   for (int y = 100; y < 120; ++y)
-    for (int x = 0; x < 40; ++x) map.at(x, y) = tn::kUnknown;
+    for (int x = 0; x < 40; ++x) map.at(x, y) = thorvald_map::kUnknown;
   tn::Costmap cm2(map, scene.keep_out, tn::CostmapParams{});
   cm2.setObstacles({{0.5, 5.5}, {3.65, 2.8}, {std::nan(""), 1.0}});
   EXPECT_EQ(cm2.obstaclePoints(), 1u);
@@ -203,12 +205,12 @@ TEST(ObstacleCheck, AnObstacleInTheRearsSweepStopsATurnOnTheSpot) {
   const EdgeScene scene;
   tn::Costmap cm(scene.map, scene.keep_out, tn::CostmapParams{});
   const tn::Footprint fp = greenhouseFootprint();
-  const tn::Pose2D start{4.2, 2.0, 0.0};
+  const thorvald_base::Pose2D start{4.2, 2.0, 0.0};
   const std::vector<Eigen::Vector2d> path{{4.2, 2.0}, {4.2, 3.6}};
   const double reach = fp.circumscribedRadius();  // 0.99 m: the rear corners' circle
   std::mt19937 rng(21);
-  std::uniform_real_distribution<double> bearing(-0.77 * tn::kPi, -0.73 * tn::kPi), inside(0.72, 0.86),
-      outside(reach + 0.08, reach + 0.4);
+  std::uniform_real_distribution<double> bearing(-0.77 * thorvald_base::kPi, -0.73 * thorvald_base::kPi),
+      inside(0.72, 0.86), outside(reach + 0.08, reach + 0.4);
   for (int trial = 0; trial < 20; ++trial) {
     const double b = bearing(rng);
     const Eigen::Vector2d dir(std::cos(b), std::sin(b));
@@ -218,11 +220,13 @@ TEST(ObstacleCheck, AnObstacleInTheRearsSweepStopsATurnOnTheSpot) {
     // Not under the box at the start nor at any point of the straight drive: only the turn meets it.
     EXPECT_EQ(cm.footprintBlocker(start, fp), tn::Blocker::kNone) << trial;
     for (double y = 2.0; y <= 3.6; y += 0.05)
-      EXPECT_EQ(cm.footprintBlocker({4.2, y, tn::kPi / 2}, fp), tn::Blocker::kNone) << trial;
+      EXPECT_EQ(cm.footprintBlocker({4.2, y, thorvald_base::kPi / 2}, fp), tn::Blocker::kNone) << trial;
     EXPECT_NEAR(tn::sweptObstacleDistance(cm, fp, start, path, 1, 1.5, false), 0.0, 1e-9) << trial;
-    EXPECT_TRUE(tn::turnTouches(cm, fp, {start.x, start.y}, 0.0, tn::kPi / 2, tn::Blocker::kObstacle)) << trial;
+    EXPECT_TRUE(tn::turnTouches(cm, fp, {start.x, start.y}, 0.0, thorvald_base::kPi / 2, tn::Blocker::kObstacle))
+        << trial;
     // Turning right instead (the other way round) the rear swings the other side: clear.
-    EXPECT_FALSE(tn::turnTouches(cm, fp, {start.x, start.y}, 0.0, -tn::kPi / 2 + 1e-3, tn::Blocker::kObstacle));
+    EXPECT_FALSE(
+        tn::turnTouches(cm, fp, {start.x, start.y}, 0.0, -thorvald_base::kPi / 2 + 1e-3, tn::Blocker::kObstacle));
     cm.setObstacles({Eigen::Vector2d(start.x, start.y) + outside(rng) * dir});
     EXPECT_LT(tn::sweptObstacleDistance(cm, fp, start, path, 1, 1.5, false), 0.0) << trial;
   }
@@ -240,11 +244,11 @@ TEST(ObstacleCheck, AnObstacleInTheRearsSweepStopsATurnOnTheSpot) {
   ASSERT_EQ(cm.obstaclePoints(), 1u);
   EXPECT_LT(tn::sweptObstacleDistance(cm, fp, start, path, 1, 2.5, true), 0.0);
   EXPECT_LT(tn::sweptObstacleDistance(cm, fp, start, path, 1, 2.5, true, 0.0), 0.0);
-  EXPECT_NEAR(tn::sweptObstacleDistance(cm, fp, start, path, 1, 2.5, true, tn::kPi / 2), 0.0, 1e-9);
+  EXPECT_NEAR(tn::sweptObstacleDistance(cm, fp, start, path, 1, 2.5, true, thorvald_base::kPi / 2), 0.0, 1e-9);
 }
 
 TEST(GridPlanner, StartInsideThePlanningRadiusCanLeave) {
-  const tn::Costmap cm(roomWithBaffle(), tn::Grid2D(), tn::CostmapParams{});
+  const tn::Costmap cm(roomWithBaffle(), thorvald_map::OccupancyGrid(), tn::CostmapParams{});
   const auto r = tn::planPath(cm, {0.2, 2.0}, {3.0, 2.0}, tn::PlannerParams{});
   EXPECT_TRUE(r.ok) << r.error;
 }
@@ -270,7 +274,7 @@ TEST(GridPlanner, PlansOnVariedHeadlandsBetweenRandomFloorPoints) {
     o.seed = seed;
     o.length_m = 12.0 + 2.0 * seed;
     const tn::testing::SyntheticHeadland world(o);
-    const tn::Costmap cm(world.truthMap(0.05), tn::Grid2D(), tn::CostmapParams{});
+    const tn::Costmap cm(world.truthMap(0.05), thorvald_map::OccupancyGrid(), tn::CostmapParams{});
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> x(1.0, o.length_m - 1.0), y(1.0, o.depth_m - 1.0);
     for (int i = 0; i < 4; ++i) {

@@ -5,13 +5,13 @@
 
 #include "thorvald_navigation/distance_field.h"
 
+using thorvald_map::OccupancyGrid;
 using thorvald_navigation::DistanceField;
-using thorvald_navigation::Grid2D;
 
 namespace {
 
 TEST(DistanceField, MatchesBruteForceEuclideanDistance) {
-  Grid2D g(40, 30, 0.1, -2.0, 1.0, 0);
+  thorvald_map::OccupancyGrid g(40, 30, 0.1, -2.0, 1.0, 0);
   const int walls[][2] = {{3, 4}, {20, 20}, {39, 0}, {10, 29}, {25, 7}};
   for (const auto& w : walls) g.at(w[0], w[1]) = 100;
   const DistanceField f(g, 10.0);
@@ -25,7 +25,7 @@ TEST(DistanceField, MatchesBruteForceEuclideanDistance) {
 }
 
 TEST(DistanceField, ClampsInterpolatesAndPointsAwayFromWalls) {
-  Grid2D g(50, 50, 0.05, 0.0, 0.0, 0);
+  thorvald_map::OccupancyGrid g(50, 50, 0.05, 0.0, 0.0, 0);
   for (int y = 0; y < 50; ++y) g.at(25, y) = 100;  // a wall along x = 1.275 m
   const DistanceField f(g, 0.5);
   EXPECT_NEAR(f.cellDistance(0, 10), 0.5, 1e-6);
@@ -41,12 +41,12 @@ TEST(DistanceField, ClampsInterpolatesAndPointsAwayFromWalls) {
 }
 
 TEST(DistanceField, EmptyAndWallFreeGrids) {
-  const DistanceField empty(Grid2D(), 1.0);
+  const DistanceField empty(thorvald_map::OccupancyGrid(), 1.0);
   EXPECT_TRUE(empty.empty());
   EXPECT_EQ(empty.distance({0, 0}), 1.0);
-  const DistanceField free_only(Grid2D(10, 10, 0.1, 0, 0, 0), 0.7);
+  const DistanceField free_only(thorvald_map::OccupancyGrid(10, 10, 0.1, 0, 0, 0), 0.7);
   EXPECT_NEAR(free_only.cellDistance(5, 5), 0.7, 1e-6);
-  const DistanceField unknown_only(Grid2D(10, 10, 0.1, 0, 0, -1), 0.7);  // unknown is not a wall
+  const DistanceField unknown_only(thorvald_map::OccupancyGrid(10, 10, 0.1, 0, 0, -1), 0.7);  // unknown is not a wall
   EXPECT_EQ(unknown_only.occupiedCells(), 0);
 }
 
@@ -58,8 +58,8 @@ namespace {
 // random walls drawn and erased over several rounds.
 TEST(DistanceField, UpdateEqualsRebuild) {
   std::mt19937 rng(5);
-  Grid2D g(150, 120, 0.025, -1.0, 2.0, 0);
-  thorvald_navigation::WallSurface s;
+  thorvald_map::OccupancyGrid g(150, 120, 0.025, -1.0, 2.0, 0);
+  thorvald_map::WallSurface s;
   s.hits.assign(g.data.size(), 0.0f);
   s.mean_m.assign(g.data.size(), Eigen::Vector2f::Zero());
   std::uniform_int_distribution<int> ux(0, 149), uy(0, 119), len(3, 40);
@@ -74,7 +74,7 @@ TEST(DistanceField, UpdateEqualsRebuild) {
       if (g.data[i] != value) changed->push_back(static_cast<int>(i));
       g.data[i] = value;
       if (value == 100) {
-        const Eigen::Vector2d c = g.centerOf(x, y);
+        const Eigen::Vector2d c = g.cellCentre(x, y);
         s.mean_m[i] = Eigen::Vector2f(static_cast<float>(c.x() + (sub(rng) - 0.5) * 0.025),
                                       static_cast<float>(c.y() + (sub(rng) - 0.5) * 0.025));
         s.hits[i] += 1.0f;

@@ -11,16 +11,16 @@ namespace {
 
 // A 8 m x 5 m floor walled round with a pillar at (6.5, 1.0), a keep-out zone beyond y = 4.2 (the headland edge).
 struct Floor {
-  tn::Grid2D map{160, 100, 0.05, 0.0, 0.0, tn::kFree};
-  tn::Grid2D keep_out{160, 100, 0.05, 0.0, 0.0, tn::kFree};
+  thorvald_map::OccupancyGrid map{160, 100, 0.05, 0.0, 0.0, thorvald_map::kFree};
+  thorvald_map::OccupancyGrid keep_out{160, 100, 0.05, 0.0, 0.0, thorvald_map::kFree};
   Floor() {
-    for (int x = 0; x < map.width; ++x) map.at(x, 0) = map.at(x, map.height - 1) = tn::kOccupied;
-    for (int y = 0; y < map.height; ++y) map.at(0, y) = map.at(map.width - 1, y) = tn::kOccupied;
+    for (int x = 0; x < map.width; ++x) map.at(x, 0) = map.at(x, map.height - 1) = thorvald_map::kOccupied;
+    for (int y = 0; y < map.height; ++y) map.at(0, y) = map.at(map.width - 1, y) = thorvald_map::kOccupied;
     for (int y = 0; y < map.height; ++y)
       for (int x = 0; x < map.width; ++x)
-        if (map.centerOf(x, y).y() > 4.2) keep_out.at(x, y) = tn::kOccupied;
+        if (map.cellCentre(x, y).y() > 4.2) keep_out.at(x, y) = thorvald_map::kOccupied;
     for (int y = 18; y < 22; ++y)
-      for (int x = 128; x < 132; ++x) map.at(x, y) = tn::kOccupied;
+      for (int x = 128; x < 132; ++x) map.at(x, y) = thorvald_map::kOccupied;
   }
 };
 
@@ -29,9 +29,11 @@ const tn::Footprint kBox = tn::rectangleFootprint(-0.91, 0.23, -0.33, 0.33);
 TEST(GoalApproach, RefusesGoalsOnTheKeepOutZoneWallsAndObstaclesWithTheReason) {
   const Floor f;
   tn::Costmap cm(f.map, f.keep_out, tn::CostmapParams{});
-  const tn::Pose2D start{2.0, 2.0, 0.0};
-  auto plan = [&](const tn::Pose2D& g) { return tn::planToGoal(cm, kBox, start, g, tn::PlannerParams{}, 0.3); };
-  tn::GoalPlan r = plan({5.0, 4.1, tn::kPi / 2});  // its front over the edge
+  const thorvald_base::Pose2D start{2.0, 2.0, 0.0};
+  auto plan = [&](const thorvald_base::Pose2D& g) {
+    return tn::planToGoal(cm, kBox, start, g, tn::PlannerParams{}, 0.3);
+  };
+  tn::GoalPlan r = plan({5.0, 4.1, thorvald_base::kPi / 2});  // its front over the edge
   EXPECT_FALSE(r.ok);
   EXPECT_FALSE(r.blocked_by_obstacle);
   EXPECT_NE(r.error.find("keep-out"), std::string::npos) << r.error;
@@ -53,10 +55,10 @@ TEST(GoalApproach, PathEndsWithTheFinalApproachAlongTheGoalsHeading) {
   const Floor f;
   const tn::Costmap cm(f.map, f.keep_out, tn::CostmapParams{});
   std::mt19937 rng(12);
-  std::uniform_real_distribution<double> x(1.5, 6.5), y(1.3, 3.0), yaw(-tn::kPi, tn::kPi);
+  std::uniform_real_distribution<double> x(1.5, 6.5), y(1.3, 3.0), yaw(-thorvald_base::kPi, thorvald_base::kPi);
   int checked = 0;
   for (int trial = 0; trial < 30; ++trial) {
-    const tn::Pose2D start{x(rng), y(rng), yaw(rng)}, goal{x(rng), y(rng), yaw(rng)};
+    const thorvald_base::Pose2D start{x(rng), y(rng), yaw(rng)}, goal{x(rng), y(rng), yaw(rng)};
     const tn::GoalPlan r = tn::planToGoal(cm, kBox, start, goal, tn::PlannerParams{}, 0.3);
     if (!r.ok) continue;  // a footprint near a wall at a random heading
     ++checked;
@@ -74,7 +76,7 @@ TEST(GoalApproach, PathEndsWithTheFinalApproachAlongTheGoalsHeading) {
   EXPECT_GT(checked, 15);
   // No approach where it would put the footprint over the edge: the goal faces away from the edge, 0.5 m before it,
   // so the approach's start lies beyond.
-  const tn::Pose2D near_edge{4.0, 3.9, -tn::kPi / 2};
+  const thorvald_base::Pose2D near_edge{4.0, 3.9, -thorvald_base::kPi / 2};
   const auto path = tn::withFinalApproach(cm, kBox, {{2.0, 2.0}, {4.0, 3.9}}, near_edge, 0.5);
   EXPECT_EQ(path.size(), 2u);
 }
@@ -83,8 +85,8 @@ TEST(GoalApproach, PathEndsWithTheFinalApproachAlongTheGoalsHeading) {
 TEST(GoalApproach, ApproachAgainBacksOffStraightForADifferentialRobot) {
   const Floor f;
   const tn::Costmap cm(f.map, f.keep_out, tn::CostmapParams{});
-  const tn::Pose2D goal{4.0, 2.0, 0.3};
-  const tn::Pose2D settled{goal.x + 0.02, goal.y - 0.015, goal.yaw + 0.01};
+  const thorvald_base::Pose2D goal{4.0, 2.0, 0.3};
+  const thorvald_base::Pose2D settled{goal.x + 0.02, goal.y - 0.015, goal.yaw + 0.01};
   const tn::Approach a = tn::approachAgain(cm, kBox, settled, goal, 0.3, false);
   EXPECT_TRUE(a.reverse);
   EXPECT_TRUE(a.then_to_goal);
@@ -104,7 +106,7 @@ TEST(GoalApproach, ArrivalJudgeCountsCorrectionsThenFails) {
   p.max_corrections = 2;
   ASSERT_EQ(p.validate(), "");
   tn::ArrivalJudge j(p);
-  const tn::Pose2D goal{1.0, 2.0, 0.5};
+  const thorvald_base::Pose2D goal{1.0, 2.0, 0.5};
   EXPECT_EQ(j.judge({1.006, 2.006, 0.51}, goal).verdict, tn::ArrivalVerdict::kReached);
   EXPECT_EQ(j.judge({1.009, 2.006, 0.51}, goal).verdict, tn::ArrivalVerdict::kApproachAgain);  // 1.08 cm
   EXPECT_EQ(j.judge({1.0, 2.0, 0.52}, goal).verdict, tn::ArrivalVerdict::kApproachAgain);      // 0.02 rad
@@ -129,14 +131,14 @@ const tn::Footprint kFrame = tn::rectangleFootprint(-0.85, 0.2, -0.46, 0.46);
 
 // An 8 m x 5 m floor, walled round, plus walls along y = from_y..to_y (rows) between x = 0.5 and 7.5 if asked.
 tn::Costmap walledFloor(double corridor_low = -1.0, double corridor_high = -1.0) {
-  tn::Grid2D map{160, 100, 0.05, 0.0, 0.0, tn::kFree};
-  for (int x = 0; x < map.width; ++x) map.at(x, 0) = map.at(x, map.height - 1) = tn::kOccupied;
-  for (int y = 0; y < map.height; ++y) map.at(0, y) = map.at(map.width - 1, y) = tn::kOccupied;
+  thorvald_map::OccupancyGrid map{160, 100, 0.05, 0.0, 0.0, thorvald_map::kFree};
+  for (int x = 0; x < map.width; ++x) map.at(x, 0) = map.at(x, map.height - 1) = thorvald_map::kOccupied;
+  for (int y = 0; y < map.height; ++y) map.at(0, y) = map.at(map.width - 1, y) = thorvald_map::kOccupied;
   for (double wy : {corridor_low, corridor_high}) {
     if (wy < 0.0) continue;
-    for (int x = 10; x < 150; ++x) map.at(x, static_cast<int>(wy / 0.05)) = tn::kOccupied;
+    for (int x = 10; x < 150; ++x) map.at(x, static_cast<int>(wy / 0.05)) = thorvald_map::kOccupied;
   }
-  return tn::Costmap(map, tn::Grid2D{}, tn::CostmapParams{});
+  return tn::Costmap(map, thorvald_map::OccupancyGrid{}, tn::CostmapParams{});
 }
 
 }  // namespace
@@ -146,7 +148,7 @@ tn::Costmap walledFloor(double corridor_low = -1.0, double corridor_high = -1.0)
 // start and drives that stretch forward.
 TEST(GoalApproach, BesideAWallADifferentialRobotBacksAlongThePathRatherThanTurnItsRearIntoTheWall) {
   const tn::Costmap cm = walledFloor();
-  const tn::Pose2D start{3.0, 4.15, 0.0}, goal{3.0, 2.55, 0.0};  // the wall's cells begin at y = 4.95
+  const thorvald_base::Pose2D start{3.0, 4.15, 0.0}, goal{3.0, 2.55, 0.0};  // the wall's cells begin at y = 4.95
   const tn::GoalPlan plan = tn::planToGoal(cm, kFrame, start, goal, tn::PlannerParams{}, 0.3);
   ASSERT_TRUE(plan.ok) << plan.error;
   const tn::PathDirection d = tn::choosePathDirection(cm, kFrame, start, plan.path, goal, false);
@@ -157,8 +159,8 @@ TEST(GoalApproach, BesideAWallADifferentialRobotBacksAlongThePathRatherThanTurnI
   EXPECT_NEAR(d.approach.first_target.y, 2.55, 1e-6);
   EXPECT_DOUBLE_EQ(d.approach.first_target.yaw, goal.yaw);
   // The forward way's first turn is the one that meets the wall.
-  EXPECT_TRUE(tn::turnTouches(cm, kFrame, {3.0, 4.15}, 0.0, -tn::kPi / 2, tn::Blocker::kWall));
-  EXPECT_FALSE(tn::turnTouches(cm, kFrame, {3.0, 4.15}, 0.0, tn::kPi / 2, tn::Blocker::kWall));
+  EXPECT_TRUE(tn::turnTouches(cm, kFrame, {3.0, 4.15}, 0.0, -thorvald_base::kPi / 2, tn::Blocker::kWall));
+  EXPECT_FALSE(tn::turnTouches(cm, kFrame, {3.0, 4.15}, 0.0, thorvald_base::kPi / 2, tn::Blocker::kWall));
   // Omnidirectional robots are not checked here.
   const tn::PathDirection omni = tn::choosePathDirection(cm, kFrame, start, plan.path, goal, true);
   EXPECT_TRUE(omni.ok);
@@ -169,10 +171,10 @@ TEST(GoalApproach, BesideAWallADifferentialRobotBacksAlongThePathRatherThanTurnI
 TEST(GoalApproach, InTheOpenPathsAreDrivenForward) {
   const tn::Costmap cm = walledFloor();
   std::mt19937 rng(5);
-  std::uniform_real_distribution<double> x(2.0, 6.0), y(1.8, 3.2), yaw(-tn::kPi, tn::kPi);
+  std::uniform_real_distribution<double> x(2.0, 6.0), y(1.8, 3.2), yaw(-thorvald_base::kPi, thorvald_base::kPi);
   int checked = 0;
   for (int trial = 0; trial < 20; ++trial) {
-    const tn::Pose2D start{x(rng), y(rng), yaw(rng)}, goal{x(rng), y(rng), yaw(rng)};
+    const thorvald_base::Pose2D start{x(rng), y(rng), yaw(rng)}, goal{x(rng), y(rng), yaw(rng)};
     const tn::GoalPlan plan = tn::planToGoal(cm, kFrame, start, goal, tn::PlannerParams{}, 0.3);
     if (!plan.ok) continue;
     const tn::PathDirection d = tn::choosePathDirection(cm, kFrame, start, plan.path, goal, false);
@@ -187,13 +189,13 @@ TEST(GoalApproach, InTheOpenPathsAreDrivenForward) {
 // A corridor 1.6 m wide: the final quarter turn sweeps a wall whichever way the robot drives: refused, naming it.
 TEST(GoalApproach, ATurnNoDirectionClearsIsRefusedWithTheReason) {
   const tn::Costmap cm = walledFloor(2.0, 3.6);
-  const tn::Pose2D start{2.0, 2.8, 0.0}, goal{5.0, 2.8, tn::kPi / 2};
+  const thorvald_base::Pose2D start{2.0, 2.8, 0.0}, goal{5.0, 2.8, thorvald_base::kPi / 2};
   const tn::PathDirection d = tn::choosePathDirection(cm, kFrame, start, {{2.0, 2.8}, {5.0, 2.8}}, goal, false);
   EXPECT_FALSE(d.ok);
   EXPECT_NE(d.error.find("final turn"), std::string::npos) << d.error;
   EXPECT_NE(d.error.find("wall"), std::string::npos) << d.error;
   // Standing where its footprint already overlaps the wall, that overlap is not held against a turn.
-  const tn::Pose2D squeezed{2.0, 2.4, 0.0};  // the frame reaches y = 1.94
+  const thorvald_base::Pose2D squeezed{2.0, 2.4, 0.0};  // the frame reaches y = 1.94
   const tn::PathDirection s =
       tn::choosePathDirection(cm, kFrame, squeezed, {{2.0, 2.4}, {2.0, 3.05}, {4.0, 3.05}}, {4.0, 3.05, 0.0}, false);
   EXPECT_TRUE(s.ok) << s.error;

@@ -22,7 +22,7 @@ struct Track {
 // Drives a slalom along the headland at 0.4 m/s with 40 Hz scans; odometry has scale and yaw-rate errors.
 Track track(std::uint32_t seed, tn::MapLocalizer* loc, const SyntheticHeadland& world, bool start_known) {
   std::mt19937 rng(seed);
-  tn::Pose2D truth{1.5, world.options().depth_m - 0.9, 0.0}, odom{};  // clear of the clutter band
+  thorvald_base::Pose2D truth{1.5, world.options().depth_m - 0.9, 0.0}, odom{};  // clear of the clutter band
   if (start_known) loc->setPose(truth, odom);
   const double dt = 0.025;
   double sum_xy = 0.0, sum_yaw = 0.0;
@@ -31,12 +31,12 @@ Track track(std::uint32_t seed, tn::MapLocalizer* loc, const SyntheticHeadland& 
   const double duration = (world.options().length_m - 4.0) / 0.4;
   for (double time = 0.0; time < duration; time += dt) {
     const double v = 0.4, w = 0.1 * std::sin(0.5 * time);
-    truth = truth * tn::Pose2D{v * dt, 0.0, w * dt};
-    odom = odom * tn::Pose2D{v * 1.03 * dt, 0.0, (w * 1.02 + 0.01) * dt};
+    truth = truth * thorvald_base::Pose2D{v * dt, 0.0, w * dt};
+    odom = odom * thorvald_base::Pose2D{v * 1.03 * dt, 0.0, (w * 1.02 + 0.01) * dt};
     const auto pts = world.scan(truth, kSensor, 1081, -2.356, 2.356, 30.0, 0.01, &rng);
     const tn::LocalizationUpdate u = loc->update(odom, pts);
     const double exy = std::hypot(u.pose.x - truth.x, u.pose.y - truth.y);
-    const double eyaw = tn::normalizeAngle(u.pose.yaw - truth.yaw);
+    const double eyaw = thorvald_base::normalizeAngle(u.pose.yaw - truth.yaw);
     if (time > 2.0) {  // after the first global fix has settled
       sum_xy += exy * exy;
       sum_yaw += eyaw * eyaw;
@@ -78,7 +78,7 @@ TEST(MapLocalizer, KidnappedRobotRecoversByGlobalLocalization) {
   ASSERT_EQ(loc.setMap(world.truthMap(0.05)), "");
   // Told it is somewhere it is not: tracking fails and reports lost.
   std::mt19937 rng(1);
-  const tn::Pose2D truth{9.0, 2.5, 2.0};
+  const thorvald_base::Pose2D truth{9.0, 2.5, 2.0};
   loc.setPose({4.0, 1.5, 0.0}, {});
   const auto pts = world.scan(truth, kSensor, 1081, -2.356, 2.356, 30.0, 0.01, &rng);
   for (int i = 0; i < 20; ++i) loc.update({}, pts);
@@ -88,7 +88,7 @@ TEST(MapLocalizer, KidnappedRobotRecoversByGlobalLocalization) {
   EXPECT_TRUE(g.used) << g.message;
   EXPECT_NEAR(g.pose.x, truth.x, 0.05);
   EXPECT_NEAR(g.pose.y, truth.y, 0.05);
-  EXPECT_NEAR(tn::normalizeAngle(g.pose.yaw - truth.yaw), 0.0, 0.02);
+  EXPECT_NEAR(thorvald_base::normalizeAngle(g.pose.yaw - truth.yaw), 0.0, 0.02);
   EXPECT_EQ(g.status, tn::LocalizationStatus::kUncertain);  // until confirmed by the next scans
   for (int i = 0; i < 10; ++i) loc.update({}, pts);
   EXPECT_EQ(loc.status(), tn::LocalizationStatus::kLocalized);
@@ -111,12 +111,12 @@ JumpRun odometryJump(std::uint32_t seed, double jump_m, double jump_dir_rad, con
   tn::MapLocalizer loc{params};
   EXPECT_EQ(loc.setMap(world.truthMap(0.05)), "");
   std::mt19937 rng(seed);
-  const tn::Pose2D truth{4.0 + 0.5 * seed, o.depth_m - 1.0, 0.2 * seed};
-  tn::Pose2D odom{1.0, -2.0, 0.3};
+  const thorvald_base::Pose2D truth{4.0 + 0.5 * seed, o.depth_m - 1.0, 0.2 * seed};
+  thorvald_base::Pose2D odom{1.0, -2.0, 0.3};
   loc.setPose(truth, odom);
   for (int i = 0; i < 10; ++i) loc.update(odom, world.scan(truth, kSensor, 1081, -2.356, 2.356, 30.0, 0.01, &rng));
   EXPECT_EQ(loc.status(), tn::LocalizationStatus::kLocalized);
-  odom = odom * tn::Pose2D{jump_m * std::cos(jump_dir_rad), jump_m * std::sin(jump_dir_rad), 0.0};
+  odom = odom * thorvald_base::Pose2D{jump_m * std::cos(jump_dir_rad), jump_m * std::sin(jump_dir_rad), 0.0};
   JumpRun r;
   for (int i = 1; i <= 60; ++i) {
     const auto u = loc.update(odom, world.scan(truth, kSensor, 1081, -2.356, 2.356, 30.0, 0.01, &rng));
@@ -161,8 +161,8 @@ TEST(MapLocalizer, WithoutTheRecheckAJumpStaysLost) {
 TEST(MapLocalizer, NoPoseNoMapAndBadInput) {
   tn::MapLocalizer loc{tn::LocalizerParams{}};
   EXPECT_EQ(loc.update({}, {{1, 0}}).message, "no map");
-  EXPECT_NE(loc.setMap(tn::Grid2D(10, 10, 0.1, 0, 0, 0)), "");  // no walls
-  EXPECT_NE(loc.setMap(tn::Grid2D()), "");
+  EXPECT_NE(loc.setMap(thorvald_map::OccupancyGrid(10, 10, 0.1, 0, 0, 0)), "");  // no walls
+  EXPECT_NE(loc.setMap(thorvald_map::OccupancyGrid()), "");
   const SyntheticHeadland world(HeadlandOptions{});
   ASSERT_EQ(loc.setMap(world.truthMap(0.05)), "");
   std::mt19937 rng(2);

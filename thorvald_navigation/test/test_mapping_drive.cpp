@@ -10,9 +10,7 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
-#include "thorvald_navigation/pose2d.h"
-
-namespace tn = thorvald_navigation;
+#include "thorvald_base/pose2d.h"
 
 namespace {
 
@@ -38,27 +36,27 @@ struct Headland {
 };
 
 // Smallest clearance of the frame's corners to the headland's bounds over the whole drive [m] (negative: collision).
-double minClearance(const std::vector<Segment>& drive, const tn::Pose2D& start, const Headland& h) {
-  tn::Pose2D pose = start;
+double minClearance(const std::vector<Segment>& drive, const thorvald_base::Pose2D& start, const Headland& h) {
+  thorvald_base::Pose2D pose = start;
   double worst = 1e9;
   const double dt = 0.01;
   auto check = [&]() {
     for (const auto& c : kFrameCorners) {
-      const Eigen::Vector2d p = pose.transform(c);
+      const Eigen::Vector2d p = pose.transformPoint(c);
       worst = std::min({worst, p.x() - h.rear_x, h.edge_x - p.x(), p.y() - h.side_y_min, h.side_y_max - p.y()});
     }
   };
   check();
   for (const auto& s : drive)
     for (double t = 0.0; t < s.duration_s; t += dt) {
-      pose = pose * tn::Pose2D{s.vx_mps * dt, 0.0, s.wz_radps * dt};
+      pose = pose * thorvald_base::Pose2D{s.vx_mps * dt, 0.0, s.wz_radps * dt};
       check();
     }
   return worst;
 }
 
 const std::string kDrive = std::string(THORVALD_NAVIGATION_SOURCE_DIR) + "/config/greenhouse_mapping_drive.yaml";
-const tn::Pose2D kStart{-2.5, 0.0, 0.0};  // thorvald_bringup's sim.launch start in the greenhouse
+const thorvald_base::Pose2D kStart{-2.5, 0.0, 0.0};  // thorvald_bringup's sim.launch start in the greenhouse
 
 }  // namespace
 
@@ -73,7 +71,7 @@ TEST(MappingDrive, StaysClearOfTheWallsInTheNarrowestHeadland) {
 // The check itself: a full turn on the spot where the drive starts sweeps the frame's rear corners 0.97 m around the
 // front axle, past the side wall 0.8 m away.
 TEST(MappingDrive, AFullTurnAtTheStartWouldHitTheSideWall) {
-  const std::vector<Segment> full_turn = {{0.0, 0.4, 2.0 * tn::kPi / 0.4}};
+  const std::vector<Segment> full_turn = {{0.0, 0.4, 2.0 * thorvald_base::kPi / 0.4}};
   EXPECT_LT(minClearance(full_turn, kStart, Headland{}), 0.0);
   Headland wide;  // thorvald_sim's default greenhouse: side walls 1.2 m from the outer sets
   wide.side_y_min = -1.2;

@@ -32,43 +32,43 @@ Drive mapHeadland(std::uint32_t seed, bool drift) {
   tn::MapperParams p;
   tn::OccupancyMapper mapper(p);
   std::mt19937 rng(seed);
-  const tn::Pose2D start{1.5, o.depth_m - 0.7, 0.0};  // above the clutter band, below the rows
-  tn::Pose2D truth = start, odom{};
+  const thorvald_base::Pose2D start{1.5, o.depth_m - 0.7, 0.0};  // above the clutter band, below the rows
+  thorvald_base::Pose2D truth = start, odom{};
   const double dt = 0.05;
   Drive result;
-  const double straight_s = (o.length_m - 3.0) / 0.5, turn_s = tn::kPi / 0.5;
+  const double straight_s = (o.length_m - 3.0) / 0.5, turn_s = thorvald_base::kPi / 0.5;
   const double legs[][3] = {{0.5, 0.0, straight_s}, {0.0, 0.5, turn_s}, {0.5, 0.0, straight_s}, {0.0, -0.5, turn_s}};
   for (const auto& leg : legs) {
     for (double t = 0.0; t < leg[2] - 1e-9; t += dt) {
       const double v = leg[0], w = leg[1];
-      truth = truth * tn::Pose2D{v * dt, 0.0, w * dt};
+      truth = truth * thorvald_base::Pose2D{v * dt, 0.0, w * dt};
       const double v_odom = drift ? v * 1.02 : v, w_odom = drift ? w * 1.01 + 0.01 : w;
-      odom = odom * tn::Pose2D{v_odom * dt, 0.0, w_odom * dt};
+      odom = odom * thorvald_base::Pose2D{v_odom * dt, 0.0, w_odom * dt};
       const auto pts = world.scan(truth, kSensor, 541, -2.356, 2.356, 30.0, 0.01, &rng);
       mapper.addScan(odom, kSensor, pts, {});
     }
   }
   // Truth of the final pose in the map frame (map frame = start pose).
-  const tn::Pose2D truth_in_map = start.inverse() * truth;
-  const tn::Pose2D est = mapper.mapToOdom() * odom;
+  const thorvald_base::Pose2D truth_in_map = start.inverse() * truth;
+  const thorvald_base::Pose2D est = mapper.mapToOdom() * odom;
   result.final_err_m = std::hypot(est.x - truth_in_map.x, est.y - truth_in_map.y);
-  const tn::Grid2D map = mapper.occupancyGrid();
-  const tn::Grid2D truth_map = world.truthMap(0.05);
+  const thorvald_map::OccupancyGrid map = mapper.occupancyGrid();
+  const thorvald_map::OccupancyGrid truth_map = world.truthMap(0.05);
   const tn::DistanceField truth_field(truth_map, 2.0);
   double sum = 0.0;
   int walls = 0, free_ok = 0, floor = 0;
   for (int y = 0; y < map.height; ++y)
     for (int x = 0; x < map.width; ++x)
       if (map.at(x, y) >= 65) {
-        sum += truth_field.distance(start.transform(map.centerOf(x, y)));
+        sum += truth_field.distance(start.transformPoint(map.cellCentre(x, y)));
         ++walls;
       }
   for (int y = 0; y < truth_map.height; ++y)
     for (int x = 0; x < truth_map.width; ++x) {
-      const Eigen::Vector2d c = truth_map.centerOf(x, y);
+      const Eigen::Vector2d c = truth_map.cellCentre(x, y);
       if (truth_map.at(x, y) != 0 || c.y() > o.depth_m) continue;
       ++floor;
-      const Eigen::Vector2i m = map.cellOf(start.inverse().transform(c));
+      const Eigen::Vector2i m = map.cellOf(start.inverse().transformPoint(c));
       free_ok += map.inside(m.x(), m.y()) && map.at(m.x(), m.y()) >= 0 && map.at(m.x(), m.y()) < 20;
     }
   result.wall_err_m = walls > 0 ? sum / walls : 1e9;
@@ -118,22 +118,22 @@ TEST(OccupancyMapper, WallDrawnInTheCellHoldingItsFace) {
         }
         mapper.addScan({x, 0.0, 0.0}, kSensor, pts, {});
       }
-      const tn::Grid2D g = mapper.occupancyGrid();
+      const thorvald_map::OccupancyGrid g = mapper.occupancyGrid();
       // The face where the mapper's own frame puts it: the drawing rule is tested against the frame the scans were
       // placed in. The second scan's match turns that frame by about 3 mrad in this scene (README, Limits), which
       // tilts the face by up to a cell over the 4 m; against the odometry frame that tilt would be counted here.
-      const tn::Pose2D m2o = mapper.mapToOdom();
+      const thorvald_base::Pose2D m2o = mapper.mapToOdom();
       int columns = 0;
       double dev = 0.0;
       for (double x = 0.5; x <= 4.5; x += res) {
         const Eigen::Vector2i c0 = g.cellOf({x, 0.5});
         const double x_odom = x - m2o.x;  // the wall's point below this column, to first order in the small yaw
-        const double face_y = m2o.transform({x_odom, wall_y}).y();
-        const double face_cell_y = g.centerOf(c0.x(), g.cellOf({x, face_y}).y()).y();
+        const double face_y = m2o.transformPoint({x_odom, wall_y}).y();
+        const double face_cell_y = g.cellCentre(c0.x(), g.cellOf({x, face_y}).y()).y();
         for (int cy = c0.y(); cy < g.height; ++cy) {
           if (g.at(c0.x(), cy) < 65) continue;
           ++columns;
-          dev += g.centerOf(c0.x(), cy).y() - face_cell_y;
+          dev += g.cellCentre(c0.x(), cy).y() - face_cell_y;
           break;
         }
       }
@@ -171,7 +171,7 @@ TEST(OccupancyMapper, GridGrowsBeyondItsFirstSize) {
   std::vector<Eigen::Vector2d> pts;
   for (int i = 0; i < 20; ++i) pts.emplace_back(9.025, -0.975 + 0.1 * i);  // a wall 9 m ahead (cell centres)
   mapper.addScan({}, {0, 0}, pts, {});
-  const tn::Grid2D g = mapper.occupancyGrid();
+  const thorvald_map::OccupancyGrid g = mapper.occupancyGrid();
   const Eigen::Vector2i c = g.cellOf({9.025, 0.025});
   ASSERT_TRUE(g.inside(c.x(), c.y()));
   EXPECT_GE(g.at(c.x(), c.y()), 65);
@@ -191,15 +191,15 @@ double straightDriveError(double odom_sigma_xy_m, double odom_sigma_fraction) {
   p.odom_sigma_fraction = odom_sigma_fraction;
   tn::OccupancyMapper mapper(p);
   std::mt19937 rng(11);
-  const tn::Pose2D start{2.0, o.depth_m - 0.7, 0.0};
-  tn::Pose2D truth = start, odom{};
+  const thorvald_base::Pose2D start{2.0, o.depth_m - 0.7, 0.0};
+  thorvald_base::Pose2D truth = start, odom{};
   const double dt = 0.05, v = 0.5;
   for (int i = 0; i < 160; ++i) {
-    truth = truth * tn::Pose2D{v * dt, 0.0, 0.0};
-    odom = odom * tn::Pose2D{1.05 * v * dt, 0.0, 0.0};
+    truth = truth * thorvald_base::Pose2D{v * dt, 0.0, 0.0};
+    odom = odom * thorvald_base::Pose2D{1.05 * v * dt, 0.0, 0.0};
     mapper.addScan(odom, kSensor, world.scan(truth, kSensor, 541, -2.356, 2.356, 30.0, 0.01, &rng), {});
   }
-  const tn::Pose2D est = mapper.mapToOdom() * odom, truth_in_map = start.inverse() * truth;
+  const thorvald_base::Pose2D est = mapper.mapToOdom() * odom, truth_in_map = start.inverse() * truth;
   return std::hypot(est.x - truth_in_map.x, est.y - truth_in_map.y);
 }
 

@@ -31,21 +31,21 @@ double distanceToPolyline(const Eigen::Vector2d& p, const std::vector<Eigen::Vec
 
 // Runs the follower against a kinematic robot that executes commands with a first-order lag and, for a
 // differential robot, no sideways motion at all.
-Outcome run(const tn::FollowerParams& p, const tn::Pose2D& start, const std::vector<Eigen::Vector2d>& path,
-            const tn::Pose2D& goal, bool reverse = false) {
+Outcome run(const tn::FollowerParams& p, const thorvald_base::Pose2D& start, const std::vector<Eigen::Vector2d>& path,
+            const thorvald_base::Pose2D& goal, bool reverse = false) {
   tn::PathFollower f(p);
   f.setPath(path, goal, reverse);
-  tn::Pose2D pose = start;
-  tn::Twist2D actual;
+  thorvald_base::Pose2D pose = start;
+  thorvald_base::Twist2D actual;
   const double dt = 0.05;
   Outcome o;
   for (int i = 0; i < 4000; ++i) {
-    const tn::Twist2D cmd = f.step(pose, dt);
+    const thorvald_base::Twist2D cmd = f.step(pose, dt);
     o.max_lateral = std::max(o.max_lateral, std::abs(cmd.vy));
     o.min_vx = std::min(o.min_vx, cmd.vx);
     o.max_vx = std::max(o.max_vx, cmd.vx);
     o.max_off_path = std::max(o.max_off_path, distanceToPolyline({pose.x, pose.y}, path));
-    o.max_yaw_change = std::max(o.max_yaw_change, std::abs(tn::normalizeAngle(pose.yaw - start.yaw)));
+    o.max_yaw_change = std::max(o.max_yaw_change, std::abs(thorvald_base::normalizeAngle(pose.yaw - start.yaw)));
     if (path.size() > 1)
       o.closest_to_vertex = std::min(o.closest_to_vertex, (Eigen::Vector2d(pose.x, pose.y) - path[1]).norm());
     if (f.state() == tn::FollowState::kArrived) {
@@ -57,21 +57,21 @@ Outcome run(const tn::FollowerParams& p, const tn::Pose2D& start, const std::vec
     actual.vx += a * (cmd.vx - actual.vx);
     actual.vy += a * (cmd.vy - actual.vy);
     actual.wz += a * (cmd.wz - actual.wz);
-    pose = pose * tn::Pose2D{actual.vx * dt, actual.vy * dt, actual.wz * dt};
+    pose = pose * thorvald_base::Pose2D{actual.vx * dt, actual.vy * dt, actual.wz * dt};
   }
   o.xy_err = std::hypot(pose.x - goal.x, pose.y - goal.y);
-  o.yaw_err = std::abs(tn::normalizeAngle(pose.yaw - goal.yaw));
+  o.yaw_err = std::abs(thorvald_base::normalizeAngle(pose.yaw - goal.yaw));
   return o;
 }
 
 TEST(PathFollower, DifferentialAndOmnidirectionalReachRandomGoalsWithinTolerance) {
   std::mt19937 rng(11);
-  std::uniform_real_distribution<double> u(-4.0, 4.0), yaw(-tn::kPi, tn::kPi);
+  std::uniform_real_distribution<double> u(-4.0, 4.0), yaw(-thorvald_base::kPi, thorvald_base::kPi);
   for (bool omni : {false, true}) {
     tn::FollowerParams p;
     p.omnidirectional = omni;
     for (int trial = 0; trial < 20; ++trial) {
-      const tn::Pose2D start{u(rng), u(rng), yaw(rng)}, goal{u(rng), u(rng), yaw(rng)};
+      const thorvald_base::Pose2D start{u(rng), u(rng), yaw(rng)}, goal{u(rng), u(rng), yaw(rng)};
       const Eigen::Vector2d mid(0.5 * (start.x + goal.x) + 1.0, 0.5 * (start.y + goal.y) - 1.0);
       const Outcome o = run(p, start, {{start.x, start.y}, mid, {goal.x, goal.y}}, goal);
       ASSERT_TRUE(o.arrived) << (omni ? "omni" : "diff") << " trial " << trial;
@@ -96,9 +96,9 @@ TEST(PathFollower, StopsWellInsideTheToleranceNotAtItsEdge) {
     const int trials = 20;
     for (int trial = 0; trial < trials; ++trial) {
       const double l = len(rng);
-      const tn::Pose2D goal{1.0, 0.5, yaw(rng)};
-      const tn::Pose2D start{goal.x - l * std::cos(goal.yaw) + off(rng), goal.y - l * std::sin(goal.yaw) + off(rng),
-                             goal.yaw + yaw(rng)};
+      const thorvald_base::Pose2D goal{1.0, 0.5, yaw(rng)};
+      const thorvald_base::Pose2D start{goal.x - l * std::cos(goal.yaw) + off(rng),
+                                        goal.y - l * std::sin(goal.yaw) + off(rng), goal.yaw + yaw(rng)};
       const Outcome o = run(p, start, {{start.x, start.y}, {goal.x, goal.y}}, goal);
       ASSERT_TRUE(o.arrived) << (omni ? "omni" : "diff") << " trial " << trial;
       EXPECT_LT(o.xy_err, p.xy_tolerance_m) << trial;
@@ -126,11 +126,12 @@ TEST(PathFollower, OmnidirectionalTransitBetweenTargetsIsStraight) {
   tn::FollowerParams p;
   p.omnidirectional = true;
   std::mt19937 rng(3);
-  std::uniform_real_distribution<double> heading(-tn::kPi, tn::kPi), off(-0.01, 0.01), spacing(1.2, 2.0);
+  std::uniform_real_distribution<double> heading(-thorvald_base::kPi, thorvald_base::kPi), off(-0.01, 0.01),
+      spacing(1.2, 2.0);
   for (int trial = 0; trial < 20; ++trial) {
     const double yaw = heading(rng), side = trial % 2 ? 1.0 : -1.0, l = spacing(rng);
-    const tn::Pose2D start{off(rng), off(rng), yaw};
-    const tn::Pose2D goal{-side * l * std::sin(yaw), side * l * std::cos(yaw), yaw};
+    const thorvald_base::Pose2D start{off(rng), off(rng), yaw};
+    const thorvald_base::Pose2D goal{-side * l * std::sin(yaw), side * l * std::cos(yaw), yaw};
     const Outcome o = run(p, start, {{start.x, start.y}, {goal.x, goal.y}}, goal);
     ASSERT_TRUE(o.arrived) << trial;
     EXPECT_LT(o.max_off_path, 0.01) << trial;
@@ -150,8 +151,8 @@ TEST(PathFollower, DifferentialTransitTurnsAtTheCornersAndStaysOnThePath) {
   std::uniform_real_distribution<double> off(-0.01, 0.01), spacing(1.4, 1.8);
   for (int trial = 0; trial < 20; ++trial) {
     const double side = trial % 2 ? 1.0 : -1.0, l = spacing(rng);
-    const tn::Pose2D start{off(rng), off(rng), 0.01 * off(rng)};
-    const tn::Pose2D goal{0.0, side * l, 0.0};
+    const thorvald_base::Pose2D start{off(rng), off(rng), 0.01 * off(rng)};
+    const thorvald_base::Pose2D goal{0.0, side * l, 0.0};
     const std::vector<Eigen::Vector2d> path{{start.x, start.y}, {-0.3, side * l}, {0.0, side * l}};
     const Outcome o = run(p, start, path, goal);
     ASSERT_TRUE(o.arrived) << trial;
@@ -170,8 +171,8 @@ TEST(PathFollower, ReversesAlongThePathWithoutTurningRound) {
   std::mt19937 rng(4);
   std::uniform_real_distribution<double> off(-0.03, 0.03), yaw(-0.03, 0.03);
   for (int trial = 0; trial < 20; ++trial) {
-    const tn::Pose2D start{off(rng), off(rng), yaw(rng)};
-    const tn::Pose2D pre{-0.3, 0.0, 0.0};
+    const thorvald_base::Pose2D start{off(rng), off(rng), yaw(rng)};
+    const thorvald_base::Pose2D pre{-0.3, 0.0, 0.0};
     const Outcome o = run(p, start, {{start.x, start.y}, {pre.x, pre.y}}, pre, /*reverse=*/true);
     ASSERT_TRUE(o.arrived) << trial;
     EXPECT_LT(o.max_yaw_change, 0.3) << trial;  // lining up with the path, far from a half turn
@@ -186,16 +187,16 @@ TEST(PathFollower, RespectsLimitsAndStopsOnBadPose) {
   tn::FollowerParams p;
   tn::PathFollower f(p);
   f.setPath({{0, 0}, {5, 0}}, {5, 0, 0});
-  tn::Twist2D last;
+  thorvald_base::Twist2D last;
   for (int i = 0; i < 100; ++i) {
-    const tn::Twist2D t = f.step({0.01 * i, 0, 0}, 0.05);
+    const thorvald_base::Twist2D t = f.step({0.01 * i, 0, 0}, 0.05);
     EXPECT_LE(std::abs(t.vx), p.max_speed_mps + 1e-12);
     EXPECT_LE(std::abs(t.vx - last.vx), p.max_accel_mps2 * 0.05 + 1e-12);
     last = t;
   }
   EXPECT_GT(last.vx, 0.1);
   // A NaN pose ramps the command down, never up.
-  const tn::Twist2D after_nan = f.step({std::nan(""), 0, 0}, 0.05);
+  const thorvald_base::Twist2D after_nan = f.step({std::nan(""), 0, 0}, 0.05);
   EXPECT_LT(after_nan.vx, last.vx);
   tn::FollowerParams bad;
   bad.xy_tolerance_m = 0.0;
@@ -220,25 +221,25 @@ struct Precision {
   double final_turn_s = 0.0;           ///< time spent in the final turn [s]
 };
 
-Precision runOnBase(const tn::FollowerParams& p, const BaseModel& m, const tn::Pose2D& start,
-                    const std::vector<Eigen::Vector2d>& path, const tn::Pose2D& goal, std::mt19937& rng,
+Precision runOnBase(const tn::FollowerParams& p, const BaseModel& m, const thorvald_base::Pose2D& start,
+                    const std::vector<Eigen::Vector2d>& path, const thorvald_base::Pose2D& goal, std::mt19937& rng,
                     tn::PathFollower* follower = nullptr) {
   tn::PathFollower own(p);
   tn::PathFollower& f = follower ? *follower : own;
   if (!follower) f.setPath(path, goal);
   std::normal_distribution<double> nxy(0.0, std::max(m.noise_xy_m, 1e-12)), nyaw(0.0, std::max(m.noise_yaw_rad, 1e-12));
   const double dt = 0.05;
-  std::vector<tn::Twist2D> queue(static_cast<std::size_t>(m.delay_steps));
-  tn::Pose2D pose = start;
-  tn::Twist2D actual;
+  std::vector<thorvald_base::Twist2D> queue(static_cast<std::size_t>(m.delay_steps));
+  thorvald_base::Pose2D pose = start;
+  thorvald_base::Twist2D actual;
   Precision out;
   double last_wz = 0.0;
   int stopped_steps = 0;
   for (int i = 0; i < 6000; ++i) {
-    tn::Twist2D cmd;
+    thorvald_base::Twist2D cmd;
     if (!out.arrived) {
-      const tn::Pose2D seen{pose.x + m.noise_xy_m * nxy(rng), pose.y + m.noise_xy_m * nxy(rng),
-                            pose.yaw + m.noise_yaw_rad * nyaw(rng)};
+      const thorvald_base::Pose2D seen{pose.x + m.noise_xy_m * nxy(rng), pose.y + m.noise_xy_m * nxy(rng),
+                                       pose.yaw + m.noise_yaw_rad * nyaw(rng)};
       cmd = f.step(seen, dt);
       if (f.phase() == tn::FollowPhase::kFinalTurn) {
         out.final_turn_s += dt;
@@ -248,17 +249,17 @@ Precision runOnBase(const tn::FollowerParams& p, const BaseModel& m, const tn::P
       out.arrived = f.state() == tn::FollowState::kArrived;
     }
     queue.push_back(cmd);
-    const tn::Twist2D applied = queue.front();
+    const thorvald_base::Twist2D applied = queue.front();
     queue.erase(queue.begin());
     const double dv = m.accel_mps2 * dt, dw = m.yaw_accel_radps2 * dt;
     actual.vx = std::clamp(applied.vx, actual.vx - dv, actual.vx + dv);
     actual.wz = std::clamp(applied.wz, actual.wz - dw, actual.wz + dw);
     // Turning about the pivot moves base_link sideways by pivot_x * wz.
-    pose = pose * tn::Pose2D{actual.vx * dt, -m.pivot_x_m * actual.wz * dt, actual.wz * dt};
+    pose = pose * thorvald_base::Pose2D{actual.vx * dt, -m.pivot_x_m * actual.wz * dt, actual.wz * dt};
     if (out.arrived && actual.vx == 0.0 && actual.wz == 0.0 && ++stopped_steps > m.delay_steps + 1) break;
   }
   out.xy_err = std::hypot(pose.x - goal.x, pose.y - goal.y);
-  out.yaw_err = std::abs(tn::normalizeAngle(pose.yaw - goal.yaw));
+  out.yaw_err = std::abs(thorvald_base::normalizeAngle(pose.yaw - goal.yaw));
   return out;
 }
 
@@ -273,7 +274,8 @@ TEST(PathFollower, FinalApproachOnADelayedBaseEndsWithinACentimetre) {
   p.xy_tolerance_m = 0.01;
   p.yaw_tolerance_rad = 0.008;
   std::mt19937 rng(21);
-  std::uniform_real_distribution<double> len(0.3, 1.5), off(-0.03, 0.03), yaw(-0.15, 0.15), heading(-tn::kPi, tn::kPi);
+  std::uniform_real_distribution<double> len(0.3, 1.5), off(-0.03, 0.03), yaw(-0.15, 0.15),
+      heading(-thorvald_base::kPi, thorvald_base::kPi);
   std::uniform_int_distribution<int> delay(0, 3);
   std::uniform_real_distribution<double> acc_scale(1.0, 2.0), pivot(0.0, 0.03);
   double worst_xy = 0.0, worst_yaw = 0.0;
@@ -286,9 +288,9 @@ TEST(PathFollower, FinalApproachOnADelayedBaseEndsWithinACentimetre) {
     m.noise_xy_m = 0.001;
     m.noise_yaw_rad = 0.0005;
     const double l = len(rng);
-    const tn::Pose2D goal{0.5, -0.2, heading(rng)};
-    const tn::Pose2D start{goal.x - l * std::cos(goal.yaw) + off(rng), goal.y - l * std::sin(goal.yaw) + off(rng),
-                           goal.yaw + yaw(rng)};
+    const thorvald_base::Pose2D goal{0.5, -0.2, heading(rng)};
+    const thorvald_base::Pose2D start{goal.x - l * std::cos(goal.yaw) + off(rng),
+                                      goal.y - l * std::sin(goal.yaw) + off(rng), goal.yaw + yaw(rng)};
     const Precision r = runOnBase(p, m, start, {{start.x, start.y}, {goal.x, goal.y}}, goal, rng);
     ASSERT_TRUE(r.arrived) << trial;
     EXPECT_LT(r.xy_err, p.xy_tolerance_m) << "trial " << trial << " delay " << m.delay_steps;
@@ -318,7 +320,7 @@ TEST(PathFollower, FinalTurnStopsEarlyByTheBasesCoastAndNeverDithersLong) {
   naive_params.command_latency_s = 0.0;
   int naive_worse = 0;
   for (int trial = 0; trial < 10; ++trial) {
-    const tn::Pose2D goal{0, 0, (trial % 2 ? -1.0 : 1.0) * angle(rng)};
+    const thorvald_base::Pose2D goal{0, 0, (trial % 2 ? -1.0 : 1.0) * angle(rng)};
     tn::PathFollower with_model(p);
     with_model.turnTo(goal);
     const Precision a = runOnBase(p, m, {0, 0, 0}, {}, goal, rng, &with_model);
@@ -334,7 +336,7 @@ TEST(PathFollower, FinalTurnStopsEarlyByTheBasesCoastAndNeverDithersLong) {
   EXPECT_GE(naive_worse, 8);
   m.delay_steps = 8;
   for (int trial = 0; trial < 10; ++trial) {
-    const tn::Pose2D goal{0, 0, (trial % 2 ? -1.0 : 1.0) * angle(rng)};
+    const thorvald_base::Pose2D goal{0, 0, (trial % 2 ? -1.0 : 1.0) * angle(rng)};
     tn::PathFollower late(p);
     late.turnTo(goal);
     const Precision c = runOnBase(p, m, {0, 0, 0}, {}, goal, rng, &late);

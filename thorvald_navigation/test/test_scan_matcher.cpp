@@ -14,13 +14,14 @@ namespace {
 
 const Eigen::Vector2d kSensor(0.45, 0.0);
 
-tn::Pose2D randomFloorPose(const SyntheticHeadland& world, std::mt19937* rng) {
+thorvald_base::Pose2D randomFloorPose(const SyntheticHeadland& world, std::mt19937* rng) {
   const auto& o = world.options();
-  std::uniform_real_distribution<double> x(1.5, o.length_m - 1.5), y(1.0, o.depth_m - 1.0), yaw(-tn::kPi, tn::kPi);
+  std::uniform_real_distribution<double> x(1.5, o.length_m - 1.5), y(1.0, o.depth_m - 1.0),
+      yaw(-thorvald_base::kPi, thorvald_base::kPi);
   for (;;) {  // a pose with clearance from the clutter
-    const tn::Pose2D p{x(*rng), y(*rng), yaw(*rng)};
+    const thorvald_base::Pose2D p{x(*rng), y(*rng), yaw(*rng)};
     bool clear = true;
-    for (int k = 0; k < 16 && clear; ++k) clear = world.castRay({p.x, p.y}, k * tn::kPi / 8, 0.7) >= 0.7;
+    for (int k = 0; k < 16 && clear; ++k) clear = world.castRay({p.x, p.y}, k * thorvald_base::kPi / 8, 0.7) >= 0.7;
     if (clear) return p;
   }
 }
@@ -47,13 +48,13 @@ TEST(ScanMatcher, RecoversPoseFromOdometryErrorsOnVariedHeadlands) {
       std::uniform_real_distribution<double> off(-0.1, 0.1), offyaw(-0.05, 0.05);
       const double noise = 0.005 + 0.005 * (seed % 5);  // 5..25 mm range noise
       for (int trial = 0; trial < 5; ++trial) {
-        const tn::Pose2D truth = randomFloorPose(world, &rng);
+        const thorvald_base::Pose2D truth = randomFloorPose(world, &rng);
         const auto pts = tn::subsample(world.scan(truth, kSensor, 1081, -2.356, 2.356, 30.0, noise, &rng), 180);
-        const tn::Pose2D guess{truth.x + off(rng), truth.y + off(rng), truth.yaw + offyaw(rng)};
+        const thorvald_base::Pose2D guess{truth.x + off(rng), truth.y + off(rng), truth.yaw + offyaw(rng)};
         const tn::MatchResult m = tn::matchScan(field, pts, guess, tn::ScanMatcherParams{});
         const double exy = std::hypot(m.pose.x - truth.x, m.pose.y - truth.y);
         worst_xy = std::max(worst_xy, exy);
-        worst_yaw = std::max(worst_yaw, std::abs(tn::normalizeAngle(m.pose.yaw - truth.yaw)));
+        worst_yaw = std::max(worst_yaw, std::abs(thorvald_base::normalizeAngle(m.pose.yaw - truth.yaw)));
         sum_xy += exy;
         ++n;
         EXPECT_GT(m.inlier_fraction, 0.8) << "seed " << seed;
@@ -68,7 +69,7 @@ TEST(ScanMatcher, RecoversPoseFromOdometryErrorsOnVariedHeadlands) {
 
 TEST(ScanMatcherPrior, PriorHoldsThePoseAlongAFeaturelessCorridor) {
   // Two long parallel walls: x along the corridor is unobservable; the prior must keep it.
-  tn::Grid2D g(400, 60, 0.05, 0.0, 0.0, 0);
+  thorvald_map::OccupancyGrid g(400, 60, 0.05, 0.0, 0.0, 0);
   for (int x = 0; x < 400; ++x) g.at(x, 0) = g.at(x, 59) = 100;
   const tn::DistanceField field(g, 1.0);
   std::vector<Eigen::Vector2d> pts;
@@ -104,17 +105,17 @@ TEST(GlobalSearch, FindsAKidnappedRobotAnywhereOnTheFloor) {
   int found = 0, trials = 0;
   for (std::uint32_t seed = 1; seed <= 4; ++seed) {
     const SyntheticHeadland world(variedHeadland(seed + 20));
-    const tn::Grid2D map = world.truthMap(0.05);
+    const thorvald_map::OccupancyGrid map = world.truthMap(0.05);
     const tn::DistanceField field(map, 1.0);
     std::mt19937 rng(seed);
     for (int trial = 0; trial < 3; ++trial) {
-      const tn::Pose2D truth = randomFloorPose(world, &rng);
+      const thorvald_base::Pose2D truth = randomFloorPose(world, &rng);
       const auto pts = world.scan(truth, kSensor, 1081, -2.356, 2.356, 30.0, 0.01, &rng);
       const tn::GlobalResult g = tn::globalSearch(field, map, pts, tn::GlobalSearchParams{}, tn::ScanMatcherParams{});
       ++trials;
       ASSERT_TRUE(g.found);
       const bool ok = std::hypot(g.best.pose.x - truth.x, g.best.pose.y - truth.y) < 0.05 &&
-                      std::abs(tn::normalizeAngle(g.best.pose.yaw - truth.yaw)) < 0.02;
+                      std::abs(thorvald_base::normalizeAngle(g.best.pose.yaw - truth.yaw)) < 0.02;
       found += ok;
       // A wrong answer must not look certain: either it is right or it is flagged ambiguous or poorly matched.
       if (!ok) {
@@ -129,12 +130,12 @@ TEST(GlobalSearch, WindowAroundARoughInitialPoseFindsTheTruePose) {
   int ok = 0, n = 0;
   for (std::uint32_t seed = 1; seed <= 6; ++seed) {
     const SyntheticHeadland world(variedHeadland(seed + 40));
-    const tn::Grid2D map = world.truthMap(0.05);
+    const thorvald_map::OccupancyGrid map = world.truthMap(0.05);
     const tn::DistanceField field(map, 1.0);
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> off(-0.4, 0.4), offyaw(-0.25, 0.25);
     for (int trial = 0; trial < 3; ++trial) {
-      const tn::Pose2D truth = randomFloorPose(world, &rng);
+      const thorvald_base::Pose2D truth = randomFloorPose(world, &rng);
       const auto pts = world.scan(truth, kSensor, 1081, -2.356, 2.356, 30.0, 0.01, &rng);
       tn::GlobalSearchParams gp;
       gp.window_xy_m = 0.6;
@@ -145,14 +146,14 @@ TEST(GlobalSearch, WindowAroundARoughInitialPoseFindsTheTruePose) {
       const tn::GlobalResult g = tn::globalSearch(field, map, pts, gp, tn::ScanMatcherParams{});
       ++n;
       ok += g.found && std::hypot(g.best.pose.x - truth.x, g.best.pose.y - truth.y) < 0.05 &&
-            std::abs(tn::normalizeAngle(g.best.pose.yaw - truth.yaw)) < 0.02;
+            std::abs(thorvald_base::normalizeAngle(g.best.pose.yaw - truth.yaw)) < 0.02;
     }
   }
   EXPECT_EQ(ok, n);
 }
 
 TEST(GlobalSearch, NothingToSearch) {
-  const tn::Grid2D walls_only(20, 20, 0.1, 0, 0, 100);
+  const thorvald_map::OccupancyGrid walls_only(20, 20, 0.1, 0, 0, 100);
   const tn::DistanceField field(walls_only, 1.0);
   const std::vector<Eigen::Vector2d> pts{{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
   EXPECT_FALSE(tn::globalSearch(field, walls_only, pts, {}, {}).found);

@@ -3,6 +3,8 @@
 #include <cstring>
 #include <limits>
 
+#include <thorvald_base/ros/organised_cloud.h>
+
 namespace cotton_harvester {
 
 bool cloudToMat(const sensor_msgs::PointCloud2& cloud, cv::Mat* points, std::string* error) {
@@ -10,44 +12,14 @@ bool cloudToMat(const sensor_msgs::PointCloud2& cloud, cv::Mat* points, std::str
     *error = "cloud is not organised (height " + std::to_string(cloud.height) + ")";
     return false;
   }
-  int offsets[3] = {-1, -1, -1};
-  const char* names[3] = {"x", "y", "z"};
-  for (const sensor_msgs::PointField& field : cloud.fields) {
-    for (int i = 0; i < 3; ++i) {
-      if (field.name != names[i]) continue;
-      if (field.datatype != sensor_msgs::PointField::FLOAT32 || field.count != 1) {
-        *error = std::string("field '") + names[i] + "' is not a single float32";
-        return false;
-      }
-      offsets[i] = static_cast<int>(field.offset);
-    }
-  }
-  for (int i = 0; i < 3; ++i) {
-    if (offsets[i] < 0) {
-      *error = std::string("cloud has no '") + names[i] + "' field";
-      return false;
-    }
-    if (offsets[i] + 4 > static_cast<int>(cloud.point_step)) {
-      *error = "field offset beyond point_step";
-      return false;
-    }
-  }
-  if (cloud.row_step < cloud.width * cloud.point_step ||
-      cloud.data.size() < static_cast<size_t>(cloud.row_step) * cloud.height) {
-    *error = "cloud data shorter than height x row_step";
-    return false;
-  }
-  if (cloud.is_bigendian) {
-    *error = "big-endian clouds are not supported";
-    return false;
-  }
-  points->create(static_cast<int>(cloud.height), static_cast<int>(cloud.width), CV_32FC3);
-  for (uint32_t v = 0; v < cloud.height; ++v) {
-    const uint8_t* row = cloud.data.data() + static_cast<size_t>(v) * cloud.row_step;
-    cv::Vec3f* out = points->ptr<cv::Vec3f>(static_cast<int>(v));
-    for (uint32_t u = 0; u < cloud.width; ++u) {
-      const uint8_t* point = row + static_cast<size_t>(u) * cloud.point_step;
-      for (int i = 0; i < 3; ++i) std::memcpy(&out[u][i], point + offsets[i], sizeof(float));
+  thorvald_base::OrganisedCloudView view;
+  if (!view.reset(cloud, error)) return false;
+  points->create(view.height(), view.width(), CV_32FC3);
+  for (int v = 0; v < view.height(); ++v) {
+    cv::Vec3f* out = points->ptr<cv::Vec3f>(v);
+    for (int u = 0; u < view.width(); ++u) {
+      const Eigen::Vector3f p = view.at(u, v);
+      out[u] = cv::Vec3f(p.x(), p.y(), p.z());
     }
   }
   return true;

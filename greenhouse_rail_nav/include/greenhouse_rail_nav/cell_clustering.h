@@ -4,7 +4,7 @@
 
 #include <Eigen/Core>
 
-#include "greenhouse_rail_nav/occupancy_map.h"
+#include "thorvald_map/occupancy_grid.h"
 
 namespace greenhouse_rail_nav {
 
@@ -16,7 +16,7 @@ struct CellCluster {
 /// Groups occupied cells (value >= occupied_value) into clusters: two cells belong together when their
 /// centres are at most link_radius_m apart, which joins the dotted lines a row of plants leaves in a map.
 /// Clusters with fewer than min_cells cells are dropped.
-std::vector<CellCluster> clusterOccupiedCells(const OccupancyMap& map, double link_radius_m, std::size_t min_cells,
-                                              int occupied_value = 65);
+std::vector<CellCluster> clusterOccupiedCells(const thorvald_map::OccupancyGrid& map, double link_radius_m,
+                                              std::size_t min_cells, int occupied_value = 65);
 
 }  // namespace greenhouse_rail_nav

@@ -9,7 +9,7 @@
 #include "greenhouse_rail_nav/headland_scan.h"
 #include "greenhouse_rail_nav/line_extraction.h"
 #include "greenhouse_rail_nav/map_analyzer.h"
-#include "greenhouse_rail_nav/occupancy_map.h"
+#include "thorvald_map/occupancy_grid.h"
 
 namespace greenhouse_rail_nav {
 
@@ -39,8 +39,9 @@ struct EdgeRow {
 /// Lines perpendicular to the rear wall within [span_lo, span_hi] along it whose runs (stretches looking like
 /// a row, nothing wider beside them) start beyond the minimum headland depth, with floor on both sides. Lines
 /// reaching back to the rear wall, or with no floor on one side, are walls or partitions, not rows.
-std::vector<RowCandidate> findRowCandidates(const OccupancyMap& map, const std::vector<LineSegment>& lines,
-                                            int rear_wall, const HeadlandFrame& frame, double span_lo, double span_hi,
+std::vector<RowCandidate> findRowCandidates(const thorvald_map::OccupancyGrid& map,
+                                            const std::vector<LineSegment>& lines, int rear_wall,
+                                            const HeadlandFrame& frame, double span_lo, double span_hi,
                                             const MapAnalyzerParams& params);
 
 /// The headland edge [m, headland v]: the run start most candidates agree on within tolerance_m (ties: the
@@ -61,8 +62,8 @@ std::vector<EdgeRow> rowsAtEdge(const std::vector<RowCandidate>& candidates, con
 /// removal takes away), and its direction from the faces on `cleaned`. A row seen from one side only gets its
 /// other face at the width of the rows seen from both sides (without such a row the cells' mean is used).
 /// `wall` is the rear wall's fit. Returns how many rows could be placed by their cells' mean only.
-int placeRowsByFaces(const OccupancyMap& input, const OccupancyMap& cleaned, const HeadlandFrame& frame,
-                     const LineFit2D& wall, double edge_v, std::vector<EdgeRow>* rows);
+int placeRowsByFaces(const thorvald_map::OccupancyGrid& input, const thorvald_map::OccupancyGrid& cleaned,
+                     const HeadlandFrame& frame, const LineFit2D& wall, double edge_v, std::vector<EdgeRow>* rows);
 
 /// The rows' mean direction, each weighted by how well its faces fix it (its line fit's cells when the faces
 /// of any row do not).

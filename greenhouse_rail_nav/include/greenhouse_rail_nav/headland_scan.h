@@ -6,7 +6,7 @@
 
 #include <Eigen/Core>
 
-#include "greenhouse_rail_nav/occupancy_map.h"
+#include "thorvald_map/occupancy_grid.h"
 
 namespace greenhouse_rail_nav {
 
@@ -23,8 +23,8 @@ struct HeadlandFrame {
 /// it) without a gap longer than max_gap_m. Anything wider than a row (a box or trolley in line with it)
 /// breaks a run, so a run starts where the row itself does. Returns the v of each run's start [m] for runs
 /// of at least min_run_m, and *far_v the largest v showing the row.
-std::vector<double> rowRunStarts(const OccupancyMap& map, const HeadlandFrame& frame, double u0, double slope,
-                                 double v_from, double v_to, double* far_v, double row_half_width_m = 0.2,
+std::vector<double> rowRunStarts(const thorvald_map::OccupancyGrid& map, const HeadlandFrame& frame, double u0,
+                                 double slope, double v_from, double v_to, double* far_v, double row_half_width_m = 0.2,
                                  double clutter_reach_m = 0.5, double max_gap_m = 0.3, double min_run_m = 0.4);
 
 /// How a row shows across its width over its first metres: where its two faces are, from the stations
@@ -48,8 +48,8 @@ struct RowProfile {
 
 /// Measures a row from `start` (a point near its front, on its line) over [-0.05, length_m] along `along`
 /// (unit) and within half_width_m across it; lateral offsets are along (along.y, -along.x).
-RowProfile measureRowProfile(const OccupancyMap& map, const Eigen::Vector2d& start, const Eigen::Vector2d& along,
-                             double half_width_m, double length_m);
+RowProfile measureRowProfile(const thorvald_map::OccupancyGrid& map, const Eigen::Vector2d& start,
+                             const Eigen::Vector2d& along, double half_width_m, double length_m);
 
 /// Result of scanlines across the headland from the outermost row outwards.
 struct SideScan {
@@ -66,9 +66,9 @@ struct SideScan {
 /// hoses, noise) and stopping where the mapped floor ends (the face after the last free cell). A side
 /// wall is the farthest place where at least min_support of the scanlines stop at an occupied cell
 /// together (a door lets some into unknown space at the same place) and almost none go on beyond.
-/// max_travel_m bounds each walk. With the map's cell surface (OccupancyMap::surface) a stop at an occupied cell
-/// is moved to the mean of the beam ends around it: the wall's face inside its cells.
-SideScan scanToSideWall(const OccupancyMap& map, const HeadlandFrame& frame, double u_start, double edge_v,
-                        double direction, double min_support, double max_travel_m);
+/// max_travel_m bounds each walk. With the map's cell surface (thorvald_map::OccupancyGrid::surface) a stop at an
+/// occupied cell is moved to the mean of the beam ends around it: the wall's face inside its cells.
+SideScan scanToSideWall(const thorvald_map::OccupancyGrid& map, const HeadlandFrame& frame, double u_start,
+                        double edge_v, double direction, double min_support, double max_travel_m);
 
 }  // namespace greenhouse_rail_nav

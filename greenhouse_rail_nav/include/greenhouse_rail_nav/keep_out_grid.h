@@ -2,7 +2,7 @@
 
 #include <Eigen/Core>
 
-#include "greenhouse_rail_nav/occupancy_map.h"
+#include "thorvald_map/occupancy_grid.h"
 
 namespace greenhouse_rail_nav {
 
@@ -10,7 +10,8 @@ namespace greenhouse_rail_nav {
 /// (the rows' side of the line through edge_start and edge_end, shifted by margin_m into the rows) is
 /// occupied and every other cell free. A costmap that takes it as an obstacle layer keeps the robot on
 /// the headland floor while it drives between rail sets.
-OccupancyMap makeKeepOutGrid(const OccupancyMap& map, const Eigen::Vector2d& edge_start,
-                             const Eigen::Vector2d& edge_end, const Eigen::Vector2d& into_rows, double margin_m);
+thorvald_map::OccupancyGrid makeKeepOutGrid(const thorvald_map::OccupancyGrid& map, const Eigen::Vector2d& edge_start,
+                                            const Eigen::Vector2d& edge_end, const Eigen::Vector2d& into_rows,
+                                            double margin_m);
 
 }  // namespace greenhouse_rail_nav

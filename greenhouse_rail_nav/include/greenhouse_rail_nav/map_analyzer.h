@@ -4,16 +4,17 @@
 #include <vector>
 
 #include "greenhouse_rail_nav/line_extraction.h"
-#include "greenhouse_rail_nav/occupancy_map.h"
-#include "greenhouse_rail_nav/pose2d.h"
+#include "thorvald_map/occupancy_grid.h"
+#include "thorvald_base/pose2d.h"
 
 namespace greenhouse_rail_nav {
 
 /// Settings of the headland map analysis (paper §V-B). Defaults: our greenhouse model (see README).
 struct MapAnalyzerParams {
-  double rail_set_spacing_m = 1.60;           ///< distance between the centres of neighbouring rail sets [m]
-  double rail_gauge_m = 0.55;                 ///< centre distance of the two pipes of a rail set [m] (drawn only)
-  Pose2D target_in_rail{-0.8, 0.0, 0.0};      ///< wanted robot pose in every rail frame (in front of the rails)
+  double rail_set_spacing_m = 1.60;  ///< distance between the centres of neighbouring rail sets [m]
+  double rail_gauge_m = 0.55;        ///< centre distance of the two pipes of a rail set [m] (drawn only)
+  thorvald_base::Pose2D target_in_rail{-0.8, 0.0,
+                                       0.0};  ///< wanted robot pose in every rail frame (in front of the rails)
   double cluster_link_radius_m = 0.25;        ///< occupied cells closer than this form one cluster [m]
   int min_cluster_cells = 20;                 ///< smaller clusters are dropped
   LineExtractionParams lines;                 ///< straight-line thresholds
@@ -41,11 +42,11 @@ struct MapAnalyzerParams {
 
 /// One rail set found in the map.
 struct RailSetEstimate {
-  int index = 0;       ///< 0 = leftmost looking into the rows
-  Pose2D rail_frame;   ///< origin between the rails at their start, x along the rails, in the map frame
-  Pose2D target_pose;  ///< rail_frame * target_in_rail, in the map frame
-  bool good = true;    ///< every check behind this set passed; a mission visits only good sets
-  std::string reason;  ///< why the set is uncertain (empty when good)
+  int index = 0;                      ///< 0 = leftmost looking into the rows
+  thorvald_base::Pose2D rail_frame;   ///< origin between the rails at their start, x along the rails, in the map frame
+  thorvald_base::Pose2D target_pose;  ///< rail_frame * target_in_rail, in the map frame
+  bool good = true;                   ///< every check behind this set passed; a mission visits only good sets
+  std::string reason;                 ///< why the set is uncertain (empty when good)
 };
 
 /// One check behind the result: what was measured, against what limit, and whether it passed.
@@ -90,6 +91,6 @@ struct MapAnalysis {
 /// edge, side walls, the spacing, rail frames and target poses, and the checks behind them. Never invents
 /// poses: when no row or rear wall is found, ok is false and message says what was found and what was
 /// expected. Sets whose position rests on a failed check are marked uncertain with the reason.
-MapAnalysis analyzeMap(const OccupancyMap& map, const MapAnalyzerParams& params);
+MapAnalysis analyzeMap(const thorvald_map::OccupancyGrid& map, const MapAnalyzerParams& params);
 
 }  // namespace greenhouse_rail_nav

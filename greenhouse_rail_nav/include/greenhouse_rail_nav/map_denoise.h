@@ -2,7 +2,7 @@
 
 #include <cstddef>
 
-#include "greenhouse_rail_nav/occupancy_map.h"
+#include "thorvald_map/occupancy_grid.h"
 
 namespace greenhouse_rail_nav {
 
@@ -12,6 +12,7 @@ namespace greenhouse_rail_nav {
 /// false returns of a laser are single cells or pairs, and they are isolated. A face the lidar saw at a grazing
 /// angle is drawn as dots a few cells apart: linked, they are one long group, not many small ones. Returns the
 /// number of cells cleared.
-std::size_t removeSpeckle(OccupancyMap* map, double min_area_m2, double link_radius_m = 0.0, int occupied_value = 65);
+std::size_t removeSpeckle(thorvald_map::OccupancyGrid* map, double min_area_m2, double link_radius_m = 0.0,
+                          int occupied_value = 65);
 
 }  // namespace greenhouse_rail_nav

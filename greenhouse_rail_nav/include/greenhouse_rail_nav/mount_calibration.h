@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "greenhouse_rail_nav/pose2d.h"
+#include "thorvald_base/pose2d.h"
 
 namespace greenhouse_rail_nav {
 
@@ -14,13 +14,13 @@ struct MountCorrection {
   double yaw_rad = 0.0;  ///< rotation about z [rad]
 
   /// As a transform applied to everything seen in base_link.
-  Pose2D asTransform() const { return Pose2D(0.0, y_m, yaw_rad); }
+  thorvald_base::Pose2D asTransform() const { return thorvald_base::Pose2D(0.0, y_m, yaw_rad); }
 };
 
 /// Computes the correction from the rail frame seen in base_link (without any correction) while the
 /// robot stands on the rails. Refuses (false, *error says why) when the view is too far from straight
 /// for the robot to be on the rails (|yaw| > max_yaw_rad or centre line |y| > max_y_m) or not finite.
-bool computeMountCorrection(const Pose2D& rail_in_base_uncorrected, double max_y_m, double max_yaw_rad,
+bool computeMountCorrection(const thorvald_base::Pose2D& rail_in_base_uncorrected, double max_y_m, double max_yaw_rad,
                             MountCorrection* correction, std::string* error);
 
 bool saveMountCorrection(const MountCorrection& correction, const std::string& path, std::string* error);

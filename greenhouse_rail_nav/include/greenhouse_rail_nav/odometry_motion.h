@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "greenhouse_rail_nav/pose2d.h"
+#include "thorvald_base/pose2d.h"
 #include "greenhouse_rail_nav/rail_alignment.h"
 
 namespace greenhouse_rail_nav {
@@ -40,9 +40,9 @@ class OdometryMotion {
   };
 
   /// Starts `step` from the current odometry pose at time `t_s` [s].
-  void start(const MotionStep& step, const Pose2D& odom_pose, double t_s);
+  void start(const MotionStep& step, const thorvald_base::Pose2D& odom_pose, double t_s);
   /// The command for the current odometry pose at time `t_s` [s].
-  Command update(const Pose2D& odom_pose, double t_s);
+  Command update(const thorvald_base::Pose2D& odom_pose, double t_s);
   /// Signed distance [m] or angle [rad] still to go.
   double remaining() const { return step_.amount - progress_; }
   bool active() const { return active_; }
@@ -52,7 +52,7 @@ class OdometryMotion {
 
   MotionLimits limits_;
   MotionStep step_;
-  Pose2D start_pose_, last_pose_;
+  thorvald_base::Pose2D start_pose_, last_pose_;
   double progress_ = 0.0;
   double start_time_ = 0.0;
   double last_progress_time_ = 0.0, last_progress_value_ = 0.0;

@@ -3,7 +3,7 @@
 #include <string>
 #include <vector>
 
-#include "greenhouse_rail_nav/pose2d.h"
+#include "thorvald_base/pose2d.h"
 
 namespace greenhouse_rail_nav {
 
@@ -32,16 +32,16 @@ struct AlignmentParams {
 
 /// True when the robot may start entering: y and yaw within the limits, and x within its window when the
 /// detector observed x (when the rail start is out of the camera's view, x is not used).
-bool withinEntryLimits(const Pose2D& robot_in_rail, bool x_observed, const AlignmentParams& p);
+bool withinEntryLimits(const thorvald_base::Pose2D& robot_in_rail, bool x_observed, const AlignmentParams& p);
 
 /// The manoeuvre that brings base_link from `robot_in_rail` (its pose in the rail frame: x along the rails,
 /// origin between the rail starts) to (approach_x, 0, 0). Rotations in place about base_link, so the robot
 /// must be able to turn on the spot (differential or 4WD4WS). Steps too small to matter are left out; an
 /// empty plan means the robot already stands where it should.
-std::vector<MotionStep> planAlignment(const Pose2D& robot_in_rail, const AlignmentParams& p);
+std::vector<MotionStep> planAlignment(const thorvald_base::Pose2D& robot_in_rail, const AlignmentParams& p);
 
 /// The pose the plan ends at when executed exactly (for tests and for logging the expected result).
-Pose2D applyPlan(const Pose2D& start, const std::vector<MotionStep>& plan);
+thorvald_base::Pose2D applyPlan(const thorvald_base::Pose2D& start, const std::vector<MotionStep>& plan);
 
 /// The search for rails that the camera does not see (§V-A2): rotations in place that turn the robot
 /// alternately counter-clockwise and clockwise through growing angles, +step, -step, +2 step, -2 step, ...,

@@ -64,12 +64,12 @@ struct RailDetection {
   /// nearer the robot (x in the rail frame is at least the reported one).
   enum class Status { kFound, kFoundXUnobserved, kNotFound, kBadInput };
   Status status = Status::kNotFound;
-  std::string reason;                ///< why not found / rejected, or a summary when found
-  Pose2D rail_in_base;               ///< the rail frame in base_link (after the mount correction)
-  Pose2D base_in_rail;               ///< base_link in the rail frame: the paper's output
-  std::array<double, 3> variance{};  ///< x [m^2], y [m^2], yaw [rad^2] of base_in_rail
-  double fit_score = 0.0;            ///< linearity of the chosen line
-  double gauge_m = 0.0;              ///< measured gauge [m]
+  std::string reason;                  ///< why not found / rejected, or a summary when found
+  thorvald_base::Pose2D rail_in_base;  ///< the rail frame in base_link (after the mount correction)
+  thorvald_base::Pose2D base_in_rail;  ///< base_link in the rail frame: the paper's output
+  std::array<double, 3> variance{};    ///< x [m^2], y [m^2], yaw [rad^2] of base_in_rail
+  double fit_score = 0.0;              ///< linearity of the chosen line
+  double gauge_m = 0.0;                ///< measured gauge [m]
   std::size_t finite_points = 0, points_in_band = 0, clusters = 0, lines = 0;
   std::vector<RailLine> rails;  ///< the two rails (base_link, after the mount correction)
 
@@ -91,7 +91,7 @@ class RailDetector {
   /// camera_in_base: the cloud's frame in base_link. mount_correction: a planar correction applied to
   /// everything seen in base_link (from the calibration; identity if none).
   RailDetection detect(const OrganisedCloud& cloud, const Eigen::Isometry3d& camera_in_base,
-                       const Pose2D& mount_correction = Pose2D(),
+                       const thorvald_base::Pose2D& mount_correction = thorvald_base::Pose2D(),
                        RailFitMethod method = RailFitMethod::kClusterLines) const;
 
   /// Step 1 alone: finite points moved to base_link and cropped to the rails' band, thinned to voxels.

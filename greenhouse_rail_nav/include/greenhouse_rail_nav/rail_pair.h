@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "greenhouse_rail_nav/line_fit.h"
-#include "greenhouse_rail_nav/pose2d.h"
+#include "thorvald_base/pose2d.h"
 
 namespace greenhouse_rail_nav {
 
@@ -20,7 +20,7 @@ struct RailLine {
 /// start, x along the rails).
 struct RailPair {
   RailLine first, second;
-  Pose2D rail_in_base;
+  thorvald_base::Pose2D rail_in_base;
   double gauge_m = 0.0;  ///< measured distance between the two rail lines [m]
 };
 

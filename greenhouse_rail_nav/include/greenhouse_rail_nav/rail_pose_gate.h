@@ -3,7 +3,7 @@
 #include <optional>
 #include <string>
 
-#include "greenhouse_rail_nav/pose2d.h"
+#include "thorvald_base/pose2d.h"
 
 namespace greenhouse_rail_nav {
 
@@ -27,21 +27,21 @@ class RailPoseGate {
   explicit RailPoseGate(const RailPoseGateParams& params) : params_(params) {}
 
   /// Feeds one estimate (base_link in the rail frame) taken at stamp_s [s].
-  Verdict update(const Pose2D& estimate, double stamp_s);
+  Verdict update(const thorvald_base::Pose2D& estimate, double stamp_s);
   /// Forgets the history (e.g. after the robot moved to another rail set).
   void reset();
   /// The last accepted estimate, if any.
-  const std::optional<Pose2D>& accepted() const { return accepted_; }
+  const std::optional<thorvald_base::Pose2D>& accepted() const { return accepted_; }
   /// Frames held back in a row.
   int heldBack() const { return held_back_; }
 
  private:
-  bool consistent(const Pose2D& a, const Pose2D& b) const;
+  bool consistent(const thorvald_base::Pose2D& a, const thorvald_base::Pose2D& b) const;
 
   RailPoseGateParams params_;
-  std::optional<Pose2D> accepted_;
+  std::optional<thorvald_base::Pose2D> accepted_;
   double accepted_stamp_s_ = 0.0;
-  std::optional<Pose2D> pending_;
+  std::optional<thorvald_base::Pose2D> pending_;
   int pending_count_ = 0;
   int held_back_ = 0;
 };

@@ -4,7 +4,7 @@
 
 #include "greenhouse_rail_nav/headland_scan.h"
 #include "greenhouse_rail_nav/line_extraction.h"
-#include "greenhouse_rail_nav/occupancy_map.h"
+#include "thorvald_map/occupancy_grid.h"
 
 namespace greenhouse_rail_nav {
 
@@ -22,7 +22,7 @@ int selectRearWall(const std::vector<LineSegment>& lines, double tolerance, doub
 /// +1: right) along its cells (a band of +-0.15 m about its line, gaps up to 0.3 m bridged) [m, headland u];
 /// *floor_beyond says whether floor is mapped in front of the headland beyond that end (the wall ends there,
 /// rather than the map). NaN when no wall cell is met or the walk reaches max_travel_m.
-double rearWallEnd(const OccupancyMap& map, const HeadlandFrame& frame, double u_from, double direction,
+double rearWallEnd(const thorvald_map::OccupancyGrid& map, const HeadlandFrame& frame, double u_from, double direction,
                    double max_travel_m, bool* floor_beyond);
 
 }  // namespace greenhouse_rail_nav

@@ -9,7 +9,7 @@
 #include <thorvald_state_machine/state_machine.h>
 
 #include "greenhouse_rail_nav/odometry_motion.h"
-#include "greenhouse_rail_nav/pose2d.h"
+#include "thorvald_base/pose2d.h"
 #include "greenhouse_rail_nav/rail_alignment.h"
 #include "greenhouse_rail_nav/rail_run.h"
 #include "greenhouse_rail_nav/surface_classifier.h"
@@ -20,8 +20,8 @@ namespace greenhouse_rail_nav {
 struct RailObservation {
   enum class Status { kNone, kFound, kXUnobserved, kNotFound };
   Status status = Status::kNone;
-  double stamp_s = -1.0;  ///< time of the depth cloud it came from [s]
-  Pose2D robot_in_rail;   ///< base_link in the rail frame
+  double stamp_s = -1.0;                ///< time of the depth cloud it came from [s]
+  thorvald_base::Pose2D robot_in_rail;  ///< base_link in the rail frame
 };
 
 /// The surfaces under the robot (from the surface monitor).
@@ -41,11 +41,11 @@ class MissionIO {
   virtual double now() = 0;     ///< [s]
   virtual bool ok() = 0;        ///< false when the process shuts down
   virtual void waitTick() = 0;  ///< waits one control period
-  virtual void sendNavGoal(const Pose2D& map_pose) = 0;
+  virtual void sendNavGoal(const thorvald_base::Pose2D& map_pose) = 0;
   virtual NavState navState(std::string* reason) = 0;
   virtual void cancelNav() = 0;
-  virtual bool odomPose(Pose2D* pose) = 0;  ///< latest odometry pose; false when none (or stale)
-  virtual bool mapPose(Pose2D* pose) = 0;   ///< robot in the map frame; false when unknown
+  virtual bool odomPose(thorvald_base::Pose2D* pose) = 0;  ///< latest odometry pose; false when none (or stale)
+  virtual bool mapPose(thorvald_base::Pose2D* pose) = 0;   ///< robot in the map frame; false when unknown
   virtual RailObservation railObservation() = 0;
   virtual SurfaceReading surface() = 0;
   virtual double forwardRange() = 0;  ///< lidar distance straight ahead [m]; NaN when nothing is seen
@@ -54,16 +54,16 @@ class MissionIO {
   virtual void commandTwist(double linear_mps, double angular_rps) = 0;
   virtual void setLights(bool on) = 0;
   /// Tells the localisation where the robot stands (the pose stored before entering the rails).
-  virtual void resetLocalisation(const Pose2D& map_pose) = 0;
+  virtual void resetLocalisation(const thorvald_base::Pose2D& map_pose) = 0;
   virtual void log(const std::string& line) = 0;
 };
 
 /// One rail set to treat: where to stand in front of it (map frame) and the analyzer's verdict.
 struct MissionTarget {
   int index = 0;
-  Pose2D target_pose;  ///< map frame, facing the rails
-  bool good = true;    ///< false: the map analyzer was not sure of it; the mission skips it
-  std::string note;    ///< the analyzer's reason when not good
+  thorvald_base::Pose2D target_pose;  ///< map frame, facing the rails
+  bool good = true;                   ///< false: the map analyzer was not sure of it; the mission skips it
+  std::string note;                   ///< the analyzer's reason when not good
 };
 
 struct UvMissionParams {

@@ -13,10 +13,11 @@
 
 #include "greenhouse_rail_nav/keep_out_grid.h"
 #include "greenhouse_rail_nav/map_analyzer.h"
-#include "greenhouse_rail_nav/map_file.h"
+#include "thorvald_map/map_file.h"
 #include "greenhouse_rail_nav/map_overlay.h"
 #include "greenhouse_rail_nav/rail_set_file.h"
 #include "map_messages.h"
+#include "thorvald_map/ros/conversions.h"
 
 namespace greenhouse_rail_nav {
 namespace {
@@ -111,19 +112,20 @@ class MapAnalyzerNode {
       status_pub_.publish(s);
       return;
     }
-    if (static_cast<std::uint64_t>(msg->info.width) * msg->info.height != msg->data.size() ||
-        !(msg->info.resolution > 0.0f) || !std::isfinite(msg->info.resolution)) {
+    thorvald_map::OccupancyGrid map;
+    std::string error;
+    if (!thorvald_map::fromGridMessage(*msg, &map, &error)) {
       ++rejected_maps_;
       std_msgs::String s;
-      s.data = "rejected: map with width x height != data size or resolution <= 0";
+      s.data = "rejected: map message: " + error;
       ROS_ERROR_STREAM("map_analyzer: " << s.data);
       status_pub_.publish(s);
       return;
     }
-    analyze(fromMessage(*msg), msg->header.frame_id.empty() ? settings_.frame_id : msg->header.frame_id);
+    analyze(map, msg->header.frame_id.empty() ? settings_.frame_id : msg->header.frame_id);
   }
 
-  void analyze(const OccupancyMap& map, const std::string& frame_id) {
+  void analyze(const thorvald_map::OccupancyGrid& map, const std::string& frame_id) {
     const auto t0 = std::chrono::steady_clock::now();
     const MapAnalysis analysis = analyzeMap(map, settings_.analysis);
     last_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -144,8 +146,8 @@ class MapAnalyzerNode {
     geometry_msgs::PoseArray uncertain = targets;
     for (const auto& set : analysis.rail_sets) {  // empty when nothing usable was found: no invented poses
       // Only good sets go where a mission looks; uncertain ones are published apart for a person to check.
-      (set.good ? targets : uncertain).poses.push_back(toPoseMessage(set.target_pose));
-      if (set.good) frames.poses.push_back(toPoseMessage(set.rail_frame));
+      (set.good ? targets : uncertain).poses.push_back(thorvald_map::toPose(set.target_pose));
+      if (set.good) frames.poses.push_back(thorvald_map::toPose(set.rail_frame));
     }
     uncertain_pub_.publish(uncertain);
     markers_pub_.publish(analysisMarkers(analysis, settings_.analysis.rail_gauge_m, frame_id, stamp));
@@ -163,7 +165,8 @@ class MapAnalyzerNode {
         edge.polygon.points.push_back(q);
       }
       edge_pub_.publish(edge);
-      keep_out_pub_.publish(toMessage(makeKeepOutGrid(map, analysis.edge_start, analysis.edge_end, analysis.into_rows,
+      keep_out_pub_.publish(
+          thorvald_map::toGridMessage(makeKeepOutGrid(map, analysis.edge_start, analysis.edge_end, analysis.into_rows,
                                                       settings_.analysis.keep_out_margin_m),
                                       frame_id, stamp));
       writeFile(analysis, frame_id);
@@ -267,8 +270,10 @@ int main(int argc, char** argv) {
   MapAnalyzerNode node(nh, pnh, settings);
   if (!settings.map_file.empty()) {
     std::string error;
-    OccupancyMap map;
-    if (!loadMapYaml(settings.map_file, &map, &error, static_cast<std::uint64_t>(settings.max_map_cells))) {
+    thorvald_map::OccupancyGrid map;
+    thorvald_map::MapLoadOptions limits;
+    limits.max_cells = static_cast<std::uint64_t>(settings.max_map_cells);
+    if (!thorvald_map::loadMap(settings.map_file, &map, &error, limits)) {
       ROS_FATAL_STREAM("map_analyzer: cannot start: " << error);
       return 1;
     }

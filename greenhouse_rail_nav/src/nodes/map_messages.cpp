@@ -3,9 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include <tf2/LinearMath/Quaternion.h>
-#include <tf2/utils.h>
-#include <tf2_geometry_msgs/tf2_geometry_msgs.h>
+#include "thorvald_map/ros/conversions.h"
 
 namespace greenhouse_rail_nav {
 namespace {
@@ -39,43 +37,6 @@ visualization_msgs::Marker marker(const std::string& ns, int id, int type, const
 }
 
 }  // namespace
-
-double yawOf(const geometry_msgs::Quaternion& q) {
-  tf2::Quaternion t;
-  tf2::fromMsg(q, t);
-  return tf2::getYaw(t);
-}
-
-geometry_msgs::Pose toPoseMessage(const Pose2D& pose) {
-  geometry_msgs::Pose out;
-  out.position.x = pose.x;
-  out.position.y = pose.y;
-  tf2::Quaternion q;
-  q.setRPY(0.0, 0.0, pose.yaw);
-  out.orientation = tf2::toMsg(q);
-  return out;
-}
-
-OccupancyMap fromMessage(const nav_msgs::OccupancyGrid& grid) {
-  OccupancyMap map(
-      static_cast<int>(grid.info.width), static_cast<int>(grid.info.height), grid.info.resolution,
-      Pose2D(grid.info.origin.position.x, grid.info.origin.position.y, yawOf(grid.info.origin.orientation)));
-  map.cells.assign(grid.data.begin(), grid.data.end());
-  return map;
-}
-
-nav_msgs::OccupancyGrid toMessage(const OccupancyMap& map, const std::string& frame_id, const ros::Time& stamp) {
-  nav_msgs::OccupancyGrid grid;
-  grid.header.frame_id = frame_id;
-  grid.header.stamp = stamp;
-  grid.info.map_load_time = stamp;
-  grid.info.resolution = static_cast<float>(map.resolution);
-  grid.info.width = static_cast<std::uint32_t>(map.width);
-  grid.info.height = static_cast<std::uint32_t>(map.height);
-  grid.info.origin = toPoseMessage(map.origin);
-  grid.data.assign(map.cells.begin(), map.cells.end());
-  return grid;
-}
 
 visualization_msgs::MarkerArray analysisMarkers(const MapAnalysis& analysis, double rail_gauge_m,
                                                 const std::string& frame_id, const ros::Time& stamp) {
@@ -115,13 +76,13 @@ visualization_msgs::MarkerArray analysisMarkers(const MapAnalysis& analysis, dou
       rails.points.push_back(point(set.rail_frame.transformPoint({1.0, side * rail_gauge_m})));
     }
     Marker arrow = marker("targets", set.index, Marker::ARROW, frame_id, stamp, 1.0f, 0.0f, 0.0f, 0.1);
-    arrow.pose = toPoseMessage(set.target_pose);
+    arrow.pose = thorvald_map::toPose(set.target_pose);
     arrow.scale.x = 0.6;
     arrow.scale.y = 0.08;
     arrow.scale.z = 0.08;
     array.markers.push_back(arrow);
     Marker text = marker("target_index", set.index, Marker::TEXT_VIEW_FACING, frame_id, stamp, 1.0f, 1.0f, 1.0f, 0.3);
-    text.pose = toPoseMessage(set.target_pose);
+    text.pose = thorvald_map::toPose(set.target_pose);
     text.pose.position.z = 0.4;
     text.text = std::to_string(set.index);
     array.markers.push_back(text);

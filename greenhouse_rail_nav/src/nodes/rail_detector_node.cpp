@@ -179,7 +179,7 @@ class RailDetectorNode {
       finish(&status, greenhouse_rail_nav::RailDetectionStatus::NOT_FOUND, d.reason);
       return;
     }
-    last_uncorrected_ = correction_.asTransform().inverse().compose(d.rail_in_base);
+    last_uncorrected_ = correction_.asTransform().inverse() * d.rail_in_base;
     last_found_stamp_ = msg->header.stamp;
     status.x = d.base_in_rail.x;
     status.y = d.base_in_rail.y;
@@ -313,7 +313,7 @@ class RailDetectorNode {
   RailDetector detector_;
   RailPoseGate gate_;
   MountCorrection correction_;
-  std::optional<Pose2D> last_uncorrected_;
+  std::optional<thorvald_base::Pose2D> last_uncorrected_;
   ros::Time last_found_stamp_;
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;

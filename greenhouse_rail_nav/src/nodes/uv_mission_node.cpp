@@ -29,7 +29,7 @@
 #include "greenhouse_rail_nav/SurfaceState.h"
 #include "greenhouse_rail_nav/rail_set_file.h"
 #include "greenhouse_rail_nav/uv_mission.h"
-#include "map_messages.h"
+#include "thorvald_map/ros/conversions.h"
 
 namespace greenhouse_rail_nav {
 namespace {
@@ -75,7 +75,7 @@ class RosMissionIO : public MissionIO {
   double now() override { return ros::Time::now().toSec(); }
   bool ok() override { return ros::ok(); }
   void waitTick() override { rate_.sleep(); }
-  void sendNavGoal(const Pose2D& p) override {
+  void sendNavGoal(const thorvald_base::Pose2D& p) override {
     if (!move_base_.waitForServer(ros::Duration(5.0))) {
       nav_error_ = "no move_base action server";
       nav_failed_now_ = true;
@@ -85,7 +85,7 @@ class RosMissionIO : public MissionIO {
     move_base_msgs::MoveBaseGoal goal;
     goal.target_pose.header.frame_id = cfg_.map_frame;
     goal.target_pose.header.stamp = ros::Time::now();
-    goal.target_pose.pose = toPoseMessage(p);
+    goal.target_pose.pose = thorvald_map::toPose(p);
     move_base_.sendGoal(goal);
   }
   NavState navState(std::string* reason) override {
@@ -103,16 +103,16 @@ class RosMissionIO : public MissionIO {
   void cancelNav() override {
     if (move_base_.isServerConnected()) move_base_.cancelAllGoals();
   }
-  bool odomPose(Pose2D* p) override {
+  bool odomPose(thorvald_base::Pose2D* p) override {
     std::lock_guard<std::mutex> l(mutex_);
     if (odom_stamp_.isZero() || (ros::Time::now() - odom_stamp_).toSec() > cfg_.odom_timeout_s) return false;
     *p = odom_;
     return true;
   }
-  bool mapPose(Pose2D* p) override {
+  bool mapPose(thorvald_base::Pose2D* p) override {
     try {
       const auto t = tf_.lookupTransform(cfg_.map_frame, cfg_.base_frame, ros::Time(0), ros::Duration(0.2));
-      *p = Pose2D(t.transform.translation.x, t.transform.translation.y, tf2::getYaw(t.transform.rotation));
+      *p = thorvald_map::fromTransform(t.transform);
       return true;
     } catch (const tf2::TransformException& e) {
       ROS_WARN_THROTTLE(5.0, "uv_mission: no %s -> %s: %s", cfg_.map_frame.c_str(), cfg_.base_frame.c_str(), e.what());
@@ -149,11 +149,11 @@ class RosMissionIO : public MissionIO {
     b.data = on;
     lights_pub_.publish(b);
   }
-  void resetLocalisation(const Pose2D& p) override {
+  void resetLocalisation(const thorvald_base::Pose2D& p) override {
     geometry_msgs::PoseWithCovarianceStamped m;
     m.header.frame_id = cfg_.map_frame;
     m.header.stamp = ros::Time::now();
-    m.pose.pose = toPoseMessage(p);
+    m.pose.pose = thorvald_map::toPose(p);
     m.pose.covariance[0] = m.pose.covariance[7] = 0.02 * 0.02;
     m.pose.covariance[35] = 0.02 * 0.02;
     initialpose_pub_.publish(m);
@@ -163,13 +163,13 @@ class RosMissionIO : public MissionIO {
  private:
   void onOdom(const nav_msgs::Odometry& m) {
     std::lock_guard<std::mutex> l(mutex_);
-    odom_ = Pose2D(m.pose.pose.position.x, m.pose.pose.position.y, tf2::getYaw(m.pose.pose.orientation));
+    odom_ = thorvald_map::fromPose(m.pose.pose);
     odom_stamp_ = ros::Time::now();
   }
   void onRail(const RailDetectionStatus& m) {
     std::lock_guard<std::mutex> l(mutex_);
     rail_.stamp_s = m.header.stamp.toSec();
-    rail_.robot_in_rail = Pose2D(m.x, m.y, m.yaw);
+    rail_.robot_in_rail = thorvald_base::Pose2D(m.x, m.y, m.yaw);
     switch (m.status) {
       case RailDetectionStatus::FOUND:
         rail_.status = RailObservation::Status::kFound;
@@ -202,7 +202,7 @@ class RosMissionIO : public MissionIO {
   Config cfg_;
   ros::Rate rate_;
   std::mutex mutex_;
-  Pose2D odom_;
+  thorvald_base::Pose2D odom_;
   ros::Time odom_stamp_;
   RailObservation rail_;
   SurfaceReading surface_;

@@ -60,7 +60,7 @@ std::vector<Sphere> makeLeaves(const DepthSceneParams& scene, std::mt19937* rng)
 
 }  // namespace
 
-OrganisedCloud renderDepthCloud(const DepthSceneParams& scene, const Pose2D& base_in_rail) {
+OrganisedCloud renderDepthCloud(const DepthSceneParams& scene, const thorvald_base::Pose2D& base_in_rail) {
   std::mt19937 rng(scene.seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::normal_distribution<double> gauss(0.0, 1.0);

@@ -10,15 +10,15 @@ namespace {
 /// Paints cells whose centre lies in a layout-frame rectangle [x0, x1] x [y0, y1].
 class LayoutPainter {
  public:
-  LayoutPainter(OccupancyMap* map, const Pose2D& layout_in_map)
+  LayoutPainter(thorvald_map::OccupancyGrid* map, const thorvald_base::Pose2D& layout_in_map)
       : map_(map), to_map_(layout_in_map), to_layout_(layout_in_map.inverse()) {}
 
   void rect(double x0, double x1, double y0, double y1, std::int8_t value) {
     double min_c = 1e18, max_c = -1e18, min_r = 1e18, max_r = -1e18;
-    const Pose2D grid_to_layout = map_->origin.inverse();
+    const thorvald_base::Pose2D grid_to_layout = map_->origin.inverse();
     for (const auto& corner :
          {Eigen::Vector2d(x0, y0), Eigen::Vector2d(x1, y0), Eigen::Vector2d(x0, y1), Eigen::Vector2d(x1, y1)}) {
-      const Eigen::Vector2d g = grid_to_layout.transformPoint(to_map_.transformPoint(corner)) / map_->resolution;
+      const Eigen::Vector2d g = grid_to_layout.transformPoint(to_map_.transformPoint(corner)) / map_->resolution_m;
       min_c = std::min(min_c, g.x());
       max_c = std::max(max_c, g.x());
       min_r = std::min(min_r, g.y());
@@ -37,8 +37,8 @@ class LayoutPainter {
   }
 
  private:
-  OccupancyMap* map_;
-  Pose2D to_map_, to_layout_;
+  thorvald_map::OccupancyGrid* map_;
+  thorvald_base::Pose2D to_map_, to_layout_;
 };
 
 }  // namespace
@@ -67,10 +67,11 @@ SyntheticGreenhouseMap makeGreenhouseMap(const GreenhouseLayout& layout) {
   hi.array() += layout.map_margin_m;
   const double res = layout.resolution_m;
   SyntheticGreenhouseMap out;
-  out.map = OccupancyMap(static_cast<int>(std::ceil((hi.x() - lo.x()) / res)),
-                         static_cast<int>(std::ceil((hi.y() - lo.y()) / res)), res, Pose2D(lo.x(), lo.y(), 0.0));
+  out.map = thorvald_map::OccupancyGrid(static_cast<int>(std::ceil((hi.x() - lo.x()) / res)),
+                                        static_cast<int>(std::ceil((hi.y() - lo.y()) / res)), res,
+                                        thorvald_base::Pose2D(lo.x(), lo.y(), 0.0));
   LayoutPainter paint(&out.map, layout.layout_in_map);
-  const std::int8_t occ = OccupancyMap::kOccupied, free = OccupancyMap::kFree;
+  const std::int8_t occ = thorvald_map::kOccupied, free = thorvald_map::kFree;
 
   const bool left_wall = layout.side_walls && layout.left_wall;
   const bool right_wall = layout.side_walls && layout.right_wall;
@@ -88,8 +89,8 @@ SyntheticGreenhouseMap makeGreenhouseMap(const GreenhouseLayout& layout) {
   if (layout.door_width_m > 0.0) {
     // A door on the headland in each side wall; the laser saw nothing through it.
     const double y0 = 0.3 + unit(rng) * std::max(0.0, layout.headland_depth_m - layout.door_width_m - 0.6);
-    if (left_wall) paint.rect(-t - res, 0.0, y0, y0 + layout.door_width_m, OccupancyMap::kUnknown);
-    if (right_wall) paint.rect(width, width + t + res, y0, y0 + layout.door_width_m, OccupancyMap::kUnknown);
+    if (left_wall) paint.rect(-t - res, 0.0, y0, y0 + layout.door_width_m, thorvald_map::kUnknown);
+    if (right_wall) paint.rect(width, width + t + res, y0, y0 + layout.door_width_m, thorvald_map::kUnknown);
   }
   // Rows: ventilation lines are thin and solid, rows of plants are dotted (pots and stems) and wider.
   for (int j = 1; j < layout.rail_sets; ++j) {
@@ -110,11 +111,11 @@ SyntheticGreenhouseMap makeGreenhouseMap(const GreenhouseLayout& layout) {
         const double w = 0.5 * layout.ventilation_width_m;
         const bool left_only = std::find(layout.rows_seen_from_left_only.begin(), layout.rows_seen_from_left_only.end(),
                                          j) != layout.rows_seen_from_left_only.end();
-        paint.rect(x - w, x + w, y0, y_end, OccupancyMap::kUnknown);
+        paint.rect(x - w, x + w, y0, y_end, thorvald_map::kUnknown);
         paint.rect(x - w - half, x - w + half, y0, y_end, occ);
         paint.rect(x + w - half, x + w + half, y0, y0 + w, occ);
         if (left_only) {
-          paint.rect(x + w - half, x + w + 0.15, y0 + w, y_end, OccupancyMap::kUnknown);
+          paint.rect(x + w - half, x + w + 0.15, y0 + w, y_end, thorvald_map::kUnknown);
         } else {
           paint.rect(x + w - half, x + w + half, y0, y_end, occ);
         }
@@ -160,7 +161,7 @@ SyntheticGreenhouseMap makeGreenhouseMap(const GreenhouseLayout& layout) {
   }
   // Speckle noise: single false occupied cells anywhere the laser saw free floor.
   if (layout.speckle_free_fraction > 0.0) {
-    for (auto& cell : out.map.cells) {
+    for (auto& cell : out.map.data) {
       if (cell == free && unit(rng) < layout.speckle_free_fraction) cell = occ;
     }
   }
@@ -173,7 +174,7 @@ SyntheticGreenhouseMap makeGreenhouseMap(const GreenhouseLayout& layout) {
   for (int i = 0; i < layout.rail_sets; ++i) {
     const Eigen::Vector2d o =
         layout.layout_in_map.transformPoint({(i + 0.5) * layout.spacing_m, layout.headland_depth_m});
-    out.rail_frames.emplace_back(o.x(), o.y(), normalizeAngle(layout.layout_in_map.yaw + M_PI / 2));
+    out.rail_frames.emplace_back(o.x(), o.y(), thorvald_base::normalizeAngle(layout.layout_in_map.yaw + M_PI / 2));
   }
   out.edge_start = layout.layout_in_map.transformPoint({0.0, layout.headland_depth_m});
   out.edge_end = layout.layout_in_map.transformPoint({width, layout.headland_depth_m});

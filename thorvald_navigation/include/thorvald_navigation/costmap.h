@@ -7,8 +7,8 @@
 
 #include <Eigen/Core>
 
-#include "thorvald_navigation/grid2d.h"
-#include "thorvald_navigation/pose2d.h"
+#include "thorvald_map/occupancy_grid.h"
+#include "thorvald_base/pose2d.h"
 
 namespace thorvald_navigation {
 
@@ -51,7 +51,8 @@ class Costmap {
  public:
   Costmap() = default;
   /// `keep_out` may be empty (width 0). Cells >= 65 of either grid block.
-  Costmap(const Grid2D& map, const Grid2D& keep_out, const CostmapParams& params);
+  Costmap(const thorvald_map::OccupancyGrid& map, const thorvald_map::OccupancyGrid& keep_out,
+          const CostmapParams& params);
 
   /// Replaces the obstacle layer with points seen now (world frame) and re-inflates. Points on or within
   /// known_structure_tolerance_m of a wall of the map or of the keep-out zone are not obstacles.
@@ -59,22 +60,22 @@ class Costmap {
   /// Of the last setObstacles: points marked as obstacles, points taken as known map structure.
   std::size_t obstaclePoints() const { return obstacle_points_; }
   std::size_t knownStructurePoints() const { return known_points_; }
-  const Grid2D& geometry() const { return geometry_; }
+  const thorvald_map::OccupancyGrid& geometry() const { return geometry_; }
   std::uint8_t cost(int cx, int cy) const { return cost_[geometry_.index(cx, cy)]; }
   Blocker blocker(int cx, int cy) const { return static_cast<Blocker>(blocker_[geometry_.index(cx, cy)]); }
   /// The first blocked cell under the footprint placed at `pose`, or kNone.
-  Blocker footprintBlocker(const Pose2D& pose, const Footprint& footprint) const;
+  Blocker footprintBlocker(const thorvald_base::Pose2D& pose, const Footprint& footprint) const;
   /// Whether any cell under the footprint placed at `pose` is blocked by `which` (whatever else it overlaps).
-  bool footprintTouches(const Pose2D& pose, const Footprint& footprint, Blocker which) const;
+  bool footprintTouches(const thorvald_base::Pose2D& pose, const Footprint& footprint, Blocker which) const;
   /// Costs as 0..100 occupancy values for display (-1 never).
-  Grid2D toDisplayGrid() const;
+  thorvald_map::OccupancyGrid toDisplayGrid() const;
   const CostmapParams& params() const { return params_; }
 
  private:
   void inflate();
 
   CostmapParams params_;
-  Grid2D geometry_;
+  thorvald_map::OccupancyGrid geometry_;
   std::vector<std::uint8_t> static_blocker_;
   std::vector<std::uint8_t> blocker_;
   std::vector<std::uint8_t> cost_;
@@ -94,7 +95,7 @@ class Costmap {
 /// A NaN `goal_yaw` leaves the final turn out (differential) or keeps the current heading (omnidirectional);
 /// `reverse`: a differential robot backs along the path (its heading opposite to the segments'). Only obstacle cells
 /// count: walls, keep-out and unknown space are the planner's. Negative when the way is clear.
-double sweptObstacleDistance(const Costmap& costmap, const Footprint& footprint, const Pose2D& pose,
+double sweptObstacleDistance(const Costmap& costmap, const Footprint& footprint, const thorvald_base::Pose2D& pose,
                              const std::vector<Eigen::Vector2d>& path, std::size_t next_index, double ahead_m,
                              bool omnidirectional, double goal_yaw = std::numeric_limits<double>::quiet_NaN(),
                              bool reverse = false);

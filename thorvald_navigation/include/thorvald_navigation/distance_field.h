@@ -5,8 +5,8 @@
 
 #include <Eigen/Core>
 
-#include "thorvald_navigation/grid2d.h"
-#include "thorvald_navigation/wall_surface.h"
+#include "thorvald_map/occupancy_grid.h"
+#include "thorvald_map/wall_surface.h"
 
 namespace thorvald_navigation {
 
@@ -14,11 +14,11 @@ namespace thorvald_navigation {
 /// `max_distance_m`, with bilinear interpolation and its gradient: the smooth likelihood field that scan
 /// matching descends. Unknown cells count as free (they hold no wall).
 ///
-/// With a WallSurface (the mean beam end point of each cell), distances are measured instead to the wall's surface
-/// where the beams ended: each wall cell (site) stands for a short line segment through the mean of the end points
-/// in its 3x3 neighbourhood, along their principal direction, one cell long; the distance at a point is the smallest
-/// to the segments of the sites nearest to its cell and its 8 neighbours (exact feature transform), so its zero is
-/// at the surface wherever it lies inside a cell, not at cell centres. `line_half_length_m` sets how far a wall
+/// With a thorvald_map::WallSurface (the mean beam end point of each cell), distances are measured instead to the
+/// wall's surface where the beams ended: each wall cell (site) stands for a short line segment through the mean of the
+/// end points in its 3x3 neighbourhood, along their principal direction, one cell long; the distance at a point is the
+/// smallest to the segments of the sites nearest to its cell and its 8 neighbours (exact feature transform), so its
+/// zero is at the surface wherever it lies inside a cell, not at cell centres. `line_half_length_m` sets how far a wall
 /// cell's segment reaches either way (default half a cell); 0 makes it the whole line (a point-to-line distance),
 /// so that a wall seen at a grazing angle, whose cells hold beam ends only here and there, has no bumps along its
 /// length for scan matching to slide into: along a straight wall only its ends and corners fix a position.
@@ -30,8 +30,9 @@ class DistanceField {
   /// noise, the mapper's own pose error) still has its zero at the face instead of a flat band that scan matching
   /// slides into; a grid without any free cell keeps every wall cell.
   /// `surface` (optional, same size as the grid): where the beams ended inside each cell.
-  DistanceField(const Grid2D& grid, double max_distance_m, int occupied_threshold = 65, bool faces_only = false,
-                const WallSurface* surface = nullptr, double line_half_length_m = -1.0);
+  DistanceField(const thorvald_map::OccupancyGrid& grid, double max_distance_m, int occupied_threshold = 65,
+                bool faces_only = false, const thorvald_map::WallSurface* surface = nullptr,
+                double line_half_length_m = -1.0);
 
   bool empty() const { return width_ == 0; }
   double maxDistance() const { return max_distance_m_; }
@@ -41,8 +42,8 @@ class DistanceField {
   /// (indices into the grid): only the distances within reach of a changed cell are recomputed, tile by tile, so a
   /// mapper's field costs what a scan changed rather than what the map holds. Equal to a field built anew from the
   /// same grid (tested).
-  void update(const Grid2D& grid, const WallSurface* surface, const std::vector<int>& changed_cells,
-              const std::vector<int>& moved_cells);
+  void update(const thorvald_map::OccupancyGrid& grid, const thorvald_map::WallSurface* surface,
+              const std::vector<int>& changed_cells, const std::vector<int>& moved_cells);
   /// Distance [m] at a world point (max distance outside the grid). `gradient` (optional) in [m/m].
   double distance(const Eigen::Vector2d& p, Eigen::Vector2d* gradient = nullptr) const;
   /// Distance at a cell, no interpolation [m]; max distance outside.
@@ -64,18 +65,18 @@ class DistanceField {
     Eigen::Vector2f point = Eigen::Vector2f::Zero(), tangent = Eigen::Vector2f::UnitX();
     float half_length = 0.0f;
   };
-  bool isSite(const Grid2D& grid, int x, int y) const;
+  bool isSite(const thorvald_map::OccupancyGrid& grid, int x, int y) const;
   /// Exact transform of the sites in window [wx0, wx1] x [wy0, wy1] written to the cells of the box [bx0, bx1] x
   /// [by0, by1] inside it (exact there when the window reaches the box's cells' reach further on every side).
   void transformWindow(int wx0, int wy0, int wx1, int wy1, int bx0, int by0, int bx1, int by1);
-  void computeSurfel(const WallSurface& surface, int x, int y);
+  void computeSurfel(const thorvald_map::WallSurface& surface, int x, int y);
   double surfaceDistance(const Eigen::Vector2d& p, Eigen::Vector2d* gradient) const;
 
   int width_ = 0, height_ = 0, occupied_cells_ = 0;
   double resolution_m_ = 1.0, origin_x_m_ = 0.0, origin_y_m_ = 0.0, max_distance_m_ = 1.0;
   int occupied_threshold_ = 65;
   bool faces_ = false;               ///< sites are the face cells only
-  bool sub_cell_ = false;            ///< distances to the surfels (a WallSurface was given)
+  bool sub_cell_ = false;            ///< distances to the surfels (a thorvald_map::WallSurface was given)
   int reach_cells_ = 1;              ///< max distance in cells, rounded up, plus one
   float line_half_length_m_ = 0.0f;  ///< reach of a line surfel either way [m] (infinite: the whole line)
   std::vector<float> dist_;

@@ -7,7 +7,7 @@
 
 #include "thorvald_navigation/costmap.h"
 #include "thorvald_navigation/grid_planner.h"
-#include "thorvald_navigation/pose2d.h"
+#include "thorvald_base/pose2d.h"
 
 namespace thorvald_navigation {
 
@@ -23,21 +23,22 @@ struct GoalPlan {
 /// Refuses a goal whose footprint overlaps a wall, unmapped space, the keep-out zone or an obstacle (with that reason),
 /// plans with planPath, and ends a differential robot's path with its final approach (withFinalApproach;
 /// `final_approach_m` 0: none).
-GoalPlan planToGoal(const Costmap& costmap, const Footprint& footprint, const Pose2D& start, const Pose2D& goal,
-                    const PlannerParams& planner, double final_approach_m);
+GoalPlan planToGoal(const Costmap& costmap, const Footprint& footprint, const thorvald_base::Pose2D& start,
+                    const thorvald_base::Pose2D& goal, const PlannerParams& planner, double final_approach_m);
 
 /// A differential robot turning on the spot at the goal moves base_link by a few centimetres (its turning centre is
 /// not exactly base_link on a real floor): its path ends with `length_m` straight along the goal's heading, so that
 /// the final turn is small. The plan's points within that stretch are dropped. Unchanged when the stretch would put
 /// the footprint on any blocked cell, or for an empty path or a length <= 0.
 std::vector<Eigen::Vector2d> withFinalApproach(const Costmap& costmap, const Footprint& footprint,
-                                               std::vector<Eigen::Vector2d> path, const Pose2D& goal, double length_m);
+                                               std::vector<Eigen::Vector2d> path, const thorvald_base::Pose2D& goal,
+                                               double length_m);
 
 /// How the robot approaches a goal again from where it settled outside the tolerances.
 struct Approach {
   /// First leg: to `first_target` (the final approach's start, heading the goal's), driven backwards when `reverse`.
   std::vector<Eigen::Vector2d> first_leg;
-  Pose2D first_target;
+  thorvald_base::Pose2D first_target;
   bool reverse = false;
   /// Whether a second leg follows, straight from first_target to the goal.
   bool then_to_goal = false;
@@ -45,8 +46,8 @@ struct Approach {
 
 /// Differential robot with a free final approach: back straight off to its start (no half turn on the spot, which
 /// would swing a long robot's rear round), then drive it again. Otherwise straight to the goal.
-Approach approachAgain(const Costmap& costmap, const Footprint& footprint, const Pose2D& pose, const Pose2D& goal,
-                       double final_approach_m, bool omnidirectional);
+Approach approachAgain(const Costmap& costmap, const Footprint& footprint, const thorvald_base::Pose2D& pose,
+                       const thorvald_base::Pose2D& goal, double final_approach_m, bool omnidirectional);
 
 /// How a differential robot drives a planned path: forward, or backwards (its rear first) as far as the final
 /// approach's start, so that no turn on the spot sweeps its footprint over a wall, the keep-out zone or unknown space.
@@ -66,8 +67,9 @@ struct PathDirection {
 /// whose turns all clear forward is driven forward. Turns the start pose's footprint already overlaps are not held
 /// against either direction (the robot stands there already). Omnidirectional robots and paths of fewer than 2 points:
 /// forward, unchecked.
-PathDirection choosePathDirection(const Costmap& costmap, const Footprint& footprint, const Pose2D& start,
-                                  const std::vector<Eigen::Vector2d>& path, const Pose2D& goal, bool omnidirectional);
+PathDirection choosePathDirection(const Costmap& costmap, const Footprint& footprint,
+                                  const thorvald_base::Pose2D& start, const std::vector<Eigen::Vector2d>& path,
+                                  const thorvald_base::Pose2D& goal, bool omnidirectional);
 
 struct ArrivalParams {
   double xy_tolerance_m = 0.02;
@@ -90,7 +92,7 @@ class ArrivalJudge {
   explicit ArrivalJudge(const ArrivalParams& params) : params_(params) {}
   /// A new goal: no correction made yet.
   void reset() { corrections_ = 0; }
-  ArrivalJudgement judge(const Pose2D& settled, const Pose2D& goal);
+  ArrivalJudgement judge(const thorvald_base::Pose2D& settled, const thorvald_base::Pose2D& goal);
   int corrections() const { return corrections_; }
 
  private:

@@ -29,8 +29,8 @@ struct GateVerdict {
 /// Decides whether the navigator may drive on the localised pose. A lost localiser (or one without a pose) holds
 /// the robot where it stands until it reports localized or uncertain again, and aborts the goal after
 /// lost_wait_s; an uncertain one lets the robot drive (its matches are used, the pose is roughly right) but a goal
-/// is judged reached only on a localized pose. Without any status (kUnknown) the gate always lets it drive, so a
-/// localiser that reports none (amcl) works as before. Times are seconds on any monotonic clock.
+/// is judged reached only on a localized pose. Without any status (kUnknown) the gate always lets it
+/// drive, so a localiser that reports none (amcl) works as before. Times are seconds on any monotonic clock.
 class LocalizationGate {
  public:
   explicit LocalizationGate(const LocalizationGateParams& params = {}) : params_(params) {}

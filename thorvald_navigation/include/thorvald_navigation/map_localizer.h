@@ -6,8 +6,8 @@
 #include <Eigen/Core>
 
 #include "thorvald_navigation/distance_field.h"
-#include "thorvald_navigation/grid2d.h"
-#include "thorvald_navigation/pose2d.h"
+#include "thorvald_map/occupancy_grid.h"
+#include "thorvald_base/pose2d.h"
 #include "thorvald_navigation/scan_matcher.h"
 
 namespace thorvald_navigation {
@@ -45,8 +45,8 @@ const char* statusName(LocalizationStatus s);
 
 /// One localisation step's outcome.
 struct LocalizationUpdate {
-  bool used = false;  ///< the scan corrected the pose
-  Pose2D pose;        ///< base_link in the map frame
+  bool used = false;           ///< the scan corrected the pose
+  thorvald_base::Pose2D pose;  ///< base_link in the map frame
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();
   double inlier_fraction = 0.0;
   LocalizationStatus status = LocalizationStatus::kNoPose;
@@ -63,17 +63,17 @@ class MapLocalizer {
 
   /// Sets the map; an empty string on success, else what is wrong with it. `surface` (optional, the mapper's
   /// per-cell mean beam ends): scans are matched to the walls' sub-cell surface instead of the cell centres.
-  std::string setMap(const Grid2D& map, const WallSurface* surface = nullptr);
+  std::string setMap(const thorvald_map::OccupancyGrid& map, const thorvald_map::WallSurface* surface = nullptr);
   bool hasMap() const { return !field_.empty(); }
   /// Sets the pose of base_link in the map at the moment odometry read `odom`.
-  void setPose(const Pose2D& map_pose, const Pose2D& odom);
+  void setPose(const thorvald_base::Pose2D& map_pose, const thorvald_base::Pose2D& odom);
   /// The next scan runs a global search over the free map instead of tracking.
   void requestGlobalLocalization() {
     global_requested_ = true;
     window_xy_m_ = 0.0;
   }
   /// The next scan searches within `xy_m` [m] and `yaw_rad` [rad] of `center` (a rough pose from a user).
-  void requestWindowedSearch(const Pose2D& center, double xy_m, double yaw_rad) {
+  void requestWindowedSearch(const thorvald_base::Pose2D& center, double xy_m, double yaw_rad) {
     global_requested_ = true;
     window_center_ = center;
     window_xy_m_ = xy_m;
@@ -82,28 +82,29 @@ class MapLocalizer {
   /// One scan: `odom` is base_link in the odometry frame at the scan's time, `points_base` its hits in base_link.
   /// A scan whose match would move the pose by more than max_jump although it fits the map well means the pose is
   /// known to be wrong: the status turns lost at once (not after lost_after_scans) and the re-check starts.
-  LocalizationUpdate update(const Pose2D& odom, const std::vector<Eigen::Vector2d>& points_base);
+  LocalizationUpdate update(const thorvald_base::Pose2D& odom, const std::vector<Eigen::Vector2d>& points_base);
 
   /// Pose of the odometry frame in the map frame (what map -> odom on tf carries).
-  Pose2D mapToOdom() const { return map_to_odom_; }
+  thorvald_base::Pose2D mapToOdom() const { return map_to_odom_; }
   LocalizationStatus status() const { return status_; }
   bool hasPose() const { return status_ != LocalizationStatus::kNoPose; }
 
  private:
   /// Takes a search's best pose (status uncertain until confirm_scans good scans agree), fills `u`.
-  void adopt(const GlobalResult& g, const Pose2D& odom, const std::string& what, LocalizationUpdate* u);
+  void adopt(const GlobalResult& g, const thorvald_base::Pose2D& odom, const std::string& what, LocalizationUpdate* u);
   /// The lost robot's windowed search around the odometry prediction; true when it relocalised.
-  bool recheck(const Pose2D& odom, const std::vector<Eigen::Vector2d>& points_base, LocalizationUpdate* u);
+  bool recheck(const thorvald_base::Pose2D& odom, const std::vector<Eigen::Vector2d>& points_base,
+               LocalizationUpdate* u);
 
   LocalizerParams params_;
-  Grid2D map_;
+  thorvald_map::OccupancyGrid map_;
   DistanceField field_;
-  Pose2D map_to_odom_;
-  Pose2D last_odom_;
+  thorvald_base::Pose2D map_to_odom_;
+  thorvald_base::Pose2D last_odom_;
   bool have_last_odom_ = false;
   bool global_requested_ = false;
-  Pose2D window_center_;
-  double window_xy_m_ = 0.0, window_yaw_rad_ = kPi;
+  thorvald_base::Pose2D window_center_;
+  double window_xy_m_ = 0.0, window_yaw_rad_ = thorvald_base::kPi;
   int bad_scans_ = 0;
   int weak_scans_ = 0;  // consecutive matches below uncertain_inlier_fraction
   int confirm_left_ = 0;

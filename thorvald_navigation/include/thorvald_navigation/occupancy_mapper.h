@@ -7,10 +7,10 @@
 #include <Eigen/Core>
 
 #include "thorvald_navigation/distance_field.h"
-#include "thorvald_navigation/grid2d.h"
-#include "thorvald_navigation/pose2d.h"
+#include "thorvald_map/occupancy_grid.h"
+#include "thorvald_base/pose2d.h"
 #include "thorvald_navigation/scan_matcher.h"
-#include "thorvald_navigation/wall_surface.h"
+#include "thorvald_map/wall_surface.h"
 
 namespace thorvald_navigation {
 
@@ -48,9 +48,9 @@ struct MapperParams {
 
 /// What happened to one scan.
 struct MapperUpdate {
-  bool integrated = false;  ///< false: the robot had not moved enough, or the scan was rejected
-  bool matched = false;     ///< the pose came from scan matching (else from odometry)
-  Pose2D pose;              ///< corrected base_link pose in the map frame
+  bool integrated = false;     ///< false: the robot had not moved enough, or the scan was rejected
+  bool matched = false;        ///< the pose came from scan matching (else from odometry)
+  thorvald_base::Pose2D pose;  ///< corrected base_link pose in the map frame
   double inlier_fraction = 0.0;
   std::string rejected;  ///< why the scan was not used (empty when it was, or when the robot stood still)
 };
@@ -65,27 +65,27 @@ class OccupancyMapper {
   /// `odom`: base_link in the odometry frame; `points_base`: beam ends in base_link [m] (hits);
   /// `free_ends_base`: ends of beams that returned nothing within range (only clear space).
   /// `sensor_base`: the sensor's origin in base_link.
-  MapperUpdate addScan(const Pose2D& odom, const Eigen::Vector2d& sensor_base,
+  MapperUpdate addScan(const thorvald_base::Pose2D& odom, const Eigen::Vector2d& sensor_base,
                        const std::vector<Eigen::Vector2d>& points_base,
                        const std::vector<Eigen::Vector2d>& free_ends_base);
 
   /// The map as occupancy values (0 free, 100 occupied, -1 unknown), cropped to the observed area.
-  Grid2D occupancyGrid() const;
+  thorvald_map::OccupancyGrid occupancyGrid() const;
   /// Where the beams ended inside each cell of occupancyGrid() (same crop): the walls' sub-cell surface.
-  WallSurface wallSurface() const;
+  thorvald_map::WallSurface wallSurface() const;
   int scansUsed() const { return scans_used_; }
   /// Area observed as free or occupied [m^2].
   double knownAreaM2() const;
   /// map -> odom correction [pose of the odom frame in the map frame].
-  Pose2D mapToOdom() const { return map_to_odom_; }
+  thorvald_base::Pose2D mapToOdom() const { return map_to_odom_; }
 
  private:
   void ensureInside(const Eigen::Vector2d& p);
   /// Cells of the observed area plus a margin: x0, y0, x1, y1 (inclusive); x1 < 0 when nothing was observed.
   Eigen::Vector4i observedBounds() const;
   /// Traces one scan into the grid: hits first, then the free space of every beam.
-  void insert(const Pose2D& pose, const Eigen::Vector2d& sensor_base, const std::vector<Eigen::Vector2d>& points_base,
-              const std::vector<Eigen::Vector2d>& free_ends_base);
+  void insert(const thorvald_base::Pose2D& pose, const Eigen::Vector2d& sensor_base,
+              const std::vector<Eigen::Vector2d>& points_base, const std::vector<Eigen::Vector2d>& free_ends_base);
   /// Clears the cells from `from` to `to` (the last one only when include_end).
   void traceFree(const Eigen::Vector2d& from, const Eigen::Vector2d& to, bool include_end);
   /// Adds log-odds to a cell unless this scan already updated it; false when it did not.
@@ -93,17 +93,18 @@ class OccupancyMapper {
 
   MapperParams params_;
   std::vector<float> log_odds_;
-  Grid2D occupancy_;     ///< occupancy values of log_odds_ (same geometry), kept up to date cell by cell
-  WallSurface surface_;  ///< per cell of log_odds_: mean beam end and count
+  thorvald_map::OccupancyGrid
+      occupancy_;                      ///< occupancy values of log_odds_ (same geometry), kept up to date cell by cell
+  thorvald_map::WallSurface surface_;  ///< per cell of log_odds_: mean beam end and count
   std::vector<std::uint32_t> scan_stamp_;  ///< per cell: the scan that last updated it
   std::uint32_t scan_counter_ = 0;
-  Grid2D geometry_;  ///< size and origin of log_odds_ (its data is unused)
+  thorvald_map::OccupancyGrid geometry_;  ///< size and origin of log_odds_ (its data is unused)
   /// The matching field: the cropped grid's walls at their cell centres, rebuilt for every scan.
   DistanceField field_;
   std::vector<int> touched_;  ///< cells updated by the scan being inserted
   bool first_ = true;
-  Pose2D map_to_odom_;
-  Pose2D last_integrated_odom_;
+  thorvald_base::Pose2D map_to_odom_;
+  thorvald_base::Pose2D last_integrated_odom_;
   int scans_used_ = 0;
 };
 

@@ -5,7 +5,8 @@
 
 #include <Eigen/Core>
 
-#include "thorvald_navigation/pose2d.h"
+#include "thorvald_base/pose2d.h"
+#include "thorvald_base/twist2d.h"
 
 namespace thorvald_navigation {
 
@@ -38,11 +39,6 @@ struct FollowerParams {
   std::string validate() const;
 };
 
-/// Velocity command in base_link [m/s, rad/s].
-struct Twist2D {
-  double vx = 0.0, vy = 0.0, wz = 0.0;
-};
-
 enum class FollowState { kFollowing, kFinalTurn, kArrived };
 
 /// What the follower is doing in its last step, for logs and diagnostics.
@@ -67,23 +63,23 @@ class PathFollower {
 
   /// `reverse`: a differential robot drives the path backwards (its rear first), e.g. backing straight off a goal to
   /// approach it again; ignored by an omnidirectional robot.
-  void setPath(const std::vector<Eigen::Vector2d>& path, const Pose2D& goal, bool reverse = false);
+  void setPath(const std::vector<Eigen::Vector2d>& path, const thorvald_base::Pose2D& goal, bool reverse = false);
   /// Only the final turn to `goal`'s heading where the robot stands (its position is already within the tolerance).
-  void turnTo(const Pose2D& goal);
+  void turnTo(const thorvald_base::Pose2D& goal);
   /// How far the base still moves after a stop command at `speed`: command_latency_s at that speed, then braking
   /// at `accel` [m or rad].
   double coastDistance(double speed, double accel) const;
   /// Direction changes of the current final turn (a measure of dithering).
   int turnReversals() const { return turn_reversals_; }
   /// One control step: `pose` of base_link in the path's frame, `dt` since the last step [s].
-  Twist2D step(const Pose2D& pose, double dt);
+  thorvald_base::Twist2D step(const thorvald_base::Pose2D& pose, double dt);
   FollowState state() const { return state_; }
   FollowPhase phase() const { return phase_; }
   bool reversing() const { return reverse_; }
   /// Index of the path segment the robot is closest to so far (progress never goes back).
   std::size_t progressIndex() const { return progress_; }
-  void stop() { last_ = Twist2D{}; }
-  const Twist2D& lastCommand() const { return last_; }
+  void stop() { last_ = thorvald_base::Twist2D{}; }
+  const thorvald_base::Twist2D& lastCommand() const { return last_; }
 
  private:
   Eigen::Vector2d carrot(const Eigen::Vector2d& p);
@@ -95,11 +91,11 @@ class PathFollower {
   bool sharpCorner(std::size_t i) const;
   /// A differential robot this close to a sharp corner has reached it and turns there [m].
   static constexpr double kCornerReachM = 0.05;
-  Twist2D limit(const Twist2D& wanted, double dt);
+  thorvald_base::Twist2D limit(const thorvald_base::Twist2D& wanted, double dt);
 
   FollowerParams params_;
   std::vector<Eigen::Vector2d> path_;
-  Pose2D goal_;
+  thorvald_base::Pose2D goal_;
   std::size_t progress_ = 0;
   FollowState state_ = FollowState::kArrived;
   FollowPhase phase_ = FollowPhase::kIdle;
@@ -112,7 +108,7 @@ class PathFollower {
   /// Share of the acceleration limits that the stops at the goal (position and final turn) brake with: below one
   /// half, their braking profile meets the linear slow-down (gain times distance) where that is within the limits.
   static constexpr double kBrakeShare = 0.45;
-  Twist2D last_;
+  thorvald_base::Twist2D last_;
 };
 
 }  // namespace thorvald_navigation

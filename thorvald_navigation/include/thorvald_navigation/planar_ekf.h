@@ -5,7 +5,7 @@
 
 #include <Eigen/Core>
 
-#include "thorvald_navigation/pose2d.h"
+#include "thorvald_base/pose2d.h"
 
 namespace thorvald_navigation {
 
@@ -26,7 +26,7 @@ class PlanarEkf {
   void setProcessNoise(const State6& diagonal);
   void setInitialCovariance(const State6& diagonal);
   /// Starts over at `pose`, at rest, with the initial covariance, at time `t` [s].
-  void reset(const Pose2D& pose, double t);
+  void reset(const thorvald_base::Pose2D& pose, double t);
 
   /// Moves the state to time `t` [s]; a `t` before the current time is ignored (returns false).
   bool predict(double t);
@@ -38,7 +38,7 @@ class PlanarEkf {
   double time() const { return t_; }
   const State6& state() const { return x_; }
   const Cov6& covariance() const { return p_; }
-  Pose2D pose() const { return {x_(kX), x_(kY), x_(kYaw)}; }
+  thorvald_base::Pose2D pose() const { return {x_(kX), x_(kY), x_(kYaw)}; }
 
  private:
   State6 x_ = State6::Zero();

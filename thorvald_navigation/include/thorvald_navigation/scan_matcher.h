@@ -6,7 +6,7 @@
 #include <Eigen/Core>
 
 #include "thorvald_navigation/distance_field.h"
-#include "thorvald_navigation/pose2d.h"
+#include "thorvald_base/pose2d.h"
 
 namespace thorvald_navigation {
 
@@ -23,7 +23,7 @@ struct ScanMatcherParams {
 
 /// The result of aligning one scan to a map.
 struct MatchResult {
-  Pose2D pose;                                               ///< base_link in the map frame
+  thorvald_base::Pose2D pose;                                ///< base_link in the map frame
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();  ///< of (x, y, yaw) [m^2, rad^2]
   double inlier_fraction = 0.0;                              ///< beams ending within inlier_m of a wall [0..1]
   double rms_m = 0.0;  ///< rms distance of the inlier beams to the nearest wall [m]
@@ -35,7 +35,7 @@ struct MatchResult {
 /// robust weight, optionally with a Gaussian prior on the pose (the odometry prediction). Converges from within
 /// about the field's max distance and a few tenths of a radian; use globalSearch() from farther.
 MatchResult matchScan(const DistanceField& field, const std::vector<Eigen::Vector2d>& points_base,
-                      const Pose2D& initial, const ScanMatcherParams& params);
+                      const thorvald_base::Pose2D& initial, const ScanMatcherParams& params);
 
 /// Settings of the exhaustive search used for global localisation.
 struct GlobalSearchParams {
@@ -46,8 +46,8 @@ struct GlobalSearchParams {
   double min_clearance_m = 0.2;  ///< candidates closer than this to a wall are skipped [m]
   /// Search only around `center` when window_xy_m > 0: within window_xy_m [m] and window_yaw_rad [rad].
   double window_xy_m = 0.0;
-  double window_yaw_rad = kPi;
-  Pose2D center;
+  double window_yaw_rad = thorvald_base::kPi;
+  thorvald_base::Pose2D center;
   std::string validate() const;
 };
 
@@ -63,7 +63,7 @@ struct GlobalResult {
 
 /// Scores every free pose of `free_space` (cells 0..19) on a grid (or within the window around a centre) and
 /// refines the best ones. Cost grows with searched area x headings x max_points.
-GlobalResult globalSearch(const DistanceField& field, const Grid2D& free_space,
+GlobalResult globalSearch(const DistanceField& field, const thorvald_map::OccupancyGrid& free_space,
                           const std::vector<Eigen::Vector2d>& points_base, const GlobalSearchParams& gparams,
                           const ScanMatcherParams& params);
 

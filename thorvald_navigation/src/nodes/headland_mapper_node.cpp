@@ -20,7 +20,7 @@
 
 #include "ros_conversions.h"
 #include "scan_frames.h"
-#include "thorvald_navigation/map_file.h"
+#include "thorvald_map/map_file.h"
 #include "thorvald_navigation/occupancy_mapper.h"
 
 namespace thorvald_navigation {
@@ -136,7 +136,7 @@ class HeadlandMapperNode {
  private:
   void onScan(const sensor_msgs::LaserScan::ConstPtr& msg) {
     std::string error;
-    Pose2D sensor, odom;
+    thorvald_base::Pose2D sensor, odom;
     if (!frames_.mount(s_.base_frame, msg->header.frame_id, &sensor, &error) ||
         !frames_.lookup(s_.odom_frame, s_.base_frame, msg->header.stamp, s_.tf_timeout, &odom, &error)) {
       ++rejected_;
@@ -176,7 +176,7 @@ class HeadlandMapperNode {
 
   void publishTf() {
     updater_.update();  // rate-limited by the updater itself
-    Pose2D map_to_odom;
+    thorvald_base::Pose2D map_to_odom;
     ros::Time stamp;
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -189,13 +189,13 @@ class HeadlandMapperNode {
     t.header.stamp = ros::Time::now() + ros::Duration(s_.transform_publish_period);
     t.header.frame_id = s_.map_frame;
     t.child_frame_id = s_.odom_frame;
-    t.transform = toTransform(map_to_odom);
+    t.transform = thorvald_map::toTransform(map_to_odom);
     tf_broadcaster_.sendTransform(t);
   }
 
   nav_msgs::OccupancyGrid currentMap() {
     std::lock_guard<std::mutex> lock(mutex_);
-    nav_msgs::OccupancyGrid m = toGridMessage(mapper_.occupancyGrid(), s_.map_frame);
+    nav_msgs::OccupancyGrid m = thorvald_map::toGridMessage(mapper_.occupancyGrid(), s_.map_frame);
     m.header.stamp = ros::Time::now();
     m.info.map_load_time = m.header.stamp;
     return m;
@@ -224,14 +224,14 @@ class HeadlandMapperNode {
   }
 
   std::string save() {
-    Grid2D g;
-    WallSurface surface;
+    thorvald_map::OccupancyGrid g;
     {
       std::lock_guard<std::mutex> lock(mutex_);
       g = mapper_.occupancyGrid();
-      surface = mapper_.wallSurface();
+      g.surface = mapper_.wallSurface();
     }
-    return saveMap(g, s_.map_file, &surface);
+    std::string error;
+    return thorvald_map::saveMap(g, s_.map_file, &error) ? std::string() : error;
   }
 
   bool onSave(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {

@@ -79,15 +79,15 @@ class HeadlandNavigatorNode {
 
   void publishCostmap() {
     if (!costmap_ || costmap_pub_.getNumSubscribers() == 0) return;
-    nav_msgs::OccupancyGrid m = toGridMessage(costmap_->toDisplayGrid(), s_.global_frame);
+    nav_msgs::OccupancyGrid m = thorvald_map::toGridMessage(costmap_->toDisplayGrid(), s_.global_frame);
     m.header.stamp = ros::Time::now();
     costmap_pub_.publish(m);
   }
 
   void onMap(const nav_msgs::OccupancyGrid::ConstPtr& msg) {
-    Grid2D g;
-    const std::string e = fromGridMessage(*msg, &g);
-    if (!e.empty()) {
+    thorvald_map::OccupancyGrid g;
+    std::string e;
+    if (!thorvald_map::fromGridMessage(*msg, &g, &e, /*unrotated=*/true)) {
       ROS_ERROR_STREAM("headland_navigator: map rejected: " << e);
       return;
     }
@@ -96,9 +96,9 @@ class HeadlandNavigatorNode {
   }
 
   void onKeepOut(const nav_msgs::OccupancyGrid::ConstPtr& msg) {
-    Grid2D g;
-    const std::string e = fromGridMessage(*msg, &g);
-    if (!e.empty()) {
+    thorvald_map::OccupancyGrid g;
+    std::string e;
+    if (!thorvald_map::fromGridMessage(*msg, &g, &e, /*unrotated=*/true)) {
       ROS_ERROR_STREAM("headland_navigator: keep-out grid rejected: " << e);
       return;
     }
@@ -109,7 +109,7 @@ class HeadlandNavigatorNode {
 
   void onScan(const sensor_msgs::LaserScan::ConstPtr& msg) {
     std::string error;
-    Pose2D sensor_in_map;
+    thorvald_base::Pose2D sensor_in_map;
     if (!frames_.lookup(s_.global_frame, msg->header.frame_id, msg->header.stamp, 0.05, &sensor_in_map, &error)) {
       ROS_WARN_STREAM_THROTTLE(5.0, "headland_navigator: scan not used for obstacles: " << error);
       return;
@@ -170,11 +170,11 @@ class HeadlandNavigatorNode {
   void onGoal() {
     const auto goal = server_.acceptNewGoal();
     const geometry_msgs::PoseStamped& target = goal->target_pose;
-    Pose2D g = fromPose(target.pose);
+    thorvald_base::Pose2D g = thorvald_map::fromPose(target.pose);
     const std::string frame = target.header.frame_id.empty() ? s_.global_frame : target.header.frame_id;
     std::string error;
     if (g.finite() && frame != s_.global_frame) {
-      Pose2D frame_in_map;
+      thorvald_base::Pose2D frame_in_map;
       if (!frames_.lookup(s_.global_frame, frame, ros::Time(0), 0.2, &frame_in_map, &error)) {
         abort("goal frame '" + frame + "' cannot be transformed to '" + s_.global_frame + "': " + error);
         return;
@@ -220,7 +220,7 @@ class HeadlandNavigatorNode {
 
   // Plans from `pose` to the goal and publishes the plan; false with the reason, and whether lidar obstacles alone
   // stand in the way, when there is none.
-  bool plan(const Pose2D& pose, std::string* error, bool* obstacle) {
+  bool plan(const thorvald_base::Pose2D& pose, std::string* error, bool* obstacle) {
     const GoalPlan r = planToGoal(*costmap_, footprint_, pose, goal_, s_.planner,
                                   s_.follower.omnidirectional ? 0.0 : s_.final_approach);
     if (!r.ok) {
@@ -243,7 +243,8 @@ class HeadlandNavigatorNode {
       geometry_msgs::PoseStamped p;
       p.header = msg.header;
       const Eigen::Vector2d d = i + 1 < path_.size() ? Eigen::Vector2d(path_[i + 1] - path_[i]) : Eigen::Vector2d(0, 0);
-      p.pose = toPose({path_[i].x(), path_[i].y(), i + 1 < path_.size() ? std::atan2(d.y(), d.x()) : goal_.yaw});
+      p.pose = thorvald_map::toPose(
+          {path_[i].x(), path_[i].y(), i + 1 < path_.size() ? std::atan2(d.y(), d.x()) : goal_.yaw});
       msg.poses.push_back(p);
     }
     plan_pub_.publish(msg);
@@ -251,7 +252,7 @@ class HeadlandNavigatorNode {
 
   // Is a lidar obstacle (not a known wall or the keep-out zone) under the footprint along the next
   // obstacle_check_ahead metres of the path?
-  bool obstacleAhead(const Pose2D& pose) const {
+  bool obstacleAhead(const thorvald_base::Pose2D& pose) const {
     return sweptObstacleDistance(*costmap_, footprint_, pose, path_, follower_.progressIndex() + 1,
                                  s_.obstacle_check_ahead, s_.follower.omnidirectional, goal_.yaw,
                                  follower_.reversing()) >= 0.0;
@@ -271,7 +272,7 @@ class HeadlandNavigatorNode {
       ROS_WARN_THROTTLE(5.0, "headland_navigator: no recent scan: obstacle layer cleared");
     }
     std::string error;
-    Pose2D pose;
+    thorvald_base::Pose2D pose;
     if (!costmap_ || !frames_.lookup(s_.global_frame, s_.base_frame, ros::Time(0), 0.0, &pose, &error)) {
       stopRobot();
       if ((now - started_).toSec() > s_.planner_patience)
@@ -316,7 +317,7 @@ class HeadlandNavigatorNode {
     blocked_since_ = ros::Time();
     const double dt =
         ev.last_real.isZero() ? 1.0 / s_.controller_frequency : std::min(0.5, (ev.current_real - ev.last_real).toSec());
-    const Twist2D t = follower_.step(pose, dt);
+    const thorvald_base::Twist2D t = follower_.step(pose, dt);
     if (follower_.phase() != last_phase_) {
       last_phase_ = follower_.phase();
       ROS_INFO("headland_navigator: %.2f s into the goal: %s%s at (%.3f, %.3f, %.3f), %.3f m from the goal",
@@ -384,7 +385,7 @@ class HeadlandNavigatorNode {
     move_base_msgs::MoveBaseFeedback fb;
     fb.base_position.header.stamp = now;
     fb.base_position.header.frame_id = s_.global_frame;
-    fb.base_position.pose = toPose(pose);
+    fb.base_position.pose = thorvald_map::toPose(pose);
     server_.publishFeedback(fb);
   }
 
@@ -427,10 +428,10 @@ class HeadlandNavigatorNode {
   ros::Publisher cmd_pub_, plan_pub_, costmap_pub_, simple_client_pub_;
   ros::Subscriber map_sub_, keep_out_sub_, scan_sub_, simple_goal_sub_, status_sub_;
   ros::Timer timer_;
-  Grid2D map_, keep_out_;
+  thorvald_map::OccupancyGrid map_, keep_out_;
   std::unique_ptr<Costmap> costmap_;
   std::vector<Eigen::Vector2d> obstacles_, path_;
-  Pose2D goal_;
+  thorvald_base::Pose2D goal_;
   bool active_ = false, need_plan_ = false;
   ros::Time blocked_since_, started_, last_scan_, arrived_at_, last_obstacle_update_;
   bool to_pre_goal_ = false;  // a correction is on its way to the start of the final approach

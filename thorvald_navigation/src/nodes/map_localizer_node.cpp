@@ -20,7 +20,7 @@
 
 #include "ros_conversions.h"
 #include "scan_frames.h"
-#include "thorvald_navigation/map_file.h"
+#include "thorvald_map/map_file.h"
 #include "thorvald_navigation/map_localizer.h"
 
 namespace thorvald_navigation {
@@ -35,7 +35,7 @@ struct Settings {
   double laser_max_range = 30.0;
   double tf_timeout = 0.1;
   bool have_initial_pose = false;
-  Pose2D initial_pose;
+  thorvald_base::Pose2D initial_pose;
   double initial_search_xy = 0.5, initial_search_yaw = 0.35;
   LocalizerParams loc;
 };
@@ -121,16 +121,17 @@ class MapLocalizerNode {
       map_sub_ = nh.subscribe("map", 1, &MapLocalizerNode::onMap, this);
       return true;
     }
-    Grid2D g;
-    WallSurface surface;
-    *error = loadMap(s_.map_file, &g, &surface);
-    if (error->empty()) *error = setMap(g, surface.empty() || !s_.use_wall_surface ? nullptr : &surface);
+    thorvald_map::OccupancyGrid g;
+    thorvald_map::MapLoadOptions unrotated;
+    unrotated.allow_rotated_origin = false;
+    if (!thorvald_map::loadMap(s_.map_file, &g, error, unrotated)) return false;
+    *error = setMap(g, g.surface.empty() || !s_.use_wall_surface ? nullptr : &g.surface);
     return error->empty();
   }
 
  private:
   /// `surface`: the map file's wall surface (scans matched to the walls' sub-cell surface), or none.
-  std::string setMap(const Grid2D& g, const WallSurface* surface = nullptr) {
+  std::string setMap(const thorvald_map::OccupancyGrid& g, const thorvald_map::WallSurface* surface = nullptr) {
     std::lock_guard<std::mutex> lock(mutex_);
     const std::string e = loc_.setMap(g, surface);
     if (e.empty())
@@ -141,14 +142,14 @@ class MapLocalizerNode {
   }
 
   void onMap(const nav_msgs::OccupancyGrid::ConstPtr& msg) {
-    Grid2D g;
-    std::string e = fromGridMessage(*msg, &g);
-    if (e.empty()) e = setMap(g);
+    thorvald_map::OccupancyGrid g;
+    std::string e;
+    if (thorvald_map::fromGridMessage(*msg, &g, &e, /*unrotated=*/true)) e = setMap(g);
     if (!e.empty()) ROS_ERROR_STREAM("map_localizer: map rejected: " << e);
   }
 
   void onInitialPose(const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& msg) {
-    const Pose2D p = fromPose(msg->pose.pose);
+    const thorvald_base::Pose2D p = thorvald_map::fromPose(msg->pose.pose);
     if (!p.finite()) {
       ROS_WARN("map_localizer: initialpose with a non-finite pose ignored");
       return;
@@ -180,7 +181,7 @@ class MapLocalizerNode {
   void onScan(const sensor_msgs::LaserScan::ConstPtr& msg) {
     const auto t0 = std::chrono::steady_clock::now();
     std::string error;
-    Pose2D sensor, odom;
+    thorvald_base::Pose2D sensor, odom;
     if (!frames_.mount(s_.base_frame_id, msg->header.frame_id, &sensor, &error) ||
         !frames_.lookup(s_.odom_frame_id, s_.base_frame_id, msg->header.stamp, s_.tf_timeout, &odom, &error)) {
       ++rejected_;
@@ -227,7 +228,7 @@ class MapLocalizerNode {
       geometry_msgs::PoseWithCovarianceStamped out;
       out.header.stamp = msg->header.stamp;
       out.header.frame_id = s_.global_frame_id;
-      out.pose.pose = toPose(u.pose);
+      out.pose.pose = thorvald_map::toPose(u.pose);
       const int idx[3] = {0, 1, 5};
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) out.pose.covariance[idx[i] * 6 + idx[j]] = u.covariance(i, j);
@@ -239,7 +240,7 @@ class MapLocalizerNode {
   void publishTf() {
     updater_.update();
     if (!s_.tf_broadcast) return;
-    Pose2D map_to_odom;
+    thorvald_base::Pose2D map_to_odom;
     ros::Time stamp;
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -251,7 +252,7 @@ class MapLocalizerNode {
     t.header.stamp = ros::Time::now() + ros::Duration(s_.transform_tolerance);  // AMCL's future-dating
     t.header.frame_id = s_.global_frame_id;
     t.child_frame_id = s_.odom_frame_id;
-    t.transform = toTransform(map_to_odom);
+    t.transform = thorvald_map::toTransform(map_to_odom);
     tf_broadcaster_.sendTransform(t);
   }
 

@@ -9,7 +9,7 @@
 #include <thorvald_common/param_reader.h>
 
 #include "ros_conversions.h"
-#include "thorvald_navigation/map_file.h"
+#include "thorvald_map/map_file.h"
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "map_publisher");
@@ -26,13 +26,13 @@ int main(int argc, char** argv) {
     ROS_FATAL_STREAM(e.what());
     return 1;
   }
-  thorvald_navigation::Grid2D grid;
-  const std::string error = thorvald_navigation::loadMap(map_file, &grid);
-  if (!error.empty()) {
+  thorvald_map::OccupancyGrid grid;
+  std::string error;
+  if (!thorvald_map::loadMap(map_file, &grid, &error)) {
     ROS_FATAL_STREAM("map_publisher: " << error);
     return 1;
   }
-  nav_msgs::OccupancyGrid map = thorvald_navigation::toGridMessage(grid, frame_id);
+  nav_msgs::OccupancyGrid map = thorvald_map::toGridMessage(grid, frame_id);
   map.header.stamp = ros::Time::now();
   map.info.map_load_time = map.header.stamp;
   ros::Publisher map_pub = nh.advertise<nav_msgs::OccupancyGrid>("map", 1, true);

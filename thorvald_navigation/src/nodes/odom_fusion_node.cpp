@@ -153,7 +153,7 @@ class OdomFusionNode {
  private:
   bool advanceTo(const ros::Time& stamp) {
     const double t = stamp.toSec();
-    if (!ekf_.initialized()) ekf_.reset(Pose2D{}, t);
+    if (!ekf_.initialized()) ekf_.reset(thorvald_base::Pose2D{}, t);
     if (t < ekf_.time()) {  // late measurement: fused at the filter's time (no history is kept)
       ++late_;
       return true;
@@ -184,7 +184,7 @@ class OdomFusionNode {
       if (msg->orientation_covariance[0] < 0.0) {  // "no orientation" by sensor_msgs/Imu convention
         mask[kYaw] = false;
       } else {
-        double yaw = fromPose([&] {
+        double yaw = thorvald_map::fromPose([&] {
                        geometry_msgs::Pose p;
                        p.orientation = msg->orientation;
                        return p;
@@ -195,7 +195,7 @@ class OdomFusionNode {
             yaw0_ = yaw;
             have_yaw0_ = true;
           }
-          yaw = normalizeAngle(yaw - yaw0_);
+          yaw = thorvald_base::normalizeAngle(yaw - yaw0_);
         }
         z(kYaw) = yaw;
         var(kYaw) = std::max(s_.min_variance, msg->orientation_covariance[8]);
@@ -220,7 +220,7 @@ class OdomFusionNode {
   }
 
   void onSetPose(const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& msg) {
-    const Pose2D p = fromPose(msg->pose.pose);
+    const thorvald_base::Pose2D p = thorvald_map::fromPose(msg->pose.pose);
     if (!p.finite()) {
       ++rejected_;
       ROS_WARN("odom_fusion: set_pose with a non-finite pose ignored");
@@ -239,7 +239,7 @@ class OdomFusionNode {
     out.header.stamp = now;
     out.header.frame_id = s_.odom_frame;
     out.child_frame_id = s_.base_link_frame;
-    out.pose.pose = toPose(ekf_.pose());
+    out.pose.pose = thorvald_map::toPose(ekf_.pose());
     const State6& x = ekf_.state();
     const Cov6& p = ekf_.covariance();
     out.twist.twist.linear.x = x(kVx);
@@ -257,7 +257,7 @@ class OdomFusionNode {
       geometry_msgs::TransformStamped t;
       t.header = out.header;
       t.child_frame_id = s_.base_link_frame;
-      t.transform = toTransform(ekf_.pose());
+      t.transform = thorvald_map::toTransform(ekf_.pose());
       tf_.sendTransform(t);
     }
   }

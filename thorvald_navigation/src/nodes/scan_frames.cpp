@@ -8,10 +8,10 @@
 namespace thorvald_navigation {
 
 bool FrameLookup::lookup(const std::string& parent, const std::string& child, const ros::Time& stamp, double timeout_s,
-                         Pose2D* pose, std::string* error) const {
+                         thorvald_base::Pose2D* pose, std::string* error) const {
   try {
     const geometry_msgs::TransformStamped t = buffer_.lookupTransform(parent, child, stamp, ros::Duration(timeout_s));
-    *pose = fromTransform(t.transform);
+    *pose = thorvald_map::fromTransform(t.transform);
     if (!pose->finite()) {
       *error = "transform " + parent + " -> " + child + " is not finite";
       return false;
@@ -23,7 +23,8 @@ bool FrameLookup::lookup(const std::string& parent, const std::string& child, co
   }
 }
 
-bool FrameLookup::mount(const std::string& parent, const std::string& child, Pose2D* pose, std::string* error) {
+bool FrameLookup::mount(const std::string& parent, const std::string& child, thorvald_base::Pose2D* pose,
+                        std::string* error) {
   const auto it = mounts_.find(child);
   if (it != mounts_.end()) {
     *pose = it->second;

@@ -49,12 +49,13 @@ double SyntheticHeadland::castRay(const Eigen::Vector2d& o, double angle, double
   return best;
 }
 
-std::vector<Eigen::Vector2d> SyntheticHeadland::scan(const Pose2D& pose, const Eigen::Vector2d& sensor_base, int beams,
-                                                     double angle_min, double angle_max, double max_range,
-                                                     double noise_m, std::mt19937* rng) const {
+std::vector<Eigen::Vector2d> SyntheticHeadland::scan(const thorvald_base::Pose2D& pose,
+                                                     const Eigen::Vector2d& sensor_base, int beams, double angle_min,
+                                                     double angle_max, double max_range, double noise_m,
+                                                     std::mt19937* rng) const {
   std::normal_distribution<double> noise(0.0, noise_m);
   std::vector<Eigen::Vector2d> pts;
-  const Eigen::Vector2d origin = pose.transform(sensor_base);
+  const Eigen::Vector2d origin = pose.transformPoint(sensor_base);
   for (int i = 0; i < beams; ++i) {
     const double a = angle_min + (angle_max - angle_min) * i / std::max(1, beams - 1);
     const double r = castRay(origin, pose.yaw + a, max_range);
@@ -65,22 +66,22 @@ std::vector<Eigen::Vector2d> SyntheticHeadland::scan(const Pose2D& pose, const E
   return pts;
 }
 
-Grid2D SyntheticHeadland::truthMap(double res) const {
+thorvald_map::OccupancyGrid SyntheticHeadland::truthMap(double res) const {
   const double far = options_.depth_m + options_.row_length_m;
   const double margin = 1.0;
   const int w = static_cast<int>(std::ceil((options_.length_m + 2 * margin) / res));
   const int h = static_cast<int>(std::ceil((far + 2 * margin) / res));
-  Grid2D g(w, h, res, -margin, -margin, kUnknown);
+  thorvald_map::OccupancyGrid g(w, h, res, -margin, -margin, thorvald_map::kUnknown);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
-      const Eigen::Vector2d c = g.centerOf(x, y);
-      if (c.x() > 0 && c.x() < options_.length_m && c.y() > 0 && c.y() < far) g.at(x, y) = kFree;
+      const Eigen::Vector2d c = g.cellCentre(x, y);
+      if (c.x() > 0 && c.x() < options_.length_m && c.y() > 0 && c.y() < far) g.at(x, y) = thorvald_map::kFree;
     }
   for (const auto& s : segments_) {
     const int n = static_cast<int>(std::ceil((s.b - s.a).norm() / (0.25 * res))) + 1;
     for (int i = 0; i <= n; ++i) {
       const Eigen::Vector2i c = g.cellOf(s.a + (s.b - s.a) * (static_cast<double>(i) / n));
-      if (g.inside(c.x(), c.y())) g.at(c.x(), c.y()) = kOccupied;
+      if (g.inside(c.x(), c.y())) g.at(c.x(), c.y()) = thorvald_map::kOccupied;
     }
   }
   return g;

@@ -3,7 +3,7 @@
 #include <cstdint>
 
 #include "greenhouse_rail_nav/depth_camera.h"
-#include "greenhouse_rail_nav/pose2d.h"
+#include "thorvald_base/pose2d.h"
 
 namespace greenhouse_rail_nav {
 
@@ -33,6 +33,6 @@ struct DepthSceneParams {
 };
 
 /// Renders the organised cloud (optical frame) for base_link at base_in_rail (robot on the floor).
-OrganisedCloud renderDepthCloud(const DepthSceneParams& scene, const Pose2D& base_in_rail);
+OrganisedCloud renderDepthCloud(const DepthSceneParams& scene, const thorvald_base::Pose2D& base_in_rail);
 
 }  // namespace greenhouse_rail_nav

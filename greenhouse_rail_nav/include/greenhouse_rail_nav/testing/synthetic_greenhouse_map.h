@@ -3,8 +3,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "greenhouse_rail_nav/occupancy_map.h"
-#include "greenhouse_rail_nav/pose2d.h"
+#include "thorvald_map/occupancy_grid.h"
+#include "thorvald_base/pose2d.h"
 
 namespace greenhouse_rail_nav {
 
@@ -15,13 +15,13 @@ namespace greenhouse_rail_nav {
 /// x = 0 and x = rail_sets * spacing.
 struct GreenhouseLayout {
   int rail_sets = 8;
-  double spacing_m = 1.6;               ///< [m]
-  double headland_depth_m = 4.0;        ///< rear wall to the start of the rows [m]
-  double visible_row_depth_m = 3.0;     ///< how far the map shows into the rows [m]
-  double resolution_m = 0.05;           ///< [m/cell]
-  Pose2D layout_in_map{2.0, 3.0, 0.0};  ///< where the layout frame sits in the map frame
-  double map_margin_m = 1.0;            ///< unknown border around the greenhouse [m]
-  std::vector<int> visible_rows;        ///< row positions j shown; empty: each with row_probability
+  double spacing_m = 1.6;                              ///< [m]
+  double headland_depth_m = 4.0;                       ///< rear wall to the start of the rows [m]
+  double visible_row_depth_m = 3.0;                    ///< how far the map shows into the rows [m]
+  double resolution_m = 0.05;                          ///< [m/cell]
+  thorvald_base::Pose2D layout_in_map{2.0, 3.0, 0.0};  ///< where the layout frame sits in the map frame
+  double map_margin_m = 1.0;                           ///< unknown border around the greenhouse [m]
+  std::vector<int> visible_rows;                       ///< row positions j shown; empty: each with row_probability
   double row_probability = 0.5;
   double ventilation_fraction = 0.5;         ///< share of rows drawn as thin solid lines (others: dotted plants)
   double wall_thickness_m = 0.15;            ///< [m]
@@ -54,10 +54,10 @@ struct GreenhouseLayout {
 
 /// The map and the truth it was drawn from.
 struct SyntheticGreenhouseMap {
-  OccupancyMap map;
-  std::vector<Pose2D> rail_frames;       ///< true rail frames in the map frame, leftmost first
-  std::vector<int> rows_drawn;           ///< row positions j actually drawn
-  Eigen::Vector2d edge_start, edge_end;  ///< true headland edge between the side walls [m]
+  thorvald_map::OccupancyGrid map;
+  std::vector<thorvald_base::Pose2D> rail_frames;  ///< true rail frames in the map frame, leftmost first
+  std::vector<int> rows_drawn;                     ///< row positions j actually drawn
+  Eigen::Vector2d edge_start, edge_end;            ///< true headland edge between the side walls [m]
 };
 
 SyntheticGreenhouseMap makeGreenhouseMap(const GreenhouseLayout& layout);

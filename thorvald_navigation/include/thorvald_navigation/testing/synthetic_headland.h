@@ -6,8 +6,8 @@
 
 #include <Eigen/Core>
 
-#include "thorvald_navigation/grid2d.h"
-#include "thorvald_navigation/pose2d.h"
+#include "thorvald_map/occupancy_grid.h"
+#include "thorvald_base/pose2d.h"
 
 namespace thorvald_navigation {
 namespace testing {
@@ -40,10 +40,11 @@ class SyntheticHeadland {
   double castRay(const Eigen::Vector2d& origin, double angle_rad, double max_range) const;
   /// Beam end points in base_link of a scan from `pose` (sensor at `sensor_base`, same heading as base_link), with
   /// Gaussian range noise; beams that hit nothing within `max_range` are left out.
-  std::vector<Eigen::Vector2d> scan(const Pose2D& pose, const Eigen::Vector2d& sensor_base, int beams, double angle_min,
-                                    double angle_max, double max_range, double noise_m, std::mt19937* rng) const;
+  std::vector<Eigen::Vector2d> scan(const thorvald_base::Pose2D& pose, const Eigen::Vector2d& sensor_base, int beams,
+                                    double angle_min, double angle_max, double max_range, double noise_m,
+                                    std::mt19937* rng) const;
   /// Occupancy grid: segments rasterised as occupied, inside the outer wall free, outside unknown.
-  Grid2D truthMap(double resolution_m) const;
+  thorvald_map::OccupancyGrid truthMap(double resolution_m) const;
   /// Adds a square obstacle (e.g. a person) of side `size_m` centred at `c`.
   void addBox(const Eigen::Vector2d& c, double size_m);
 
