@@ -19,6 +19,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <thorvald_common/command_line.h>
 #include <opencv2/core/utility.hpp>
 #include <thorvald_common/bench_statistics.h>
 
@@ -124,7 +125,7 @@ int main(int argc, char** argv) {
   app.add_flag("--list-misses", list_misses,
                "print every missed boll and every false detection of the colour pipeline (frame seed, size, pixel, "
                "case, visible share, nearest detection) to look at them one by one");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto code = thorvald_common::parseCommandLine(app, argc, argv)) return *code;
 
   // The timing figure is single-core, as the goal states.
   cv::setNumThreads(1);

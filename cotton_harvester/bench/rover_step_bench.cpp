@@ -12,6 +12,7 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <thorvald_common/command_line.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -76,7 +77,7 @@ int main(int argc, char** argv) {
   app.add_option("--png", png, "where to write the step-response plot ('' for none)");
   app.add_option("--duration", duration_s, "simulated seconds per step")->check(CLI::Range(5.0, 600.0));
   app.add_option("--band", band_m, "settling band [m]")->check(CLI::Range(0.001, 1.0));
-  CLI11_PARSE(app, argc, argv);
+  if (const auto code = thorvald_common::parseCommandLine(app, argc, argv)) return *code;
 
   const SimulatedNavigationParams nominal;
   // A drive that is not the one the controller was set up for: wider deadband, slower actuator, longer lag,

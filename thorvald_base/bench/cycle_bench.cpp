@@ -1,6 +1,7 @@
 // Cost of one base_driver cycle (commands + simulated drives + odometry) against the number of drives.
 // Usage: cycle_bench [--cycles N]   (--help for details)
 #include <CLI/CLI.hpp>
+#include <thorvald_common/command_line.h>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -48,11 +49,7 @@ int main(int argc, char** argv) {
   app.add_option("--cycles", cycles, "cycles per robot and estimator")
       ->check(CLI::Range(1, 100000000))
       ->capture_default_str();
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;  // --help: 0; an unknown option or a bad value: 2, named by CLI11
-  }
+  if (const auto code = thorvald_common::parseCommandLine(app, argc, argv)) return *code;
   std::printf("%-8s %16s %16s %18s\n", "drives", "ls cycle [us]", "paper cycle [us]", "ls per drive [us]");
   double us9 = 0;
   for (int n : {1, 2, 4, 9, 16, 32}) {

@@ -2,6 +2,7 @@
 // 77 s loop, readings corrupted alike (quantisation, noise, 1% radius error on two wheels, one slipping wheel).
 // Usage: odometry_bench [--seeds N] [--csv path.csv] [--png paths.png]   (--help for details)
 #include <CLI/CLI.hpp>
+#include <thorvald_common/command_line.h>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -17,11 +18,7 @@ int main(int argc, char** argv) {
   app.add_option("--seeds", seeds, "number of seeds (1, 2, ...)")->check(CLI::Range(1, 1000))->capture_default_str();
   app.add_option("--csv", csv, "write the three paths of the first seed to this CSV file");
   app.add_option("--png", png, "draw the paths of all seeds into this PNG (matplotlib, /usr/bin/python3)");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;  // --help: 0; an unknown option or a bad value: 2, named by CLI11
-  }
+  if (const auto code = thorvald_common::parseCommandLine(app, argc, argv)) return *code;
   const auto robot = thorvald_base::figure7Robot();
   const auto loop = thorvald_base::paperLoop();
   const thorvald_base::TrialCorruption corruption;

@@ -11,6 +11,7 @@
 
 #include <CLI/CLI.hpp>
 #include <thorvald_common/bench_statistics.h>
+#include <thorvald_common/command_line.h>
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -250,11 +251,7 @@ int main(int argc, char** argv) {
   app.add_option("--control-rt-priority", rt_priority,
                  "SCHED_FIFO priority of the control loop in the flood runs (0: normal scheduling)")
       ->check(CLI::Range(0, 99));
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;  // --help: 0; an unknown option or a bad value: 2
-  }
+  if (const auto code = thorvald_common::parseCommandLine(app, argc, argv)) return *code;
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress shows when piped
 
   char folder[] = "/tmp/thorvald_fault_bench.XXXXXX";

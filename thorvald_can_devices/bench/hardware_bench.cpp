@@ -16,6 +16,7 @@
 
 #include <CLI/CLI.hpp>
 #include <thorvald_common/bench_statistics.h>
+#include <thorvald_common/command_line.h>
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
@@ -86,12 +87,8 @@ int main(int argc, char** argv) {
   app.add_option("--samples", samples, "latency samples")->check(CLI::Range(1, 100000));
   app.add_option("--last-node", last_node, "node id of the drive whose command frame ends a sample")
       ->check(CLI::Range(1, 127));
-  std::vector<std::string> rest(args.rbegin(), args.rend() - 1);  // CLI11 takes them reversed, without argv[0]
-  try {
-    app.parse(rest);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;  // --help: 0; an unknown option or a bad value: 2
-  }
+  app.name("hardware_bench");
+  if (const auto code = thorvald_common::parseCommandLine(app, {args.begin() + 1, args.end()})) return *code;
   ros::NodeHandle nh;
   VirtualCanBus spy(bus_name);
   auto pub = nh.advertise<geometry_msgs::Twist>("twist_mux/cmd_vel", 1);

@@ -1,6 +1,7 @@
 // Frames per second the virtual bus carries between two processes.
 //   rosrun thorvald_can_devices virtual_bus_bench [--frames N] [--runs N]
 #include <CLI/CLI.hpp>
+#include <thorvald_common/command_line.h>
 #include <cstdio>
 
 #include "bus_throughput.h"
@@ -11,11 +12,7 @@ int main(int argc, char** argv) {
   int runs = 3;
   app.add_option("--frames", frames, "frames per run")->check(CLI::Range(1000L, 100000000L));
   app.add_option("--runs", runs, "runs; the best is reported")->check(CLI::Range(1, 100));
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;  // --help: 0; an unknown option or a bad value: 2
-  }
+  if (const auto code = thorvald_common::parseCommandLine(app, argc, argv)) return *code;
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress shows when piped
   std::printf("%-10s %12s %10s %14s\n", "run", "frames", "time [s]", "frames/s");
   double best = 0;

@@ -7,6 +7,7 @@
 //
 //   rosrun thorvald_sim fused_odometry_bench [--seeds 5] [--gyro-noise 0.002] [--gyro-bias 0]
 #include <CLI/CLI.hpp>
+#include <thorvald_common/command_line.h>
 #include <thorvald_base/odometry_trial.h>
 
 #include <algorithm>
@@ -114,11 +115,7 @@ int main(int argc, char** argv) {
   app.add_option("--seeds", seeds, "gyro noise streams")->check(CLI::Range(1, 100));
   app.add_option("--gyro-noise", gyro_noise, "gyro white noise [rad/s]")->check(CLI::Range(0.0, 1.0));
   app.add_option("--gyro-bias", gyro_bias, "constant gyro bias [rad/s]")->check(CLI::Range(-1.0, 1.0));
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;
-  }
+  if (const auto code = thorvald_common::parseCommandLine(app, argc, argv)) return *code;
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
   std::printf("Figure 7 robot (6WD6WS), 77 s loop + 3 s stop in MuJoCo, gyro noise %.4f rad/s, bias %.4f rad/s\n",
               gyro_noise, gyro_bias);

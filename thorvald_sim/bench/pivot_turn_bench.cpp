@@ -10,6 +10,7 @@
 #include <thorvald_base/robot_config.h>
 
 #include <CLI/CLI.hpp>
+#include <thorvald_common/command_line.h>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -96,7 +97,7 @@ int main(int argc, char** argv) {
   app.add_option("--timeout-factor", timeout_factor, "give up after this many commanded turn times")
       ->check(CLI::Range(1.5, 100.0));
   app.add_flag("--quiet", quiet, "only the summary");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto code = thorvald_common::parseCommandLine(app, argc, argv)) return *code;
 
   try {
     const auto config = thorvald_base::loadRobotConfigFile(config_file);

@@ -10,6 +10,7 @@
 //
 //   rosrun thorvald_sim rtf_bench [--seconds S] [--sensor-seconds S] [--frames N] [--render-threads N]
 #include <CLI/CLI.hpp>
+#include <thorvald_common/command_line.h>
 #include <chrono>
 #include <ctime>
 #include <cmath>
@@ -150,11 +151,7 @@ int main(int argc, char** argv) {
   app.add_option("--render-threads", render_threads,
                  "llvmpipe threads (LP_NUM_THREADS, unless set in the environment) and image threads; 0: every core")
       ->check(CLI::Range(0, 64));
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;  // --help: 0; an unknown option or a bad value: 2
-  }
+  if (const auto code = thorvald_common::parseCommandLine(app, argc, argv)) return *code;
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // each line shows as it is done, also when piped
   if (render_threads > 0) setenv("LP_NUM_THREADS", std::to_string(render_threads).c_str(), 0);
   const int image_threads =

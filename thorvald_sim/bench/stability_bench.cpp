@@ -5,6 +5,7 @@
 //
 //   rosrun thorvald_sim stability_bench [--hours H]   (default 1)
 #include <CLI/CLI.hpp>
+#include <thorvald_common/command_line.h>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -23,11 +24,7 @@ int main(int argc, char** argv) {
   double hours = 1.0;
   CLI::App app{"Long-run stability of the MuJoCo simulation: the Figure 7 robot drives the paper's loop for hours"};
   app.add_option("--hours", hours, "simulated hours")->check(CLI::Range(1e-3, 1000.0));
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;  // --help: 0; an unknown option or a bad value: 2
-  }
+  if (const auto code = thorvald_common::parseCommandLine(app, argc, argv)) return *code;
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress shows when piped
   const thorvald_base::RobotConfig robot = thorvald_base::figure7Robot();
   RobotSpawn spawn;

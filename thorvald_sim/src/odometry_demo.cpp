@@ -9,6 +9,7 @@
 //     $(rospack find thorvald_bringup)/config/figure7_6wd6ws_asymmetric.yaml --tf-prefix '' --robot-name figure7)
 // (one command line)
 #include <CLI/CLI.hpp>
+#include <thorvald_common/command_line.h>
 #include <thorvald_base/odometry_trial.h>
 #include <thorvald_base/standard_calculator.h>
 #include <unistd.h>
@@ -52,11 +53,7 @@ int main(int argc, char** argv) {
   app.add_option("--urdf", urdf_file, "URDF of the robot (default: the reference model)")->check(CLI::ExistingFile);
   app.add_option("--csv", csv, "where the three paths are written");
   app.add_option("--png", png, "where the plot of the paths is written");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;  // --help: 0; an unknown option or a bad value: 2
-  }
+  if (const auto code = thorvald_common::parseCommandLine(app, argc, argv)) return *code;
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
   const thorvald_base::RobotConfig robot = thorvald_base::figure7Robot();
   try {

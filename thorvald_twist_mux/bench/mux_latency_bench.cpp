@@ -21,6 +21,7 @@
 
 #include <CLI/CLI.hpp>
 #include <thorvald_common/bench_statistics.h>
+#include <thorvald_common/command_line.h>
 #include <geometry_msgs/Twist.h>
 #include <ros/ros.h>
 #include <sensor_msgs/Joy.h>
@@ -189,11 +190,7 @@ int main(int argc, char** argv) {
   app.add_option("--seconds", seconds, "measuring time per path [s], after 1 s of warm-up")
       ->check(CLI::Range(0.1, 3600.0))
       ->capture_default_str();
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;  // --help: usage, exit 0; an unknown option or a bad value: exit 2
-  }
+  if (const auto code = thorvald_common::parseCommandLine(app, argc, argv)) return *code;
   if (!ros::master::check()) {
     std::fprintf(stderr, "mux_latency_bench: no ROS master at %s; start roscore first\n",
                  ros::master::getURI().c_str());

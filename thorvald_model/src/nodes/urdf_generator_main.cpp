@@ -11,6 +11,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "thorvald_common/command_line.h"
 #include "thorvald_base/robot_config.h"
 #include "thorvald_model/model_builder.h"
 #include "thorvald_model/urdf_writer.h"
@@ -26,7 +27,7 @@ struct Arguments {
   std::vector<std::string> extras;
 };
 
-/// Parses the command line with CLI11: --help exits 0, an unknown option or a missing value exits 2 naming it.
+/// Parses the command line (thorvald_common/command_line.h): --help exits 0, a usage error exits 2 naming it.
 /// roslaunch's own arguments (__name:=, __log:=) and empty words that are no option's value are dropped first.
 Arguments parseArguments(int argc, char** argv) {
   std::vector<std::string> words;
@@ -54,12 +55,7 @@ Arguments parseArguments(int argc, char** argv) {
   app.add_flag("--mujoco", a.write.mujoco_compiler,
                "add MuJoCo compiler options (keep fixed links as bodies, drop visuals)");
   app.add_flag("--floating-base", a.model.floating_base, "add a `world` link and a floating joint to base_link");
-  std::reverse(kept.begin(), kept.end());  // CLI11 takes the arguments last-first
-  try {
-    app.parse(kept);
-  } catch (const CLI::ParseError& e) {
-    std::exit(app.exit(e) == 0 ? 0 : 2);  // --help: 0; an unknown option or a bad value: 2, named by CLI11
-  }
+  if (const auto code = thorvald_common::parseCommandLine(app, kept)) std::exit(*code);
   a.from_param_server = a.config.empty();
   a.extras.erase(std::remove(a.extras.begin(), a.extras.end(), std::string()), a.extras.end());
   while (!a.model.tf_prefix.empty() && a.model.tf_prefix.front() == '/') a.model.tf_prefix.erase(0, 1);
