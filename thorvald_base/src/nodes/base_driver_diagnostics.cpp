@@ -50,13 +50,7 @@ void BaseDriverRos::diagnoseBase(diagnostic_updater::DiagnosticStatusWrapper& st
   stat.add("distance travelled [m]", driver_->odometry().distance());
   if (hardware_) {
     for (const auto& kv : hardware_->diagnostics()) stat.add(kv.first, kv.second);
-    stat.add("relay frames sent", relay_sent_);
-    stat.add("relay frames received", relay_received_);
-    stat.add("relay frames from the bus dropped (per-cycle bound)", relay_received_dropped_);
-    stat.add("relay frames refused", relay_refused_);
-    for (const auto& kv : relay_refused_by_) stat.add("relay frames refused from " + kv.first, kv.second);
-    stat.add("relay frames dropped", relay_dropped_);
-    stat.add("relay muted", relay_muted_);
+    if (relay_) relay_->diagnose(stat);
   }
 }
 

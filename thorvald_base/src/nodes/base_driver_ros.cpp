@@ -47,8 +47,9 @@ BaseDriverRos::BaseDriverRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh),
   while (!tf_prefix_.empty() && tf_prefix_.front() == '/') tf_prefix_.erase(0, 1);
   simple_sim_ = params.flag("simple_sim", true);
   enable_odom_tf_ = params.flag("enable_odom_tf", true);
-  relay_max_per_cycle_ = params.integer("relay_max_frames_per_cycle", 20, 1, 1000);
-  relay_max_received_per_cycle_ = params.integer("relay_max_received_per_cycle", 200, 1, 1000);
+  CanRelayOptions relay_options;
+  relay_options.max_sent_per_cycle = params.integer("relay_max_frames_per_cycle", 20, 1, 1000);
+  relay_options.max_received_per_cycle = params.integer("relay_max_received_per_cycle", 200, 1, 1000);
   const double rate = params.number("rate", 50.0, ParamRange::aboveUpTo(0.0, 1000.0), "Hz");
 
   BaseDriverOptions options;
@@ -97,7 +98,7 @@ BaseDriverRos::BaseDriverRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh),
     }
   } else {
     hardware_->initialize(config, can_type, can_name);
-    relay_allowed_ = relayAllowList(relay_ids, *hardware_);
+    relay_ = std::make_unique<CanRelayRos>(nh_, pnh_, *hardware_, relayAllowList(relay_ids, *hardware_), relay_options);
     drives = hardware_->takeDrives();
     batteries = hardware_->takeBatteries();
   }
@@ -116,11 +117,6 @@ BaseDriverRos::BaseDriverRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh),
   }
   // No Nagle on the command connection: a held-back segment would delay a write-through by up to a delayed ACK.
   cmd_sub_ = nh_.subscribe("twist_mux/cmd_vel", 1, &BaseDriverRos::onCommand, this, ros::TransportHints().tcpNoDelay());
-  if (hardware_) {
-    relay_pub_ = nh_.advertise<CANFrame>("can_frames_device_r", 100);
-    relay_sub_ = nh_.subscribe("can_frames_device_t", 100, &BaseDriverRos::onRelayFrame, this);
-    services_.push_back(pnh_.advertiseService("mute_relay", &BaseDriverRos::onMuteRelay, this));
-  }
   services_.push_back(pnh_.advertiseService("set_drive_params", &BaseDriverRos::onSetDriveParams, this));
   services_.push_back(pnh_.advertiseService("reset_base_odom", &BaseDriverRos::onResetOdom, this));
   services_.push_back(pnh_.advertiseService("home_steering", &BaseDriverRos::onHomeSteering, this));
@@ -202,8 +198,7 @@ void BaseDriverRos::onTimer(const ros::TimerEvent&) {
     ROS_ERROR_STREAM("base_driver: propulsion stopped: " << driver_->driveStopText()
                                                          << "; call ~clear_drive_stop once the drive is back");
   }
-  if (hardware_) relayFromBus();
-  relay_sent_this_cycle_ = 0;
+  if (relay_) relay_->cycle();
   publish(now);
   diagnostics_.update();
   const double work = (ros::WallTime::now() - wall).toSec();

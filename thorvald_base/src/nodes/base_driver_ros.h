@@ -21,6 +21,7 @@
 #include "thorvald_base/base_driver.h"
 #include "thorvald_base/base_hardware.h"
 #include "thorvald_base/relay_allow_list.h"
+#include "can_relay_ros.h"
 #include "thorvald_common/param_reader.h"
 
 namespace thorvald_base {
@@ -42,17 +43,13 @@ class BaseDriverRos {
   /// The relay's allow-list as configured: the robot file's implement_can_ids, or ~relay_allowed_ids when set.
   RelayIdList readRelayIds(ParamReader& params, const RobotConfig& config);
   void onCommand(const ros::MessageEvent<const geometry_msgs::Twist>& event);
-  void onRelayFrame(const ros::MessageEvent<const thorvald_base::CANFrame>& event);
-  void refuseRelay(const std::string& sender, uint32_t id, const std::string& why);
   void onTimer(const ros::TimerEvent& event);
   bool onSetDriveParams(SetDriveParams::Request& req, SetDriveParams::Response& res);
   bool onResetOdom(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
   bool onHomeSteering(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
   bool onSafetyStop(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res);
   bool onClearDriveStop(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
-  bool onMuteRelay(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res);
   void publish(const ros::Time& now);
-  void relayFromBus();
   void diagnoseBase(diagnostic_updater::DiagnosticStatusWrapper& stat);
   void diagnoseDrives(diagnostic_updater::DiagnosticStatusWrapper& stat);
   void diagnoseBatteries(diagnostic_updater::DiagnosticStatusWrapper& stat);
@@ -62,22 +59,14 @@ class BaseDriverRos {
   std::string tf_prefix_;
   bool simple_sim_ = true;
   bool enable_odom_tf_ = true;
-  bool relay_muted_ = false;
-  int relay_max_per_cycle_ = 20;            ///< frames from users sent to the bus per cycle at most
-  int relay_max_received_per_cycle_ = 200;  ///< frames from the bus published per cycle at most
-  unsigned long relay_received_dropped_ = 0;
-  unsigned long relay_refused_ = 0, relay_sent_ = 0, relay_received_ = 0, relay_dropped_ = 0;
-  int relay_sent_this_cycle_ = 0;
-  std::set<uint32_t> relay_allowed_;                       ///< ids users may send; everything else is refused
-  std::map<std::string, unsigned long> relay_refused_by_;  ///< per sender (caller id), at most kMaxRelaySenders
-  static constexpr size_t kMaxRelaySenders = 32;
   std::unique_ptr<pluginlib::ClassLoader<BaseCalculator>> calculator_loader_;
   std::unique_ptr<pluginlib::ClassLoader<BaseHardware>> hardware_loader_;
   std::shared_ptr<BaseHardware> hardware_;
   std::unique_ptr<BaseDriver> driver_;
+  std::unique_ptr<CanRelayRos> relay_;  ///< in hardware mode: the CAN relay for implements
 
-  ros::Subscriber cmd_sub_, relay_sub_;
-  ros::Publisher odom_pub_, joint_pub_, state_pub_, relay_pub_;
+  ros::Subscriber cmd_sub_;
+  ros::Publisher odom_pub_, joint_pub_, state_pub_;
   std::vector<ros::Publisher> battery_pubs_;
   std::vector<ros::ServiceServer> services_;
   ros::Timer timer_;
