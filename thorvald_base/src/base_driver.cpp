@@ -56,9 +56,13 @@ BaseDriver::BaseDriver(RobotConfig config, std::unique_ptr<BaseCalculator> calcu
       options_(options) {
   if (!calculator_) throw ConfigError(config_.source, "base_calculator", "no kinematic model given");
   if (drives_.size() != config_.drives.size()) {
-    throw ConfigError(config_.source, "motor_drives",
-                      std::to_string(config_.drives.size()) + " drives in the robot file but " +
-                          std::to_string(drives_.size()) + " drive devices");
+    // Named by file and group: the hardware builds its devices from the same file, so a mismatch means the two
+    // read different files (or the hardware skipped a drive).
+    const size_t n = config_.drives.size();
+    throw ConfigError(config_.source.empty() ? std::string("robot file (unnamed)") : config_.source, "motor_drives",
+                      "the group declares " + std::to_string(n) + " drives" +
+                          (n ? " (drive0 ... drive" + std::to_string(n - 1) + ")" : std::string()) + " but " +
+                          std::to_string(drives_.size()) + " drive devices were given (one per drive is needed)");
   }
   if (!(options_.cmd_vel_timeout_s > 0.0)) {
     throw ConfigError("base_driver", "~cmd_vel_timeout", "must be greater than 0 s");

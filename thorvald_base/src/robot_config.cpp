@@ -13,6 +13,7 @@
 
 #include "module_fields.h"
 #include "thorvald_base/angles.h"
+#include "thorvald_base/edit_distance.h"
 
 namespace thorvald_base {
 namespace {
@@ -353,21 +354,10 @@ std::string nearestRobotFileGroup(const std::string& key) {
   std::string best;
   size_t best_distance = 3;  // at most two edits: a missing plural s, a swapped or missing letter
   for (const auto& g : groups) {
-    // Levenshtein distance between key and g.
-    std::vector<size_t> row(g.size() + 1);
-    for (size_t j = 0; j <= g.size(); ++j) row[j] = j;
-    for (size_t i = 1; i <= key.size(); ++i) {
-      size_t diagonal = row[0];
-      row[0] = i;
-      for (size_t j = 1; j <= g.size(); ++j) {
-        const size_t up = row[j];
-        row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (key[i - 1] == g[j - 1] ? 0 : 1)});
-        diagonal = up;
-      }
-    }
+    const size_t distance = editDistance(key, g);
     const size_t limit = g.size() <= 3 ? 0 : 2;  // "io" only exactly
-    if (row[g.size()] <= limit && row[g.size()] < best_distance) {
-      best_distance = row[g.size()];
+    if (distance <= limit && distance < best_distance) {
+      best_distance = distance;
       best = g;
     }
   }

@@ -11,6 +11,7 @@ using namespace thorvald_base;
 using testing::_;
 using testing::AllOf;
 using testing::Field;
+using testing::HasSubstr;
 using testing::NiceMock;
 using testing::Return;
 
@@ -258,7 +259,19 @@ TEST(BaseDriver, DriveCountMustMatchTheRobotFile) {
   RobotConfig config = test::paperRobots()[0].config;
   std::vector<std::unique_ptr<MotorDrive>> drives;
   drives.push_back(std::make_unique<NiceMock<MockDrive>>());
-  EXPECT_THROW(BaseDriver(config, std::make_unique<StandardCalculator>(), std::move(drives), {}, {}), ConfigError);
+  config.source = "robots/thorvald_001.yaml";
+  const size_t declared = config.drives.size();
+  try {
+    BaseDriver(config, std::make_unique<StandardCalculator>(), std::move(drives), {}, {});
+    ADD_FAILURE() << "a drive count mismatch was accepted";
+  } catch (const ConfigError& e) {
+    // The message names the file and the group, and both counts.
+    EXPECT_EQ(e.source(), "robots/thorvald_001.yaml");
+    EXPECT_EQ(e.where(), "motor_drives");
+    EXPECT_THAT(e.what(), HasSubstr("robots/thorvald_001.yaml: motor_drives: "));
+    EXPECT_THAT(e.what(), HasSubstr("declares " + std::to_string(declared) + " drives"));
+    EXPECT_THAT(e.what(), HasSubstr("but 1 drive devices"));
+  }
 }
 
 // ---- Speed limits that keep the geometry ----

@@ -205,8 +205,11 @@ class Builder {
 
   void addPipe(const thorvald_base::PipeConfig& p) {
     const std::string where = "pipes." + p.name;
-    checkPositive(p.height, where + ".height", "the height of the upper tube above the ground > 0 [m]");
-    if (p.space < 0.0 || p.space > p.height - dims::kTubeOuterRadius + 1e-9) {
+    // docs/robot_file.md: height 0 (the default) puts the tube at ground height, as the field robots' files do.
+    if (!(p.height >= 0.0)) {
+      fail(where + ".height", "is " + std::to_string(p.height) + ", expected the upper tube's height >= 0 [m]");
+    }
+    if (p.space < 0.0 || (p.space > 0.0 && p.space > p.height - dims::kTubeOuterRadius + 1e-9)) {
       fail(where + ".space", "is " + std::to_string(p.space) + ", expected 0 (one tube) up to height - " +
                                  std::to_string(dims::kTubeOuterRadius) + " (lower tube above the ground)");
     }

@@ -188,7 +188,8 @@ TEST(ModelBuilder, ErrorsNameModuleAndKey) {
   expectError(std::string(kOneDrive) + "batteries: {bat0: {id: 0, type: 1, x: 0, y: 0, z: 0.05}}", "batteries.bat0.z");
   expectError(std::string(kOneDrive) + "pipes: {p: {x1: 0, y1: 0, x2: 1, y2: 0, height: 0.5, space: 0.6}}",
               "pipes.p.space");
-  expectError(std::string(kOneDrive) + "pipes: {p: {x1: 0, y1: 0, x2: 1, y2: 0, height: 0}}", "pipes.p.height");
+  expectError(std::string(kOneDrive) + "pipes: {p: {x1: 0, y1: 0, x2: 1, y2: 0, height: 0, space: 0.1}}",
+              "pipes.p.space");  // a lower tube below the ground
   expectError(std::string(kOneDrive) + "corners: {c: {x: 0, y: 0, z: 0}}", "corners.c.z");
   expectError(std::string(kOneDrive) + "casters: {c: {x: 0, y: 0, z_top: 0.3, r_wheel: 0.1, w_wheel: 0}}",
               "casters.c.w_wheel");
@@ -196,6 +197,15 @@ TEST(ModelBuilder, ErrorsNameModuleAndKey) {
       "motor_drives: {drive0: {node: 1, x: 0, y: 0, type: 1, leg_mesh: 12, r_wheel: 0.2, prp_gr_rt: 42, "
       "prp_enc_ppr: 1024, prp_max_rpm: 3000}}\n",
       "motor_drives.drive0.leg_mesh");
+}
+
+TEST(ModelBuilder, PipeAtGroundHeightByDefault) {
+  // docs/robot_file.md: height defaults to 0; given or left out, the pipe is built with its tube at z = 0.
+  for (const std::string pipe : {"{x1: 0, y1: 0, x2: 1, y2: 0, height: 0}", "{x1: 0, y1: 0, x2: 1, y2: 0}"}) {
+    const UrdfTree tree = buildModel(parse(std::string(kOneDrive) + "pipes: {p: " + pipe + "}"), ModelOptions{});
+    ASSERT_NE(tree.findLink("pipe_p"), nullptr) << pipe;
+    EXPECT_DOUBLE_EQ(originInBase(tree, "pipe_p").z(), 0.0) << pipe;
+  }
 }
 
 TEST(ModelBuilder, LowCasterMountIsRaisedWithAWarning) {

@@ -5,6 +5,8 @@
 #include <mujoco/mujoco.h>
 #include <tinyxml2.h>
 
+#include <sys/wait.h>
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -97,6 +99,29 @@ std::vector<fs::path> robotFiles() {
 }
 
 }  // namespace
+
+TEST(RobotFiles, UnknownKinematicsPluginIsRefusedAsBaseDriverRefusesIt) {
+  // One letter too many in the plugin name: refused, naming the file, the key and the nearest known plugin first.
+  const fs::path file = fs::temp_directory_path() / "thorvald_model_test_bad_plugin.yaml";
+  const fs::path errors = fs::temp_directory_path() / "thorvald_model_test_bad_plugin.err";
+  {
+    std::ofstream out(file);
+    out << "base_calculator: pltf_clc_std::PltfClcStdd\n"
+           "motor_drives: {drive0: {node: 1, x: 0, y: 0, type: 1, r_wheel: 0.2, prp_gr_rt: 42, prp_enc_ppr: 1024, "
+           "prp_max_rpm: 3000}, drive1: {node: 2, x: 0, y: 0.6, type: 1, r_wheel: 0.2, prp_gr_rt: 42, "
+           "prp_enc_ppr: 1024, prp_max_rpm: 3000}}\n";
+  }
+  const int status = std::system(
+      (std::string(URDF_GENERATOR) + " --config " + file.string() + " > /dev/null 2> " + errors.string()).c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 1);
+  std::ifstream in(errors);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find(file.string() + ": base_calculator: 'pltf_clc_std::PltfClcStdd' names no kinematics plugin; "
+                                      "expected one of: pltf_clc_std::PltfClcStd, "),
+            std::string::npos)
+      << text;
+}
 
 TEST(RobotFiles, EveryFileHasAnExpectation) {
   const auto files = robotFiles();

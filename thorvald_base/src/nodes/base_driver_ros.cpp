@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "thorvald_common/param_reader.h"
+#include "thorvald_base/ros/base_calculator_loader.h"
 #include "thorvald_base/ros/robot_config_params.h"
 #include "thorvald_base/simulated_drive.h"
 
@@ -79,15 +80,8 @@ BaseDriverRos::BaseDriverRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh),
   }
   params.finish();
 
-  calculator_loader_ =
-      std::make_unique<pluginlib::ClassLoader<BaseCalculator>>("thorvald_base", "thorvald_base::BaseCalculator");
-  std::unique_ptr<BaseCalculator> calculator;
-  try {
-    calculator.reset(calculator_loader_->createUnmanagedInstance(config.base_calculator));
-  } catch (const pluginlib::PluginlibException& e) {
-    throw ConfigError(config.source, "base_calculator",
-                      "cannot load kinematics plugin '" + config.base_calculator + "': " + e.what());
-  }
+  calculator_loader_ = std::make_unique<BaseCalculatorLoader>();
+  std::unique_ptr<BaseCalculator> calculator = calculator_loader_->create(config);
 
   std::vector<std::unique_ptr<MotorDrive>> drives;
   std::vector<std::unique_ptr<Battery>> batteries;

@@ -21,6 +21,7 @@
 #include "thorvald_base/base_driver.h"
 #include "thorvald_base/base_hardware.h"
 #include "thorvald_base/relay_allow_list.h"
+#include "thorvald_base/ros/base_calculator_loader.h"
 #include "can_relay_ros.h"
 #include "thorvald_common/param_reader.h"
 
@@ -59,7 +60,7 @@ class BaseDriverRos {
   std::string tf_prefix_;
   bool simple_sim_ = true;
   bool enable_odom_tf_ = true;
-  std::unique_ptr<pluginlib::ClassLoader<BaseCalculator>> calculator_loader_;
+  std::unique_ptr<BaseCalculatorLoader> calculator_loader_;
   std::unique_ptr<pluginlib::ClassLoader<BaseHardware>> hardware_loader_;
   std::shared_ptr<BaseHardware> hardware_;
   std::unique_ptr<BaseDriver> driver_;

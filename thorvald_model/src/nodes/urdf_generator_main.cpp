@@ -15,6 +15,7 @@
 #include "thorvald_base/robot_config.h"
 #include "thorvald_model/model_builder.h"
 #include "thorvald_model/urdf_writer.h"
+#include "thorvald_base/ros/base_calculator_loader.h"
 #include "thorvald_base/ros/robot_config_params.h"
 
 namespace {
@@ -89,6 +90,7 @@ int main(int argc, char** argv) {
                                                   ? readFromParameterServer(argc, argv, args.param_ns)
                                                   : thorvald_base::loadRobotConfigFile(args.config);
     for (const auto& w : config.warnings) std::cerr << "urdf_generator: " << w << "\n";
+    thorvald_base::BaseCalculatorLoader().check(config);  // the kinematics plugin as base_driver would load it
     const thorvald_model::UrdfTree tree = thorvald_model::buildModel(config, args.model);
     for (const auto& w : tree.warnings) std::cerr << "urdf_generator: " << config.source << ": " << w << "\n";
     std::vector<thorvald_model::UrdfFragment> fragments;
