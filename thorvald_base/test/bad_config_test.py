@@ -121,6 +121,11 @@ class BadConfig(unittest.TestCase):
         self.assertIn("expands to more than 20000 values", out)
         self.assertLess(time.monotonic() - start, 25.0)
 
+    def test_misspelt_drives_group_is_named(self):
+        code, out = self.run_driver("/bad8", {"motor_drive": self.good_robot()["motor_drives"]})
+        self.assertEqual(code, 1, out)
+        self.assertIn("motor_drives: not found in /bad8; did you mean motor_drive?", out)
+
     def test_launch_file_clears_a_robot_file_loaded_before(self):
         # A four-drive robot file left in the namespace, then the two-wheel differential robot through the launch
         # file: without clearing, the drives would merge and base_driver would refuse them ("found 4").

@@ -7,6 +7,8 @@
 #include <set>
 #include <sstream>
 
+#include "thorvald_base/edit_distance.h"
+
 namespace thorvald_base {
 namespace {
 
@@ -70,6 +72,25 @@ NamespaceContents contents(const std::string& ns) {
   return out;
 }
 
+/// The error for a namespace without motor_drives: the key there nearest to it, or that the namespace is empty.
+ConfigError missingDrives(const std::string& ns, const std::string& source, const NamespaceContents& found) {
+  const std::string load = "load the robot file into this namespace first (rosparam load <robot.yaml> " + ns + ")";
+  if (found.children.empty()) {
+    return ConfigError(source, "motor_drives",
+                       "not found on the parameter server: " + ns +
+                           " holds no parameters (the file is empty, or was not loaded): " + load);
+  }
+  size_t distance = 0;
+  const std::string nearest = nearestName("motor_drives", {found.children.begin(), found.children.end()}, &distance);
+  if (distance <= 3) {
+    return ConfigError(source, "motor_drives",
+                       "not found in " + ns + "; did you mean " + nearest +
+                           "? (the robot file's drives are the group motor_drives: drive0, drive1, ...)");
+  }
+  return ConfigError(source, "motor_drives",
+                     "not found in " + ns + " (the key nearest to it there is " + nearest + "): " + load);
+}
+
 }  // namespace
 
 YAML::Node toYaml(XmlRpc::XmlRpcValue& value, const std::string& source, size_t max_values) {
@@ -101,12 +122,10 @@ RobotConfig robotConfigFromParams(const ros::NodeHandle& nh, const std::string& 
       throw ConfigError(source, "<top level>",
                         "is a list, expected a map of module groups (base_calculator, motor_drives, ...)");
     }
-    const bool empty_group = nh.hasParam("motor_drives");
-    throw ConfigError(source, "motor_drives",
-                      empty_group ? "is empty: a robot needs at least drive0 { node, x, y, r_wheel, ... }"
-                                  : "not found on the parameter server (the file is empty, or was not loaded): load "
-                                    "the robot file into this namespace first (rosparam load <robot.yaml> " +
-                                        ns + ")");
+    if (nh.hasParam("motor_drives")) {
+      throw ConfigError(source, "motor_drives", "is empty: a robot needs at least drive0 { node, x, y, r_wheel, ... }");
+    }
+    throw missingDrives(ns, source, found);
   }
   config = parseRobotConfig(root, source);
   // Keys next to the groups belong to nodes too (robot_description, tf_prefix, node names), so only names that
