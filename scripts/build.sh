@@ -17,13 +17,24 @@ touch "$src/.ws/CATKIN_IGNORE"
 [ -L "$src/CMakeLists.txt" ] || ln -s /usr/share/catkin/cmake/toplevel.cmake "$src/CMakeLists.txt"
 [ -e "$src/CMakeLists.txt" ] || { echo "[build] catkin is not installed: run scripts/install_deps.sh" >&2; exit 1; }
 
+# ccache (a listed Debian package) keeps compiled objects between builds and between clones of the repository:
+# paths below the repository are hashed relative to it, so a fresh clone in another folder reuses the objects of
+# earlier builds on the same machine. CCACHE_DISABLE=1 turns it off.
+if command -v ccache >/dev/null; then
+  export CCACHE_BASEDIR="$src" CCACHE_NOHASHDIR=true
+  launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+else
+  launcher=()
+fi
+
 configure() {  # $1 build dir, $2 devel dir, rest: extra cmake args
   local b="$1" d="$2"; shift 2
   # catkin caches the test environment at configure time and leaves the devel python folder out of PYTHONPATH
   # when it does not exist yet: python tests would then not find the workspace's messages on a fresh build.
   mkdir -p "$d/lib/python3/dist-packages"
   cmake -S "$src" -B "$b" -DCATKIN_DEVEL_PREFIX="$d" -DCMAKE_BUILD_TYPE="$build_type" \
-    -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCATKIN_ENABLE_TESTING=ON -DCMAKE_INSTALL_PREFIX="$src/.ws/install" "$@" >"$b.configure.log" 2>&1 || {
+    -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCATKIN_ENABLE_TESTING=ON -DCMAKE_INSTALL_PREFIX="$src/.ws/install" \
+    "${launcher[@]}" "$@" >"$b.configure.log" 2>&1 || {
     cat "$b.configure.log"; echo "[build] cmake configure failed" >&2; exit 1; }
 }
 
@@ -56,7 +67,7 @@ case "$mode" in
     configure "$b" "$src/.ws/devel_sanitize" -DCMAKE_BUILD_TYPE=Debug -DCATKIN_WHITELIST_PACKAGES="$pkgs" \
       -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_C_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
       -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=address,undefined"
-    build "$b" all tests
+    build "$b" tests  # the unit tests and the libraries they link; nodes and benches are not run here
     ;;
   --only)
     shift

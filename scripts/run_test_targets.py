@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Runs every catkin test target of a configured and built workspace, JOBS at a time, and prints how long each took.
 
-    scripts/run_test_targets.py BUILD_DIR [--jobs N] [--log FILE] [--serial-file FILE]
+    scripts/run_test_targets.py BUILD_DIR [--jobs N] [--log FILE] [--serial-file FILE] [--only PATTERN]
 
 The targets are the leaves of catkin's run_tests tree (`run_tests_<pkg>_gtest_<name>`, `..._rostest_...`,
 `..._pyunit_...`, `..._roslaunch-check_...`): those no other run_tests target extends. Each runs as its own
@@ -18,6 +18,7 @@ import os
 import re
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 
@@ -59,6 +60,7 @@ def main():
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--log", default=None, help="all the tests' output (default BUILD_DIR/run_tests.log)")
     parser.add_argument("--serial-file", default=None, help="patterns of tests that run alone, after the others")
+    parser.add_argument("--only", default="*", help="run only the targets matching this pattern (without run_tests_)")
     args = parser.parse_args()
     if args.jobs < 1:
         parser.error("--jobs must be at least 1")
@@ -66,7 +68,7 @@ def main():
     log_path = args.log or os.path.join(build_dir, "run_tests.log")
     durations_path = os.path.join(build_dir, "test_durations.tsv")
 
-    targets = leaf_targets(build_dir)
+    targets = [t for t in leaf_targets(build_dir) if fnmatch.fnmatch(short(t), args.only)]
     serial_patterns = read_patterns(args.serial_file)
     last = read_durations(durations_path)
     is_serial = lambda t: any(fnmatch.fnmatch(short(t), p) for p in serial_patterns)  # noqa: E731
@@ -79,22 +81,30 @@ def main():
 
     lock = threading.Lock()
     took = {}
+    cpu = {}
     log = open(log_path, "w")
     start_all = time.monotonic()
 
     def run(target):
         start = time.monotonic()
-        proc = subprocess.run(["make", "-C", build_dir, target], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                              text=True, errors="replace")
+        with tempfile.TemporaryFile(mode="w+", errors="replace") as out:
+            proc = subprocess.Popen(["make", "-C", build_dir, target], stdout=out, stderr=subprocess.STDOUT)
+            # wait4: the CPU time of make and of every process it waited for (the test and what the test started).
+            _, status, usage = os.wait4(proc.pid, 0)
+            proc.returncode = os.waitstatus_to_exitcode(status)
+            out.seek(0)
+            text = out.read()
         seconds = time.monotonic() - start
+        cpu_s = usage.ru_utime + usage.ru_stime
         with lock:
             took[target] = seconds
-            log.write(f"===== {target} ({seconds:.1f} s, make exit {proc.returncode})\n{proc.stdout}\n")
+            cpu[target] = cpu_s
+            log.write(f"===== {target} ({seconds:.1f} s, {cpu_s:.1f} s CPU, make exit {proc.returncode})\n{text}\n")
             log.flush()
-            failed = proc.returncode != 0 or re.search(r"RESULT: FAIL|\[  FAILED  \]", proc.stdout)
+            failed = proc.returncode != 0 or re.search(r"RESULT: FAIL|\[  FAILED  \]", text)
             done = len(took)
-            print(f"[tests] {done:3d}/{len(targets)} {seconds:6.1f} s  {'FAILED ' if failed else ''}{short(target)}",
-                  flush=True)
+            print(f"[tests] {done:3d}/{len(targets)} {seconds:6.1f} s {cpu_s:6.1f} s CPU  {'FAILED ' if failed else ''}"
+                  f"{short(target)}", flush=True)
 
     queue = list(parallel)
 
@@ -121,9 +131,9 @@ def main():
             f.write(f"{target}\t{seconds:.1f}\n")
     print("[tests] the ten slowest:")
     for target, seconds in sorted(took.items(), key=lambda kv: -kv[1])[:10]:
-        print(f"[tests]   {seconds:6.1f} s  {short(target)}")
-    print(f"[tests] all {len(took)} test targets in {total:.0f} s wall clock ({sum(took.values()):.0f} s of test time)",
-          flush=True)
+        print(f"[tests]   {seconds:6.1f} s  {cpu[target]:6.1f} s CPU  {short(target)}")
+    print(f"[tests] all {len(took)} test targets in {total:.0f} s wall clock ({sum(took.values()):.0f} s of test time, "
+          f"{sum(cpu.values()):.0f} s CPU)", flush=True)
     return 0
 
 
