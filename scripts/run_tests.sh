@@ -75,5 +75,9 @@ for f in $(git ls-files '*.launch'); do
 done
 
 echo "== results (run_tests.sh took $(( $(date +%s) - suite_start )) s)"
+if [ -n "${CI_START_S:-}" ]; then
+  ci_s=$(( $(date +%s) - CI_START_S ))
+  echo "== .ci/run took ${ci_s} s ($(( ci_s / 60 )) min $(( ci_s % 60 )) s) on $(nproc) cores"
+fi
 /usr/bin/python3 "$src/scripts/count_results.py" "$src/.ws/build/test_results" \
   "$src/.ws/build_sanitize/test_results" "${checks[@]}"
