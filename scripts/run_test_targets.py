@@ -1,16 +1,17 @@
 #!/usr/bin/python3
 """Runs every catkin test target of a configured and built workspace, JOBS at a time, and prints how long each took.
 
-    scripts/run_test_targets.py BUILD_DIR [--jobs N] [--log FILE] [--serial-file FILE] [--only PATTERN]
+    scripts/run_test_targets.py BUILD_DIR [--jobs N] [--log FILE] [--heavy-file FILE] [--only PATTERN]
 
 The targets are the leaves of catkin's run_tests tree (`run_tests_<pkg>_gtest_<name>`, `..._rostest_...`,
 `..._pyunit_...`, `..._roslaunch-check_...`): those no other run_tests target extends. Each runs as its own
-`make <target>`, so one failing or hanging test does not stop the others; its output goes to the log. Tests named in
-the serial file (one pattern a line, fnmatch style, # comments) run alone, after the others: scenario-length
-simulations whose wall-clock deadlines would suffer from a neighbour. The longest tests of the last run on this
-machine (kept in BUILD_DIR/test_durations.tsv) start first, so the two workers end together. Results are the JUnit
-files catkin writes; this script reports only what ran, how long, and the ten slowest, and exits 0 (the results are
-counted from the JUnit files).
+`make <target>`, so one failing or hanging test does not stop the others; its output goes to the log. Most rostests
+wait on simulated or wall-clock time and use little CPU, so JOBS may exceed the cores. Tests named in the heavy file
+(one fnmatch pattern a line, # comments) are scenario-length simulations that need a core of their own: at most one
+of them runs at a time, beside light ones. The longest tests of the last run on this machine (kept in
+BUILD_DIR/test_durations.tsv) start first, so the workers end together. Results are the JUnit files catkin writes;
+this script reports what ran, how long (wall clock and CPU), the ten slowest and the total, and exits 0 (the results
+are counted from the JUnit files).
 """
 import argparse
 import fnmatch
@@ -59,7 +60,7 @@ def main():
     parser.add_argument("build_dir")
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--log", default=None, help="all the tests' output (default BUILD_DIR/run_tests.log)")
-    parser.add_argument("--serial-file", default=None, help="patterns of tests that run alone, after the others")
+    parser.add_argument("--heavy-file", default=None, help="patterns of tests of which at most one runs at a time")
     parser.add_argument("--only", default="*", help="run only the targets matching this pattern (without run_tests_)")
     args = parser.parse_args()
     if args.jobs < 1:
@@ -69,14 +70,13 @@ def main():
     durations_path = os.path.join(build_dir, "test_durations.tsv")
 
     targets = [t for t in leaf_targets(build_dir) if fnmatch.fnmatch(short(t), args.only)]
-    serial_patterns = read_patterns(args.serial_file)
+    heavy_patterns = read_patterns(args.heavy_file)
     last = read_durations(durations_path)
-    is_serial = lambda t: any(fnmatch.fnmatch(short(t), p) for p in serial_patterns)  # noqa: E731
-    # Unknown durations first (a new test may be long), then the longest first.
-    order = sorted(targets, key=lambda t: -last.get(t, 1e9))
-    parallel = [t for t in order if not is_serial(t)]
-    serial = [t for t in order if is_serial(t)]
-    print(f"[tests] {len(targets)} test targets: {len(parallel)} on {args.jobs} workers, then {len(serial)} alone",
+    heavy = {t for t in targets if any(fnmatch.fnmatch(short(t), p) for p in heavy_patterns)}
+    # The longest of the last run first; without a last run (a fresh clone): heavy tests, then rostests, then the rest.
+    unknown = lambda t: 1e9 + (2 if t in heavy else 1 if "_rostest_" in t else 0)  # noqa: E731
+    queue = sorted(targets, key=lambda t: -last.get(t, unknown(t)))
+    print(f"[tests] {len(targets)} test targets on {args.jobs} workers, {len(heavy)} of them heavy (one at a time)",
           flush=True)
 
     lock = threading.Lock()
@@ -106,23 +106,33 @@ def main():
             print(f"[tests] {done:3d}/{len(targets)} {seconds:6.1f} s {cpu_s:6.1f} s CPU  {'FAILED ' if failed else ''}"
                   f"{short(target)}", flush=True)
 
-    queue = list(parallel)
+    heavy_running = [False]
+    wake = threading.Condition(lock)
 
     def worker():
         while True:
             with lock:
-                if not queue:
-                    return
-                target = queue.pop(0)
+                while True:
+                    if not queue:
+                        return
+                    target = next((t for t in queue if t not in heavy or not heavy_running[0]), None)
+                    if target is not None:
+                        break
+                    wake.wait()  # only heavy tests are left and one runs
+                queue.remove(target)
+                if target in heavy:
+                    heavy_running[0] = True
             run(target)
+            with lock:
+                if target in heavy:
+                    heavy_running[0] = False
+                wake.notify_all()
 
     threads = [threading.Thread(target=worker) for _ in range(args.jobs)]
     for t in threads:
         t.start()
     for t in threads:
         t.join()
-    for target in serial:
-        run(target)
     log.close()
 
     total = time.monotonic() - start_all

@@ -20,10 +20,10 @@ echo "== unit tests and rostests"
 # shellcheck disable=SC1091
 set +u; source "$src/.ws/devel/setup.bash"; set -u  # ROS setup scripts read unset variables
 export ROS_HOME="$src/.ws/ros_home" ROS_LOG_DIR="$src/.ws/ros_home/log"
-# Independent test targets run $JOBS at a time (rostest masters take free ports); the ones in serial_tests.txt run
-# alone afterwards. Every target's output is in .ws/run_tests.log; the ten slowest and the total are printed.
-/usr/bin/python3 "$src/scripts/run_test_targets.py" "$src/.ws/build" --jobs "$JOBS" --log "$src/.ws/run_tests.log" \
-  --serial-file "$src/scripts/serial_tests.txt"
+# Independent test targets run TEST_JOBS at a time (rostest masters take free ports; most tests wait on time, not
+# CPU); of the heavy ones in heavy_tests.txt one at a time. Output: .ws/run_tests.log; the ten slowest are printed.
+/usr/bin/python3 "$src/scripts/run_test_targets.py" "$src/.ws/build" --jobs "${TEST_JOBS:-3}" \
+  --log "$src/.ws/run_tests.log" --heavy-file "$src/scripts/heavy_tests.txt"
 
 echo "== install into a scratch folder"
 scratch="$(mktemp -d /tmp/thorvald_install.XXXXXX)"
