@@ -36,6 +36,9 @@ class NodeProcess {
   explicit NodeProcess(const std::vector<std::string>& arguments) {
     pid_ = ::fork();
     if (pid_ != 0) return;
+    // The default stop handling, whatever the test suite inherited (started in the background, it ignores SIGINT).
+    ::signal(SIGINT, SIG_DFL);
+    ::signal(SIGTERM, SIG_DFL);
     std::vector<std::string> all = {"rosrun", "cotton_harvester", "harvest_perception"};
     all.insert(all.end(), arguments.begin(), arguments.end());
     std::vector<char*> argv;
