@@ -18,6 +18,7 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <thorvald_common/command_line.h>
 
 #include "cotton_harvester/sim/harvest_run.h"
 
@@ -206,7 +207,7 @@ int main(int argc, char** argv) {
   app.add_flag("--no-leaf-clearing", no_clear, "pick without sweeping leaves over the boll aside first");
   app.add_flag("--ee-whole-image", ee_whole, "take the largest orange region of the image as the end-effector");
   app.add_flag("--no-leaf-push", no_push, "simulated leaves do not give way to the housing");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto code = thorvald_common::parseCommandLine(app, argc, argv)) return *code;
   clear_leaves = !no_clear;
   ee_near_arm = !ee_whole;
   leaf_push = !no_push;

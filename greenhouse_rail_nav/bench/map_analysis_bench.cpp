@@ -11,6 +11,7 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <thorvald_common/command_line.h>
 
 #include "greenhouse_rail_nav/map_analyzer.h"
 #include "greenhouse_rail_nav/map_overlay.h"
@@ -180,11 +181,7 @@ int main(int argc, char** argv) {
   app.add_option("--png-dir", png_dir, "write an overlay PNG of every map that is not fully right into this folder");
   app.add_option("--only", only, "analyse only this map of the set and print every check and warning");
   app.add_flag("--verbose", verbose, "print the cause of every map that is not fully right, and a count per cause");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;  // --help: 0; an unknown option or a bad value: 2
-  }
+  if (const auto code = thorvald_common::parseCommandLine(app, argc, argv)) return *code;
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress shows when piped
 
   std::mt19937 rng(seed);

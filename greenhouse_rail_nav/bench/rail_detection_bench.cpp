@@ -11,6 +11,7 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <thorvald_common/command_line.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -142,11 +143,7 @@ int main(int argc, char** argv) {
   bool verbose = false;
   app.add_flag("--verbose", verbose, "also list the poses whose start is in view but reported as unobserved");
   app.add_option("--png", png, "write a scatter of the y and yaw errors against the Table I box to this PNG");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;  // --help: 0; an unknown option or a bad value: 2
-  }
+  if (const auto code = thorvald_common::parseCommandLine(app, argc, argv)) return *code;
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress shows when piped
   const RailDetectorParams params;
 

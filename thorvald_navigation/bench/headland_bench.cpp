@@ -10,6 +10,7 @@
 
 #include <CLI/CLI.hpp>
 #include <thorvald_common/bench_statistics.h>
+#include <thorvald_common/command_line.h>
 
 #include "thorvald_navigation/costmap.h"
 #include "thorvald_navigation/grid_planner.h"
@@ -141,7 +142,7 @@ int main(int argc, char** argv) {
   app.add_option("--seconds", seconds, "simulated driving time for localisation [s]")->check(CLI::Range(1.0, 7200.0));
   app.add_option("--goals", goals, "random navigation goals")->check(CLI::Range(1, 10000));
   app.add_option("--seed", seed, "seed of the headland and the noise");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto code = thorvald_common::parseCommandLine(app, argc, argv)) return *code;
 
   std::printf("localisation: %.0f s of driving, 40 Hz scans, 2.5 cm map ...\n", seconds);
   std::fflush(stdout);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <thorvald_common/command_line.h>
 
 #include "thorvald_navigation/occupancy_mapper.h"
 #include "thorvald_navigation/testing/synthetic_headland.h"
@@ -37,7 +38,7 @@ int main(int argc, char** argv) {
   app.add_option("--seed", seed, "random seed");
   bool match_surface = false;
   app.add_flag("--match-surface", match_surface, "match at the walls' surface (headland_mapper's match_surface)");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto code = thorvald_common::parseCommandLine(app, argc, argv)) return *code;
 
   tn::testing::HeadlandOptions o;
   o.length_m = length_m;
