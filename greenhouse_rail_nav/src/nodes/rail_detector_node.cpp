@@ -10,13 +10,13 @@
 #include <thorvald_common/param_reader.h>
 #include <thorvald_common/run_node.h>
 #include <std_srvs/Trigger.h>
-#include <tf2/LinearMath/Quaternion.h>
 #include <tf2_geometry_msgs/tf2_geometry_msgs.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include "cloud_messages.h"
+#include "thorvald_map/ros/conversions.h"
 #include "greenhouse_rail_nav/RailDetectionStatus.h"
 #include "greenhouse_rail_nav/mount_calibration.h"
 #include "greenhouse_rail_nav/rail_detector.h"
@@ -93,13 +93,6 @@ NodeSettings loadSettings(const ros::NodeHandle& pnh) {
     throw thorvald_common::ParamError(r.node() + ": base_frame and rail_frame must not be empty");
   r.finish();
   return s;
-}
-
-/// Orientation of a planar heading [rad].
-geometry_msgs::Quaternion yawQuaternion(double yaw_rad) {
-  tf2::Quaternion q;
-  q.setRPY(0.0, 0.0, yaw_rad);
-  return tf2::toMsg(q);
 }
 
 Eigen::Isometry3d toEigen(const geometry_msgs::Transform& t) {
@@ -195,9 +188,7 @@ class RailDetectorNode {
     geometry_msgs::PoseWithCovarianceStamped pose;
     pose.header.stamp = msg->header.stamp;
     pose.header.frame_id = settings_.rail_frame;
-    pose.pose.pose.position.x = d.base_in_rail.x;
-    pose.pose.pose.position.y = d.base_in_rail.y;
-    pose.pose.pose.orientation = yawQuaternion(d.base_in_rail.yaw);
+    pose.pose.pose = thorvald_map::toPose(d.base_in_rail);
     pose.pose.covariance.fill(0.0);
     pose.pose.covariance[0] = d.variance[0];
     pose.pose.covariance[7] = d.variance[1];
@@ -249,9 +240,7 @@ class RailDetectorNode {
     frame.scale.y = frame.scale.z = 0.05;
     frame.color.r = 1.0f;
     frame.color.g = 0.0f;
-    frame.pose.position.x = d.rail_in_base.x;
-    frame.pose.position.y = d.rail_in_base.y;
-    frame.pose.orientation = yawQuaternion(d.rail_in_base.yaw);
+    frame.pose = thorvald_map::toPose(d.rail_in_base);
     array.markers = {rails, frame};
     markers_pub_.publish(array);
   }
