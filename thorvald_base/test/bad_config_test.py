@@ -126,6 +126,67 @@ class BadConfig(unittest.TestCase):
         self.assertEqual(code, 1, out)
         self.assertIn("motor_drives: not found in /bad8; did you mean motor_drive?", out)
 
+    def test_group_larger_than_its_bound_is_refused_before_it_is_expanded(self):
+        robot = self.good_robot()
+        robot["motor_drives"]["drive0"]["lol"] = [1.0] * 60000  # about 2 MB XML-RPC encoded, past the 1 MiB bound
+        code, out = self.run_driver("/bad9", robot)
+        self.assertEqual(code, 1, out)
+        self.assertIn("motor_drives: takes more than 1048576 bytes", out)
+
+    def test_deep_nesting_is_refused(self):
+        leaf = 1.0
+        for _ in range(10):
+            leaf = [leaf]
+        robot = self.good_robot()
+        robot["motor_drives"]["drive0"]["lol"] = leaf
+        code, out = self.run_driver("/bad10", robot)
+        self.assertEqual(code, 1, out)
+        self.assertIn("motor_drives: nests deeper than 8 levels", out)
+
+    def bomb_rows(self, rows):
+        # What a half-loaded alias bomb leaves on the server: one list of `rows` references to a list of 1000.
+        return [[1.0] * 1000] * rows
+
+    def test_half_loaded_bomb_next_to_the_groups_is_not_read(self):
+        # No motor_drives (rosparam load stopped half-way), 500000 values next to where it would be: base_driver
+        # reads only the robot file's groups, never the namespace, and says what is missing.
+        rosparam.upload_params("/bad11", {"lol": self.bomb_rows(500)})
+        start = time.monotonic()
+        code, out = self.run_driver("/bad11", {})
+        self.assertEqual(code, 1, out)
+        self.assertIn("motor_drives: not found in /bad11", out)
+        self.assertLess(time.monotonic() - start, 20.0)
+
+    def test_sigint_while_reading_a_bomb_stops_promptly(self):
+        # A group of a million values: the master takes seconds to encode it. base_driver, stopped with SIGINT as
+        # soon as it is up (it reads the robot file right away), exits within seconds, while it waits for the
+        # reply ("reading interrupted") or once it has refused the group's size.
+        robot = self.good_robot()
+        robot["motor_drives"]["lol"] = self.bomb_rows(1000)
+        rosparam.upload_params("/bad12", robot)
+        proc = subprocess.Popen(["rosrun", "thorvald_base", "base_driver"], env=dict(os.environ, ROS_NAMESPACE="/bad12"),
+                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        master = rosgraph.Master("/bad_config_test")
+        try:
+            end = time.monotonic() + 30.0
+            up = False
+            while time.monotonic() < end and not up and proc.poll() is None:
+                up = any("/bad12/base_driver" in nodes for _, nodes in master.getSystemState()[0])
+                time.sleep(0.05)
+            self.assertTrue(up or proc.poll() is not None, "base_driver did not come up")
+            signalled = time.monotonic()
+            proc.send_signal(signal.SIGINT)
+            out, _ = proc.communicate(timeout=15)
+            elapsed = time.monotonic() - signalled
+            self.assertLess(elapsed, 5.0, out)
+            self.assertNotEqual(proc.returncode, 0, out)
+            self.assertNotIn("drives, model", out)  # it never started driving
+            self.assertTrue("reading interrupted" in out or "motor_drives: takes more than" in out, out)
+        finally:
+            if proc.poll() is None:
+                proc.kill()
+                proc.wait()
+
     def test_launch_file_clears_a_robot_file_loaded_before(self):
         # A four-drive robot file left in the namespace, then the two-wheel differential robot through the launch
         # file: without clearing, the drives would merge and base_driver would refuse them ("found 4").

@@ -1,6 +1,7 @@
 #include <ros/ros.h>
 
 #include <csignal>
+#include <iostream>
 
 #include "base_driver_ros.h"
 
@@ -18,6 +19,9 @@ int main(int argc, char** argv) {
   try {
     node = std::make_unique<thorvald_base::BaseDriverRos>(nh, pnh);
   } catch (const std::exception& e) {
+    // Stopped (SIGINT, SIGTERM) while starting: rosconsole is shut down by then, so the reason goes to stderr.
+    if (!ros::ok() || ros::isShuttingDown())
+      std::cerr << "base_driver stopped while starting: " << e.what() << std::endl;
     ROS_FATAL_STREAM("base_driver cannot start: " << e.what());
     return 1;
   }

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "thorvald_base/edit_distance.h"
+#include "thorvald_base/ros/bounded_param_read.h"
 
 namespace thorvald_base {
 namespace {
@@ -51,18 +52,31 @@ YAML::Node convert(XmlRpc::XmlRpcValue& value, const std::string& source, size_t
   }
 }
 
-/// Names directly below `ns` on the parameter server, and whether a ROS 2 `ros__parameters` tree is among them.
+/// Bytes one group of a robot file may take on the parameter server, XML-RPC encoded: a group of 256 modules of ten
+/// keys takes about 250 kB.
+constexpr size_t kMaxGroupBytes = 1 << 20;
+/// Nesting of a group: module, then key (2); lists inside a module add levels, so some room is left.
+constexpr size_t kMaxGroupDepth = 8;
+/// Bytes of the server's list of parameter names read to find misspelt groups; past it they are not looked for.
+constexpr size_t kMaxNameListBytes = 8 << 20;
+
+/// Names directly below `ns` on the parameter server (unknown when the server's list of names is too long), and
+/// whether a ROS 2 `ros__parameters` tree is among them.
 struct NamespaceContents {
+  bool known = false;
+  bool ns_is_value = false;  ///< `ns` itself holds a value (a list, a scalar), not a map
   std::set<std::string> children;
   std::string ros2_subtree;  ///< e.g. "base_driver/ros__parameters"
 };
 
 NamespaceContents contents(const std::string& ns) {
   NamespaceContents out;
-  std::vector<std::string> names;
-  if (!ros::param::getParamNames(names)) return out;
+  const auto names = getParamNamesBounded(kMaxNameListBytes);
+  if (!names) return out;
+  out.known = true;
   const std::string prefix = ns == "/" ? "/" : ns + "/";
-  for (const auto& n : names) {
+  for (const auto& n : *names) {
+    if (n == ns) out.ns_is_value = true;
     if (n.size() <= prefix.size() || n.compare(0, prefix.size(), prefix) != 0) continue;
     const std::string rest = n.substr(prefix.size());
     out.children.insert(rest.substr(0, rest.find('/')));
@@ -72,9 +86,45 @@ NamespaceContents contents(const std::string& ns) {
   return out;
 }
 
-/// The error for a namespace without motor_drives: the key there nearest to it, or that the namespace is empty.
-ConfigError missingDrives(const std::string& ns, const std::string& source, const NamespaceContents& found) {
+/// Reads one group (or top-level key) of the robot file, bounded before it is expanded. Returns a value of type
+/// TypeInvalid when the key is not set.
+XmlRpc::XmlRpcValue readGroup(const ros::NodeHandle& nh, const std::string& group, const std::string& source) {
+  ParamReadBounds bounds;
+  bounds.max_bytes = kMaxGroupBytes;
+  bounds.max_values = kMaxRobotFileValues;  // each group; convert() holds all of them together to it too
+  bounds.max_depth = kMaxGroupDepth;
+  XmlRpc::XmlRpcValue value;
+  try {
+    if (!getParamBounded(nh.resolveName(group), value, bounds)) return XmlRpc::XmlRpcValue();
+  } catch (const ParamTooLarge& e) {
+    throw ConfigError(source, group,
+                      std::string(e.what()) +
+                          " on the parameter server (YAML aliases used as a bomb?); a robot file's group holds a "
+                          "few hundred values in a few kilobytes");
+  } catch (const ParamReadInterrupted&) {
+    throw ConfigError(source, group, "reading interrupted: the node is shutting down");
+  }
+  return value;
+}
+
+/// The error for a robot file without motor_drives: what the namespace holds instead.
+ConfigError missingDrives(const ros::NodeHandle& nh, const std::string& ns, const std::string& source,
+                          const NamespaceContents& found) {
+  if (!found.ros2_subtree.empty()) {
+    return ConfigError(source, "<top level>",
+                       "is a ROS 2 parameters file (node: ros__parameters: ...); the robot file is its sub-tree '" +
+                           found.ros2_subtree + "': write that sub-tree to a file of its own and load that");
+  }
+  if (found.ns_is_value) {
+    return ConfigError(source, "<top level>",
+                       "is a single value (e.g. a list), expected a map of module groups (base_calculator, "
+                       "motor_drives, ...)");
+  }
+  if (nh.hasParam("motor_drives")) {
+    return ConfigError(source, "motor_drives", "is empty: a robot needs at least drive0 { node, x, y, r_wheel, ... }");
+  }
   const std::string load = "load the robot file into this namespace first (rosparam load <robot.yaml> " + ns + ")";
+  if (!found.known) return ConfigError(source, "motor_drives", "not found in " + ns + ": " + load);
   if (found.children.empty()) {
     return ConfigError(source, "motor_drives",
                        "not found on the parameter server: " + ns +
@@ -85,7 +135,8 @@ ConfigError missingDrives(const std::string& ns, const std::string& source, cons
   if (distance <= 3) {
     return ConfigError(source, "motor_drives",
                        "not found in " + ns + "; did you mean " + nearest +
-                           "? (the robot file's drives are the group motor_drives: drive0, drive1, ...)");
+                           "? (the robot file's drives are the group "
+                           "motor_drives: drive0, drive1, ...)");
   }
   return ConfigError(source, "motor_drives",
                      "not found in " + ns + " (the key nearest to it there is " + nearest + "): " + load);
@@ -102,32 +153,23 @@ RobotConfig robotConfigFromParams(const ros::NodeHandle& nh, const std::string& 
   const std::string ns = nh.getNamespace();
   const std::string source =
       file.empty() ? "robot file in namespace '" + ns + "'" : file + " (loaded into namespace '" + ns + "')";
-  const NamespaceContents found = contents(ns);
+  NamespaceContents found;
+  try {
+    found = contents(ns);
+  } catch (const ParamReadInterrupted&) {
+    throw ConfigError(source, "<size>", "reading interrupted: the node is shutting down");
+  }
+  // Only the robot file's own keys are read, each bounded before it is expanded: never the whole namespace, which
+  // may hold anything (other nodes' parameters, or what a half-loaded alias bomb left there).
   YAML::Node root(YAML::NodeType::Map);
   size_t count = 0;
   for (const char* group : kGroups) {
-    if (!found.children.count(group) && !nh.hasParam(group)) continue;
-    XmlRpc::XmlRpcValue value;
-    if (nh.getParam(group, value)) root[group] = convert(value, source, kMaxRobotFileValues, count);
+    if (found.known ? !found.children.count(group) && !nh.hasParam(group) : !nh.hasParam(group)) continue;
+    XmlRpc::XmlRpcValue value = readGroup(nh, group, source);
+    if (value.valid()) root[group] = convert(value, source, kMaxRobotFileValues, count);
   }
-  RobotConfig config;
-  if (!root["motor_drives"].IsDefined()) {
-    if (!found.ros2_subtree.empty()) {
-      throw ConfigError(source, "<top level>",
-                        "is a ROS 2 parameters file (node: ros__parameters: ...); the robot file is its sub-tree '" +
-                            found.ros2_subtree + "': write that sub-tree to a file of its own and load that");
-    }
-    XmlRpc::XmlRpcValue whole;
-    if (nh.getParam(ns, whole) && whole.getType() == XmlRpc::XmlRpcValue::TypeArray) {
-      throw ConfigError(source, "<top level>",
-                        "is a list, expected a map of module groups (base_calculator, motor_drives, ...)");
-    }
-    if (nh.hasParam("motor_drives")) {
-      throw ConfigError(source, "motor_drives", "is empty: a robot needs at least drive0 { node, x, y, r_wheel, ... }");
-    }
-    throw missingDrives(ns, source, found);
-  }
-  config = parseRobotConfig(root, source);
+  if (!root["motor_drives"].IsDefined()) throw missingDrives(nh, ns, source, found);
+  RobotConfig config = parseRobotConfig(root, source);
   // Keys next to the groups belong to nodes too (robot_description, tf_prefix, node names), so only names that
   // look like a misspelt group are reported, the way the file parser reports unknown top-level keys.
   for (const auto& child : found.children) {

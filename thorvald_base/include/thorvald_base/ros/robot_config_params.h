@@ -21,10 +21,12 @@ YAML::Node toYaml(XmlRpc::XmlRpcValue& value, const std::string& source = "param
                   size_t max_values = kMaxRobotFileValues);
 
 /// Reads the robot file that `rosparam load` put into the namespace of `nh` (base_calculator, motor_drives,
-/// batteries, pipes, corners, beams, casters, passive_wheels, io). `file`, when known (a launch file passes it),
-/// names the file in messages. Throws ConfigError, also when there is none, naming what was found instead: an
-/// empty namespace, an empty motor_drives, a list, a ROS 2 parameters file (and the sub-tree to load).
-/// Misspelt group names (`caster:`) become warnings, as parseRobotConfig gives for a file.
+/// batteries, pipes, corners, beams, casters, passive_wheels, io, implement_can_ids): only these keys, each bounded
+/// in bytes, values and nesting before it is expanded (getParamBounded), never the whole namespace; SIGINT/SIGTERM
+/// stops the reading. `file`, when known (a launch file passes it), names the file in messages. Throws ConfigError,
+/// also when there is none, naming what was found instead: an empty namespace, an empty motor_drives, the key
+/// nearest to motor_drives (`did you mean motor_drive?`), a list, a ROS 2 parameters file (and the sub-tree to
+/// load). Misspelt group names (`caster:`) become warnings, as parseRobotConfig gives for a file.
 RobotConfig robotConfigFromParams(const ros::NodeHandle& nh, const std::string& file = "");
 
 }  // namespace thorvald_base
