@@ -16,6 +16,9 @@ add_library(cotton_harvester_sim
   src/sim/harvest_run.cpp
   src/sim/miss_causes.cpp
   src/sim/rover_serial_bridge.cpp
+  src/sim/rover_device_emulator.cpp
+  src/sim/stack_run_report.cpp
+  src/sim/harvest_scorer.cpp
 )
 target_include_directories(cotton_harvester_sim PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include ${thorvald_sim_INCLUDE_DIRS})
 target_link_libraries(cotton_harvester_sim cotton_harvester_control cotton_harvester_perception ${thorvald_sim_LIBRARIES}
@@ -33,7 +36,7 @@ add_dependencies(mujoco_harvest ${catkin_EXPORTED_TARGETS})
 
 # The rover and its row as the harvest stack's nodes see a rover: serial controllers on pseudo-terminals, the camera's
 # topics, /clock; and the run's scorer (launch/harvest_mujoco_nodes.launch).
-add_executable(mujoco_rover_sim src/sim/mujoco_rover_sim_node.cpp)
+add_executable(mujoco_rover_sim src/sim/mujoco_rover_sim_node.cpp src/sim/rover_camera_messages.cpp)
 target_include_directories(mujoco_rover_sim PRIVATE ${thorvald_base_INCLUDE_DIRS} ${rosgraph_msgs_INCLUDE_DIRS})
 target_link_libraries(mujoco_rover_sim cotton_harvester_sim ${thorvald_base_LIBRARIES} ${catkin_LIBRARIES})
 add_dependencies(mujoco_rover_sim ${PROJECT_NAME}_generate_messages_cpp ${catkin_EXPORTED_TARGETS})
@@ -51,6 +54,8 @@ install(TARGETS cotton_harvester_sim harvest_bench mujoco_harvest mujoco_rover_s
 if(CATKIN_ENABLE_TESTING)
   catkin_add_gtest(test_mujoco_harvest test/sim/test_mujoco_harvest.cpp test/sim/test_rover_serial_bridge.cpp)
   target_link_libraries(test_mujoco_harvest cotton_harvester_sim)
+  catkin_add_gtest(test_rover_sim_node_parts test/sim/test_rover_sim_node_parts.cpp)
+  target_link_libraries(test_rover_sim_node_parts cotton_harvester_sim gtest_main)
   catkin_add_gtest(test_miss_causes test/sim/test_miss_causes.cpp)
   target_link_libraries(test_miss_causes cotton_harvester_sim)
   add_rostest(test/sim/harvest_mujoco.test DEPENDENCIES mujoco_harvest)

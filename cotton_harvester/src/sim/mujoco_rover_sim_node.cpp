@@ -4,18 +4,15 @@
 // it (colour image, organised cloud, camera info), and the simulated time as /clock. It is also the run's scorer,
 // the only node that reads the simulator's truth: when the harvest machine reports that its run ended (or at the time
 // limit) it counts the bolls the vacuum took, publishes harvest/metrics, appends the CSV row and exits 0 (1 when the
-// world or the ports cannot be made).
-#include <sys/stat.h>
-
+// world or the ports cannot be made). The node only wires its parts: the simulation (RoverSim), the serial devices
+// (RoverDeviceEmulator), the camera's messages (rover_camera_messages.h), what the stack reports (StackRunReport) and
+// the scorer (HarvestScorer).
+#include <algorithm>
 #include <chrono>
-#include <cmath>
-#include <cstdio>
-#include <cstring>
-#include <map>
-#include <memory>
-#include <mutex>
 #include <string>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include <diagnostic_msgs/DiagnosticStatus.h>
 #include <ros/ros.h>
@@ -28,10 +25,12 @@
 
 #include "cotton_harvester/BollArray.h"
 #include "cotton_harvester/control/harvest_metrics.h"
-#include "cotton_harvester/control/serial_port.h"
 #include "cotton_harvester/sim/harvest_run.h"
-#include "cotton_harvester/sim/rover_serial_bridge.h"
+#include "cotton_harvester/sim/harvest_scorer.h"
+#include "cotton_harvester/sim/rover_device_emulator.h"
+#include "cotton_harvester/sim/stack_run_report.h"
 #include "harvest_metrics_status.h"
+#include "rover_camera_messages.h"
 
 namespace cotton_harvester {
 namespace sim {
@@ -87,29 +86,13 @@ SimNodeConfig readConfig(thorvald_common::ParamReader& r) {
   return c;
 }
 
-/// mkdir -p of the folder that holds `path`.
-void makeParentDirectory(const std::string& path) {
-  for (std::size_t i = path.find('/', 1); i != std::string::npos; i = path.find('/', i + 1))
-    ::mkdir(path.substr(0, i).c_str(), 0755);
-}
-
-/// What the harvest stack tells about its run (its own status and metrics topics; nothing of the truth).
-struct StackReport {
-  std::mutex mutex;
-  bool started = false;                  ///< the machine ran
-  double started_at_s = 0.0;             ///< simulated time of its first running status
-  std::string outcome;                   ///< set when its metrics say "ended: <outcome>"
-  std::map<std::string, double> values;  ///< its last metrics (detected, reached, ...)
-};
-
 class MujocoRoverSimNode {
  public:
   MujocoRoverSimNode(ros::NodeHandle& nh, const SimNodeConfig& config)
-      : config_(config), sim_(config.run.sim), bridge_(sim_, config.bridge) {
-    makeParentDirectory(config_.manipulator_link);
-    makeParentDirectory(config_.navigation_link);
-    if (!manipulator_pty_.open(config_.manipulator_link)) throw std::runtime_error(manipulator_pty_.lastError());
-    if (!navigation_pty_.open(config_.navigation_link)) throw std::runtime_error(navigation_pty_.lastError());
+      : config_(config),
+        sim_(config.run.sim),
+        devices_(sim_, config.bridge, config.manipulator_link, config.navigation_link),
+        scorer_(reachableBolls(sim_, config.run.machine.row_length_m), sim_.roverPosition()) {
     ROS_INFO("mujoco_rover_sim: manipulation controller on %s, navigation controller on %s",
              config_.manipulator_link.c_str(), config_.navigation_link.c_str());
     clock_pub_ = nh.advertise<rosgraph_msgs::Clock>("/clock", 10);
@@ -120,8 +103,6 @@ class MujocoRoverSimNode {
     status_sub_ = nh.subscribe("harvest/machine_status", 100, &MujocoRoverSimNode::onStatus, this);
     stack_metrics_sub_ = nh.subscribe("harvest/stack_metrics", 10, &MujocoRoverSimNode::onStackMetrics, this);
     if (config_.lockstep) bolls_sub_ = nh.subscribe("bolls", 5, &MujocoRoverSimNode::onBolls, this);
-    reachable_ = reachableBolls(sim_, config_.run.machine.row_length_m);
-    start_position_ = sim_.roverPosition();
   }
 
   /// Runs until the harvest machine's run ended or the time limit; then scores. Returns the exit code.
@@ -129,68 +110,42 @@ class MujocoRoverSimNode {
     const auto wall_start = std::chrono::steady_clock::now();
     const double sim_start = sim_.time();
     const double camera_period = 1.0 / config_.camera_rate_hz;
+    const double drive_lockstep_s = config_.lockstep ? config_.lockstep_timeout_s : 0.0;
     double next_frame = sim_.time();
-    std::uint8_t buffer[512];
     while (ros::ok()) {
       ros::spinOnce();
-      serveLinks(buffer, sizeof(buffer));
-      const auto out = advance(config_.io_period_s);
-      if (!out.manipulator.empty()) manipulator_pty_.write(out.manipulator.data(), out.manipulator.size());
-      if (!out.navigation.empty()) {
-        const std::size_t commands = bridge_.driveCommands();
-        navigation_pty_.write(out.navigation.data(), out.navigation.size());
-        if (config_.lockstep) awaitDriveCommand(commands, buffer, sizeof(buffer));
-      }
+      devices_.serveLinks();
+      const auto frames = devices_.advance(config_.io_period_s, config_.run.sim.timestep_s);
+      rosgraph_msgs::Clock clock;
+      clock.clock = now();
+      clock_pub_.publish(clock);
+      devices_.send(frames, drive_lockstep_s, [] { return ros::ok(); });
       if (sim_.time() + 1e-9 >= next_frame) {
         next_frame += camera_period;
         if (publishCamera() && config_.lockstep) awaitPerception();
       }
-      {
-        std::lock_guard<std::mutex> lock(stack_.mutex);
-        if (!stack_.outcome.empty()) break;
-        if (stack_.started && sim_.time() - stack_.started_at_s > config_.time_limit_s) {
-          stack_.outcome = "time_limit";
-          break;
-        }
-        const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-        if (!stack_.started && waited > config_.start_timeout_s) {
-          ROS_FATAL("mujoco_rover_sim: the harvest machine did not start within %.0f s", config_.start_timeout_s);
-          return 1;
-        }
+      const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+      const StackRunState state = stack_.check(sim_.time(), waited, config_.time_limit_s, config_.start_timeout_s);
+      if (state == StackRunState::kEnded) break;
+      if (state == StackRunState::kNoStart) {
+        ROS_FATAL("mujoco_rover_sim: the harvest machine did not start within %.0f s", config_.start_timeout_s);
+        return 1;
       }
       pace(wall_start, sim_.time() - sim_start);
     }
     if (!ros::ok()) return 0;
-    const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-    score(wall_s, sim_.time() - sim_start);
+    SimRunFigures figures;
+    figures.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+    figures.sim_s = sim_.time() - sim_start;
+    figures.frames = frames_;
+    figures.serial_rejected_bytes = devices_.rejectedBytes();
+    figures.lockstep_timeouts = devices_.lockstepTimeouts();
+    figures.camera_lockstep_timeouts = camera_lockstep_timeouts_;
+    report(scorer_.score(stack_.figures(), truthOf(sim_)), figures);
     return 0;
   }
 
  private:
-  void serveLinks(std::uint8_t* buffer, std::size_t size) {
-    long n;
-    while ((n = manipulator_pty_.read(buffer, size)) > 0) {
-      const auto reply = bridge_.receiveManipulator(buffer, static_cast<std::size_t>(n));
-      if (!reply.empty()) manipulator_pty_.write(reply.data(), reply.size());
-    }
-    while ((n = navigation_pty_.read(buffer, size)) > 0) bridge_.receiveNavigation(buffer, static_cast<std::size_t>(n));
-  }
-
-  /// Serves the links until the rover node answered the telemetry with a drive command (or the timeout).
-  void awaitDriveCommand(std::size_t commands_before, std::uint8_t* buffer, std::size_t size) {
-    const auto deadline =
-        std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                               std::chrono::duration<double>(config_.lockstep_timeout_s));
-    while (bridge_.driveCommands() == commands_before && ros::ok()) {
-      if (std::chrono::steady_clock::now() >= deadline) {
-        ++lockstep_timeouts_;
-        return;
-      }
-      std::this_thread::sleep_for(std::chrono::microseconds(200));
-      serveLinks(buffer, size);
-    }
-  }
-
   /// Spins until perception published the bolls of the last camera frame (or the timeout: a frame it rejects).
   void awaitPerception() {
     const auto deadline =
@@ -208,21 +163,6 @@ class MujocoRoverSimNode {
 
   void onBolls(const cotton_harvester::BollArray::ConstPtr& msg) {
     last_bolls_stamp_ = std::max(last_bolls_stamp_, msg->header.stamp);
-  }
-
-  RoverSerialBridge::Output advance(double seconds) {
-    RoverSerialBridge::Output all;
-    const double dt = config_.run.sim.timestep_s;
-    const int steps = std::max(1, static_cast<int>(std::lround(seconds / dt)));
-    for (int i = 0; i < steps; ++i) {
-      auto out = bridge_.advance(dt);
-      all.manipulator.insert(all.manipulator.end(), out.manipulator.begin(), out.manipulator.end());
-      all.navigation.insert(all.navigation.end(), out.navigation.begin(), out.navigation.end());
-    }
-    rosgraph_msgs::Clock clock;
-    clock.clock = now();
-    clock_pub_.publish(clock);
-    return all;
   }
 
   /// ROS time of the simulation (1 s after its start: ROS reads a zero time as "no time yet").
@@ -246,145 +186,49 @@ class MujocoRoverSimNode {
     header.stamp = now();
     header.frame_id = config_.camera_frame;
     header.seq = static_cast<std::uint32_t>(frames_);
-
-    sensor_msgs::Image image;
-    image.header = header;
-    image.height = static_cast<std::uint32_t>(bgr.rows);
-    image.width = static_cast<std::uint32_t>(bgr.cols);
-    image.encoding = "bgr8";
-    image.step = image.width * 3;
-    image.data.resize(static_cast<std::size_t>(image.step) * image.height);
-    for (int v = 0; v < bgr.rows; ++v) std::memcpy(&image.data[v * image.step], bgr.ptr(v), image.step);
-
-    sensor_msgs::PointCloud2 points;
-    points.header = header;
-    points.height = static_cast<std::uint32_t>(cloud.rows);
-    points.width = static_cast<std::uint32_t>(cloud.cols);
-    const char* names[3] = {"x", "y", "z"};
-    for (int i = 0; i < 3; ++i) {
-      sensor_msgs::PointField f;
-      f.name = names[i];
-      f.offset = static_cast<std::uint32_t>(4 * i);
-      f.datatype = sensor_msgs::PointField::FLOAT32;
-      f.count = 1;
-      points.fields.push_back(f);
-    }
-    points.is_bigendian = false;
-    points.point_step = 12;
-    points.row_step = points.point_step * points.width;
-    points.is_dense = false;
-    points.data.resize(static_cast<std::size_t>(points.row_step) * points.height);
-    for (int v = 0; v < cloud.rows; ++v) std::memcpy(&points.data[v * points.row_step], cloud.ptr(v), points.row_step);
-
-    const RoverSimParams& p = config_.run.sim;
-    sensor_msgs::CameraInfo info;
-    info.header = header;
-    info.width = image.width;
-    info.height = image.height;
-    info.distortion_model = "plumb_bob";
-    info.D.assign(5, 0.0);
-    info.K = {p.fx, 0.0, p.cx, 0.0, p.fx, p.cy, 0.0, 0.0, 1.0};
-    info.R = {1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0};
-    info.P = {p.fx, 0.0, p.cx, 0.0, 0.0, p.fx, p.cy, 0.0, 0.0, 0.0, 1.0, 0.0};
-    image_pub_.publish(image);
-    cloud_pub_.publish(points);
-    info_pub_.publish(info);
+    const CameraMessages messages = cameraMessages(bgr, cloud, config_.run.sim, header);
+    image_pub_.publish(messages.image);
+    cloud_pub_.publish(messages.cloud);
+    info_pub_.publish(messages.info);
     last_frame_stamp_ = header.stamp;
     return true;
   }
 
   void onStatus(const thorvald_state_machine::MachineStatus::ConstPtr& msg) {
-    std::lock_guard<std::mutex> lock(stack_.mutex);
-    if (msg->running && !stack_.started) {
-      stack_.started = true;
-      stack_.started_at_s = sim_.time();
+    if (stack_.onStatus(msg->running, sim_.time()))
       ROS_INFO("mujoco_rover_sim: the harvest machine started at %.2f s", sim_.time());
-    }
   }
 
   void onStackMetrics(const diagnostic_msgs::DiagnosticStatus::ConstPtr& msg) {
-    std::lock_guard<std::mutex> lock(stack_.mutex);
-    for (const auto& kv : msg->values) {
-      try {
-        stack_.values[kv.key] = std::stod(kv.value);
-      } catch (const std::exception&) {
-        // "n/a" ratios: not needed
-      }
-    }
-    const std::string ended = "ended: ";
-    if (stack_.started && msg->message.compare(0, ended.size(), ended) == 0)
-      stack_.outcome = msg->message.substr(ended.size());
+    std::vector<std::pair<std::string, std::string>> values;
+    for (const auto& kv : msg->values) values.emplace_back(kv.key, kv.value);
+    stack_.onMetrics(msg->message, values);
   }
 
-  /// The run's figures: what the vacuum took (truth) over the time the machine ran, with the stack's own counts of
-  /// bolls detected and reached.
-  void score(double wall_s, double sim_s) {
-    control::HarvestCounts counts;
-    std::string outcome;
-    {
-      std::lock_guard<std::mutex> lock(stack_.mutex);
-      outcome = stack_.outcome;
-      const auto value = [this](const char* key) {
-        const auto it = stack_.values.find(key);
-        return it == stack_.values.end() ? 0.0 : it->second;
-      };
-      counts.detected = static_cast<int>(value("detected"));
-      counts.reached = static_cast<int>(value("reached"));
-      counts.skipped = static_cast<int>(value("skipped"));
-      counts.pick_attempts = static_cast<int>(value("pick_attempts"));
-      machine_picked_ = static_cast<int>(value("picked"));
-      stack_ee_fallback_ = value("ee_fallback_frames");
-      stack_no_effector_ = value("frames_without_end_effector");
-      // The machine's own run time (its clock is the simulated /clock); at the time limit, since it started.
-      const auto run_time = stack_.values.find("time_s");
-      counts.time_s = outcome != "time_limit" && run_time != stack_.values.end()
-                          ? run_time->second
-                          : sim_.time() - (stack_.started ? stack_.started_at_s : 0.0);
-    }
-    counts.bolls_present = static_cast<int>(sim_.bolls().size());
-    counts.picked = sim_.bollsCaptured();
-    counts.distance_m = (sim_.roverPosition() - start_position_).norm();
-    const control::HarvestMetrics m = control::computeMetrics(counts);
-    int reachable = 0, reachable_picked = 0;
-    for (std::size_t i = 0; i < reachable_.size(); ++i) {
-      reachable += reachable_[i];
-      reachable_picked += reachable_[i] && sim_.bolls()[i].captured;
-    }
-
+  /// Publishes the run's figures on harvest/metrics, logs them and appends the CSV row.
+  void report(const HarvestScore& score, const SimRunFigures& run) {
     diagnostic_msgs::DiagnosticStatus s;
     s.name = "harvest: " + config_.run_name;
-    s.level = outcome == "finished" ? diagnostic_msgs::DiagnosticStatus::OK : diagnostic_msgs::DiagnosticStatus::WARN;
-    s.message = outcome;
+    s.level =
+        score.outcome == "finished" ? diagnostic_msgs::DiagnosticStatus::OK : diagnostic_msgs::DiagnosticStatus::WARN;
+    s.message = score.outcome;
     const auto add = [&s](const std::string& key, double value) { addMetric(&s, key, value); };
-    addRunMetrics(&s, counts, m, reachable, machine_picked_, sim_s, wall_s, frames_);
-    add("reachable_picked", reachable_picked);
-    add("distance_m", counts.distance_m);
-    add("serial_rejected_bytes", static_cast<double>(bridge_.rejectedBytes()));
-    add("lockstep_timeouts", lockstep_timeouts_);
-    add("camera_lockstep_timeouts", camera_lockstep_timeouts_);
-    add("ee_fallback_frames", stack_ee_fallback_);  // the machine's frames with the arm's calibrated position
-    add("frames_without_end_effector", stack_no_effector_);
+    addRunMetrics(&s, score.counts, score.metrics, score.reachable, score.machine_picked, run.sim_s, run.wall_s,
+                  run.frames);
+    add("reachable_picked", score.reachable_picked);
+    add("distance_m", score.counts.distance_m);
+    add("serial_rejected_bytes", static_cast<double>(run.serial_rejected_bytes));
+    add("lockstep_timeouts", run.lockstep_timeouts);
+    add("camera_lockstep_timeouts", run.camera_lockstep_timeouts);
+    add("ee_fallback_frames", score.ee_fallback_frames);  // the machine's frames with the arm's calibrated position
+    add("frames_without_end_effector", score.frames_without_end_effector);
     metrics_pub_.publish(s);
-    ROS_INFO(
-        "mujoco_rover_sim: %s; bolls %d (reachable %d), detected %d, reached %d, picked %d (machine: %d); time %.1f s, "
-        "CT %.1f s, ASR %.1f %%, DP %.1f %%, MRR %.1f %%, OV %.2f cm/s; %d frames; %.2fx real time; lockstep timeouts: "
-        "%d drive, %d camera; end effector from calibration %.0f, missing %.0f",
-        outcome.c_str(), counts.bolls_present, reachable, counts.detected, counts.reached, counts.picked,
-        machine_picked_, counts.time_s, m.cycle_time_s.value_or(0.0), m.action_success_pct.value_or(0.0),
-        m.detection_performance_pct.value_or(0.0), m.reaching_ratio_pct.value_or(0.0), m.operation_velocity_cm_s,
-        frames_, wall_s > 0.0 ? sim_s / wall_s : 0.0, lockstep_timeouts_, camera_lockstep_timeouts_, stack_ee_fallback_,
-        stack_no_effector_);
+    ROS_INFO("%s", summaryLine("mujoco_rover_sim", score, run).c_str());
     // Each boll the vacuum did not take, for comparing runs boll by boll (harvest_bench --verbose lists its own).
-    for (std::size_t i = 0; i < sim_.bolls().size(); ++i) {
-      const BollTruth& b = sim_.bolls()[i];
-      if (b.captured) continue;
-      ROS_INFO("mujoco_rover_sim: missed boll %zu (plant %d, x %.2f y %.2f z %.2f)%s; nozzle closest %.1f cm", i,
-               b.plant, b.centre.x(), b.centre.y(), b.centre.z(),
-               i < reachable_.size() && reachable_[i] ? "" : " unreachable",
-               std::isfinite(b.closest_vacuum_m) ? 100.0 * b.closest_vacuum_m : -1.0);
-    }
+    for (const std::string& line : missedBollLines("mujoco_rover_sim", score)) ROS_INFO("%s", line.c_str());
     std::string error;
-    if (!config_.metrics_csv.empty() && !control::appendCsv(config_.metrics_csv, config_.run_name, counts, m, &error))
+    if (!config_.metrics_csv.empty() &&
+        !control::appendCsv(config_.metrics_csv, config_.run_name, score.counts, score.metrics, &error))
       ROS_ERROR("mujoco_rover_sim: %s", error.c_str());
     // Let the latched metrics reach their subscribers before the launch ends (wall time: /clock stops with us).
     ros::WallDuration(0.5).sleep();
@@ -392,18 +236,14 @@ class MujocoRoverSimNode {
 
   SimNodeConfig config_;
   RoverSim sim_;
-  RoverSerialBridge bridge_;
-  control::PseudoTerminal manipulator_pty_, navigation_pty_;
+  RoverDeviceEmulator devices_;
+  HarvestScorer scorer_;
+  StackRunReport stack_;
   ros::Publisher clock_pub_, image_pub_, cloud_pub_, info_pub_, metrics_pub_;
   ros::Subscriber status_sub_, stack_metrics_sub_, bolls_sub_;
   ros::Time last_frame_stamp_, last_bolls_stamp_;
-  int lockstep_timeouts_ = 0, camera_lockstep_timeouts_ = 0;
-  StackReport stack_;
-  std::vector<bool> reachable_;
-  Eigen::Vector3d start_position_ = Eigen::Vector3d::Zero();
+  int camera_lockstep_timeouts_ = 0;
   int frames_ = 0;
-  int machine_picked_ = 0;
-  double stack_ee_fallback_ = 0.0, stack_no_effector_ = 0.0;  ///< the machine's end-effector counts
 };
 
 }  // namespace
