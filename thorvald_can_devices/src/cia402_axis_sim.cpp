@@ -57,99 +57,117 @@ void Cia402AxisSim::handle(const CanFrame& f, CanBus& bus, double now_s) {
     last_host_heartbeat_s_ = now_s;
   } else if (id == canopen_ids::kSync && f.length == 0) {
     if (nmt_ != kHeartbeatOperational) return;
-    uint16_t sw = statuswordOf(state_) | 0x0200;
-    if (setpoint_ack_) sw |= cia402::kSwSetPointAck;
-    const bool reached =
-        steering_ ? std::fabs(position_ - target_position_) < 1.0 : std::fabs(velocity_ - target_velocity_) < 1.0;
-    if (reached) sw |= cia402::kSwTargetReached;
-    bus.send(encodeTpdo1(node_, {sw, clampToI32(faults_.encoder ? 0.0 : velocity_, INT32_MIN, INT32_MAX)}));
-    bus.send(encodeTpdo2(node_, {clampToI32(position_, INT32_MIN, INT32_MAX), mode_}));
+    sendTpdos(bus);
   } else if (id == canopen_ids::kSdoRequest + n) {
     if (nmt_ == kHeartbeatStopped || nmt_ == kHeartbeatBootUp) return;
-    const auto m = decodeSdo(f);
-    SdoMessage reply;
-    if (!m) {
-      reply.kind = SdoMessage::Kind::kAbort;
-      reply.value = 0x05040001;  // command specifier not valid
-      bus.send(encodeSdoReply(node_, reply));
-      return;
-    }
-    reply.index = m->index;
-    reply.subindex = m->subindex;
-    if (m->kind == SdoMessage::Kind::kWriteRequest) {
-      reply.kind = SdoMessage::Kind::kWriteAck;
-      switch (m->index) {
-        case cia402::kProducerHeartbeat:
-          heartbeat_ms_ = m->value;
-          break;
-        case cia402::kConsumerHeartbeat:
-          consumer_ = m->value;
-          break;
-        case cia402::kModes:
-          mode_ = static_cast<int8_t>(m->value);
-          break;
-        case cia402::kProfileVelocity:
-          profile_velocity_ = m->value;
-          break;
-        case cia402::kProfileAcceleration:
-          profile_acceleration_ = m->value;
-          break;
-        case cia402::kProfileDeceleration:
-          profile_deceleration_ = m->value;
-          break;
-        default:
-          reply.kind = SdoMessage::Kind::kAbort;
-          reply.value = 0x06020000;  // object does not exist
-      }
-    } else if (m->kind == SdoMessage::Kind::kReadRequest) {
-      reply.kind = SdoMessage::Kind::kReadReply;
-      reply.size = 4;
-      switch (m->index) {
-        case cia402::kStatusword:
-          reply.value = statuswordOf(state_);
-          reply.size = 2;
-          break;
-        case cia402::kModesDisplay:
-          reply.value = static_cast<uint8_t>(mode_);
-          reply.size = 1;
-          break;
-        case cia402::kActualPosition:
-          reply.value = static_cast<uint32_t>(clampToI32(position_, INT32_MIN, INT32_MAX));
-          break;
-        case cia402::kActualVelocity:
-          reply.value = static_cast<uint32_t>(clampToI32(velocity_, INT32_MIN, INT32_MAX));
-          break;
-        default:
-          reply.kind = SdoMessage::Kind::kAbort;
-          reply.value = 0x06020000;
-      }
-    } else {
-      return;
-    }
-    bus.send(encodeSdoReply(node_, reply));
+    answerSdo(f, bus);
   } else if (id == canopen_ids::kRpdo1 + n) {
     if (nmt_ != kHeartbeatOperational) return;
-    const auto p = decodeRpdo1(f);
-    if (!p) return;
-    const uint16_t cw = p->controlword;
-    const bool reset_edge = (cw & cia402::kCwFaultReset) && !(controlword_ & cia402::kCwFaultReset);
-    if (state_ == Cia402State::kFault) {
-      if (reset_edge && !faults_.stall && !faults_.encoder) state_ = Cia402State::kSwitchOnDisabled;
-    } else {
-      state_ = nextState(state_, cw);
-    }
-    if (steering_) {
-      const bool new_setpoint = (cw & cia402::kCwNewSetPoint) && !(controlword_ & cia402::kCwNewSetPoint);
-      if (new_setpoint && state_ == Cia402State::kOperationEnabled) {
-        target_position_ = p->target;
-        setpoint_ack_ = true;
-      }
-      if (!(cw & cia402::kCwNewSetPoint)) setpoint_ack_ = false;
-    } else {
-      target_velocity_ = p->target;
-    }
-    controlword_ = cw;
+    if (const auto p = decodeRpdo1(f)) applyRpdo1(*p);
   }
+}
+
+void Cia402AxisSim::sendTpdos(CanBus& bus) const {
+  uint16_t sw = statuswordOf(state_) | 0x0200;
+  if (setpoint_ack_) sw |= cia402::kSwSetPointAck;
+  const bool reached =
+      steering_ ? std::fabs(position_ - target_position_) < 1.0 : std::fabs(velocity_ - target_velocity_) < 1.0;
+  if (reached) sw |= cia402::kSwTargetReached;
+  bus.send(encodeTpdo1(node_, {sw, clampToI32(faults_.encoder ? 0.0 : velocity_, INT32_MIN, INT32_MAX)}));
+  bus.send(encodeTpdo2(node_, {clampToI32(position_, INT32_MIN, INT32_MAX), mode_}));
+}
+
+void Cia402AxisSim::answerSdo(const CanFrame& f, CanBus& bus) {
+  const auto m = decodeSdo(f);
+  SdoMessage reply;
+  if (!m) {
+    reply.kind = SdoMessage::Kind::kAbort;
+    reply.value = 0x05040001;  // command specifier not valid
+    bus.send(encodeSdoReply(node_, reply));
+    return;
+  }
+  reply.index = m->index;
+  reply.subindex = m->subindex;
+  if (m->kind == SdoMessage::Kind::kWriteRequest) {
+    writeObject(*m, reply);
+  } else if (m->kind == SdoMessage::Kind::kReadRequest) {
+    readObject(*m, reply);
+  } else {
+    return;
+  }
+  bus.send(encodeSdoReply(node_, reply));
+}
+
+void Cia402AxisSim::writeObject(const SdoMessage& m, SdoMessage& reply) {
+  reply.kind = SdoMessage::Kind::kWriteAck;
+  switch (m.index) {
+    case cia402::kProducerHeartbeat:
+      heartbeat_ms_ = m.value;
+      break;
+    case cia402::kConsumerHeartbeat:
+      consumer_ = m.value;
+      break;
+    case cia402::kModes:
+      mode_ = static_cast<int8_t>(m.value);
+      break;
+    case cia402::kProfileVelocity:
+      profile_velocity_ = m.value;
+      break;
+    case cia402::kProfileAcceleration:
+      profile_acceleration_ = m.value;
+      break;
+    case cia402::kProfileDeceleration:
+      profile_deceleration_ = m.value;
+      break;
+    default:
+      reply.kind = SdoMessage::Kind::kAbort;
+      reply.value = 0x06020000;  // object does not exist
+  }
+}
+
+void Cia402AxisSim::readObject(const SdoMessage& m, SdoMessage& reply) const {
+  reply.kind = SdoMessage::Kind::kReadReply;
+  reply.size = 4;
+  switch (m.index) {
+    case cia402::kStatusword:
+      reply.value = statuswordOf(state_);
+      reply.size = 2;
+      break;
+    case cia402::kModesDisplay:
+      reply.value = static_cast<uint8_t>(mode_);
+      reply.size = 1;
+      break;
+    case cia402::kActualPosition:
+      reply.value = static_cast<uint32_t>(clampToI32(position_, INT32_MIN, INT32_MAX));
+      break;
+    case cia402::kActualVelocity:
+      reply.value = static_cast<uint32_t>(clampToI32(velocity_, INT32_MIN, INT32_MAX));
+      break;
+    default:
+      reply.kind = SdoMessage::Kind::kAbort;
+      reply.value = 0x06020000;  // object does not exist
+  }
+}
+
+void Cia402AxisSim::applyRpdo1(const Cia402Rpdo1& p) {
+  const uint16_t cw = p.controlword;
+  const bool reset_edge = (cw & cia402::kCwFaultReset) && !(controlword_ & cia402::kCwFaultReset);
+  if (state_ == Cia402State::kFault) {
+    if (reset_edge && !faults_.stall && !faults_.encoder) state_ = Cia402State::kSwitchOnDisabled;
+  } else {
+    state_ = nextState(state_, cw);
+  }
+  if (steering_) {
+    const bool new_setpoint = (cw & cia402::kCwNewSetPoint) && !(controlword_ & cia402::kCwNewSetPoint);
+    if (new_setpoint && state_ == Cia402State::kOperationEnabled) {
+      target_position_ = p.target;
+      setpoint_ack_ = true;
+    }
+    if (!(cw & cia402::kCwNewSetPoint)) setpoint_ack_ = false;
+  } else {
+    target_velocity_ = p.target;
+  }
+  controlword_ = cw;
 }
 
 void Cia402AxisSim::step(double now_s, CanBus& bus) {

@@ -26,6 +26,15 @@ class Cia402AxisSim {
   SimFaults faults() const { return faults_; }
 
  private:
+  /// SYNC in operational: TPDO1 (statusword with set-point acknowledge and target reached, velocity) and TPDO2.
+  void sendTpdos(CanBus& bus) const;
+  /// Answers an SDO request: a write ack, a read reply or an abort (sends nothing for other transfer kinds).
+  void answerSdo(const CanFrame& f, CanBus& bus);
+  void writeObject(const SdoMessage& m, SdoMessage& reply);
+  void readObject(const SdoMessage& m, SdoMessage& reply) const;
+  /// RPDO1 in operational: the controlword drives the state machine; the target is a velocity or, on the
+  /// rising edge of new set-point while enabled, a position.
+  void applyRpdo1(const Cia402Rpdo1& p);
   void enterFault(uint16_t emcy, CanBus& bus);
   void reboot();
   thorvald_base::DriveConfig drive_;
