@@ -40,6 +40,15 @@ class ThorvaldDriveSim {
   double heartbeat_period_s = 0.1;
 
  private:
+  /// Wheel speeds follow the command at the robot file's acceleration while driving (operational, fresh
+  /// command, no latched fault, not homing); they coast to zero otherwise, and stay at zero when stalled.
+  void stepPropulsion(double now_s, double dt, bool running, bool blocked);
+  /// Steering (type 0) follows its command at the limited rate, or travels home at half rate in mode 1.
+  void stepSteering(double dt, bool running, bool blocked);
+  /// TPDO1-3 (feedback, power, status) and, while homing or until its end is reported, homing info.
+  void sendTpdos(CanBus& bus);
+  /// TPDO4 info, alternating kinds 2 and 3.
+  void sendInfo(CanBus& bus);
   void reboot();
   std::vector<thorvald_base::DriveConfig> channels_;
   int node_, type_;
