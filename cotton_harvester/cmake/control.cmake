@@ -5,10 +5,10 @@ find_package(nav_msgs REQUIRED)
 find_package(diagnostic_msgs REQUIRED)
 find_package(Threads REQUIRED)
 
-set(CONTROL_INCLUDES ${CMAKE_CURRENT_SOURCE_DIR}/include ${catkin_INCLUDE_DIRS} ${nav_msgs_INCLUDE_DIRS}
+set(CONTROL_ROS_INCLUDES ${CMAKE_CURRENT_SOURCE_DIR}/include ${catkin_INCLUDE_DIRS} ${nav_msgs_INCLUDE_DIRS}
     ${diagnostic_msgs_INCLUDE_DIRS})
 
-# ---- ROS-free library -------------------------------------------------------------------------------------
+# ---- ROS-free library: plain structs in and out, serial ports and pseudo-terminals through POSIX (util) --------
 add_library(cotton_harvester_control
   src/control/swashplate_mapping.cpp
   src/control/position_pid.cpp
@@ -33,15 +33,25 @@ add_library(cotton_harvester_control
   src/control/step_response.cpp
   src/control/virtual_row.cpp
 )
-target_include_directories(cotton_harvester_control PUBLIC ${CONTROL_INCLUDES})
-target_link_libraries(cotton_harvester_control ${catkin_LIBRARIES} util Threads::Threads)
-add_dependencies(cotton_harvester_control ${${PROJECT_NAME}_EXPORTED_TARGETS} ${catkin_EXPORTED_TARGETS})
+# thorvald_state_machine's ROS-free library alone: thorvald_state_machine_LIBRARIES also carries its ROS adapter and
+# roscpp.
+set(thorvald_state_machine_core ${thorvald_state_machine_LIBRARIES})
+list(FILTER thorvald_state_machine_core INCLUDE REGEX "(^|/)(lib)?thorvald_state_machine(\\.so.*|\\.a)?$")
+target_include_directories(cotton_harvester_control PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include
+  ${thorvald_state_machine_INCLUDE_DIRS})
+target_link_libraries(cotton_harvester_control ${thorvald_state_machine_core} util Threads::Threads)
+
+# ---- ROS adapter: the harvest machine's plant on topics; the nodes' parameter loaders are headers in src/ros/ ----
+add_library(cotton_harvester_ros src/ros/topic_harvest_plant.cpp)
+target_include_directories(cotton_harvester_ros PUBLIC ${CONTROL_ROS_INCLUDES})
+target_link_libraries(cotton_harvester_ros cotton_harvester_control ${catkin_LIBRARIES})
+add_dependencies(cotton_harvester_ros ${${PROJECT_NAME}_EXPORTED_TARGETS} ${catkin_EXPORTED_TARGETS})
 
 # ---- Benchmark ----------------------------------------------------------------------------------------------
 add_executable(rover_step_bench bench/rover_step_bench.cpp)
 target_link_libraries(rover_step_bench cotton_harvester_control ${OpenCV_LIBRARIES})
 
-install(TARGETS cotton_harvester_control rover_step_bench
+install(TARGETS cotton_harvester_control cotton_harvester_ros rover_step_bench
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
@@ -70,12 +80,12 @@ if(CATKIN_ENABLE_TESTING)
 endif()
 
 # ---- Nodes --------------------------------------------------------------------------------------------------
-add_executable(simulated_controller src/control/simulated_controller_node.cpp)
-add_executable(manipulator src/control/manipulator_node.cpp)
-add_executable(rover src/control/rover_node.cpp)
-add_executable(harvest_state_machine src/control/harvest_state_machine_node.cpp src/control/topic_harvest_plant.cpp)
+add_executable(simulated_controller src/nodes/simulated_controller_node.cpp)
+add_executable(manipulator src/nodes/manipulator_node.cpp)
+add_executable(rover src/nodes/rover_node.cpp)
+add_executable(harvest_state_machine src/nodes/harvest_state_machine_node.cpp)
 foreach(node simulated_controller manipulator rover harvest_state_machine)
-  target_link_libraries(${node} cotton_harvester_control ${catkin_LIBRARIES})
+  target_link_libraries(${node} cotton_harvester_ros cotton_harvester_control ${catkin_LIBRARIES})
   add_dependencies(${node} ${${PROJECT_NAME}_EXPORTED_TARGETS} ${catkin_EXPORTED_TARGETS})
 endforeach()
 install(TARGETS simulated_controller manipulator rover harvest_state_machine
@@ -87,7 +97,7 @@ if(CATKIN_ENABLE_TESTING)
   add_rostest(test/control/harvest_sim.test
     DEPENDENCIES simulated_controller rover manipulator harvest_state_machine)
   add_rostest_gtest(test_topic_harvest_plant test/control/topic_harvest_plant.test
-    test/control/test_topic_harvest_plant.cpp src/control/topic_harvest_plant.cpp)
-  target_link_libraries(test_topic_harvest_plant cotton_harvester_control ${catkin_LIBRARIES})
+    test/control/test_topic_harvest_plant.cpp)
+  target_link_libraries(test_topic_harvest_plant cotton_harvester_ros cotton_harvester_control ${catkin_LIBRARIES})
   add_dependencies(test_topic_harvest_plant ${${PROJECT_NAME}_EXPORTED_TARGETS} ${catkin_EXPORTED_TARGETS})
 endif()

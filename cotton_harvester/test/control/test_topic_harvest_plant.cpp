@@ -24,7 +24,7 @@
 #include <thorvald_common/wait_for.h>
 
 #include "cotton_harvester/BollArray.h"
-#include "../../src/control/topic_harvest_plant.h"
+#include "../../src/ros/topic_harvest_plant.h"
 #include "cotton_harvester/control/harvest_actions.h"
 #include "fake_rover_topics.h"
 

@@ -14,8 +14,8 @@
 #include <thorvald_state_machine/ros/status_publisher.h>
 
 #include "cotton_harvester/control/harvest_machine.h"
-#include "node_params.h"
-#include "topic_harvest_plant.h"
+#include "../ros/node_params.h"
+#include "../ros/topic_harvest_plant.h"
 
 namespace cotton_harvester {
 namespace control {

@@ -16,11 +16,11 @@
 #include <std_msgs/Float64.h>
 #include <tf2/LinearMath/Quaternion.h>
 
-#include "calibration_params.h"
 #include "cotton_harvester/control/navigation_protocol.h"
 #include "cotton_harvester/control/rover_controller.h"
 #include "cotton_harvester/control/serial_port.h"
-#include "node_params.h"
+#include "../ros/calibration_params.h"
+#include "../ros/node_params.h"
 
 namespace cotton_harvester {
 namespace control {

@@ -12,10 +12,10 @@
 #include <sensor_msgs/JointState.h>
 #include <std_msgs/Bool.h>
 
-#include "calibration_params.h"
 #include "cotton_harvester/control/manipulator_protocol.h"
 #include "cotton_harvester/control/serial_port.h"
-#include "node_params.h"
+#include "../ros/calibration_params.h"
+#include "../ros/node_params.h"
 
 namespace cotton_harvester {
 namespace control {

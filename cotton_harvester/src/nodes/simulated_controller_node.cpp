@@ -15,12 +15,12 @@
 #include <std_msgs/Float64.h>
 #include <std_msgs/Int32.h>
 
-#include "calibration_params.h"
 #include "cotton_harvester/BollArray.h"
 #include "cotton_harvester/control/serial_port.h"
 #include "cotton_harvester/control/simulated_controllers.h"
 #include "cotton_harvester/control/virtual_row.h"
-#include "node_params.h"
+#include "../ros/calibration_params.h"
+#include "../ros/node_params.h"
 
 namespace cotton_harvester {
 namespace control {
