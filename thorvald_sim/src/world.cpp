@@ -20,16 +20,7 @@ void requirePositive(double v, const char* key) {
     throw std::invalid_argument(std::string(key) + " must be a positive number of metres, got " + std::to_string(v));
 }
 
-}  // namespace
-
-WorldDescription makeFlatWorld(double half_size_m) {
-  requirePositive(half_size_m, "half_size");
-  GeomWriter w;
-  w.plane("floor", {0, 0, 0}, half_size_m, colours::kConcrete);
-  return {"flat", w.str(), 0.0};
-}
-
-WorldDescription makeGreenhouseWorld(const GreenhouseParams& p, GreenhouseTruth* truth) {
+void validateGreenhouseParams(const GreenhouseParams& p) {
   if (p.rail_sets < 1) throw std::invalid_argument("rail_sets must be at least 1");
   requirePositive(p.set_spacing_m, "set_spacing");
   requirePositive(p.rail_gauge_m, "rail_gauge");
@@ -46,7 +37,10 @@ WorldDescription makeGreenhouseWorld(const GreenhouseParams& p, GreenhouseTruth*
   if (!(p.plant_bottom_m >= 0.0 && p.plant_bottom_m < p.plant_top_m))
     throw std::invalid_argument("plant_bottom must be at least 0 and below plant_top (" +
                                 std::to_string(p.plant_top_m) + " m)");
+}
 
+/// The greenhouse's edges, floors and walls (no rail sets or rows yet).
+GreenhouseTruth greenhouseFrame(const GreenhouseParams& p) {
   GreenhouseTruth t;
   t.params = p;
   const double r = 0.5 * p.pipe_diameter_m;
@@ -61,12 +55,12 @@ WorldDescription makeGreenhouseWorld(const GreenhouseParams& p, GreenhouseTruth*
   t.end_wall_x = p.rail_length_m + p.rail_start_gap_m + 1.0;
   t.side_wall_y[0] = y_min;
   t.side_wall_y[1] = y_max;
+  return t;
+}
 
-  GeomWriter w;
-  const double x_far = t.end_wall_x;
-  w.plane("row_ground", {0, 0, t.row_ground_z}, 200.0, colours::kSoil);
-  w.boxPieces("headland_floor", {-0.5 * p.headland_depth_m, 0.5 * (y_min + y_max), 0.5 * t.row_ground_z},
-              {0.5 * p.headland_depth_m, 0.5 * (y_max - y_min), 0.5 * p.row_ground_drop_m}, colours::kConcrete, kPiece);
+/// Each rail set: two pipes on their supports.
+void writeRailSets(const GreenhouseParams& p, GreenhouseTruth& t, GeomWriter& w) {
+  const double r = 0.5 * p.pipe_diameter_m;
   for (int k = 0; k < p.rail_sets; ++k) {
     RailSetTruth s;
     s.index = k;
@@ -87,9 +81,13 @@ WorldDescription makeGreenhouseWorld(const GreenhouseParams& p, GreenhouseTruth*
     }
     t.rail_sets.push_back(s);
   }
-  // Plant rows hang between neighbouring sets and outside the outer ones (where they fit inside the side walls: a
-  // wall_margin of half the set spacing puts the side walls where the outer rows would be); ventilation lines under
-  // some.
+}
+
+/// Plant rows hang between neighbouring sets and outside the outer ones (where they fit inside the side walls: a
+/// wall_margin of half the set spacing puts the side walls where the outer rows would be); ventilation lines under
+/// some.
+void writePlantRowsAndVents(const GreenhouseParams& p, GreenhouseTruth& t, GeomWriter& w) {
+  const double y_min = t.edge_y_min, y_max = t.edge_y_max;
   const double row_len = p.rail_length_m;
   for (int k = 0; k <= p.rail_sets; ++k) {
     const double y = (k - 0.5) * p.set_spacing_m;
@@ -107,6 +105,10 @@ WorldDescription makeGreenhouseWorld(const GreenhouseParams& p, GreenhouseTruth*
                       {row_len, y, p.vent_height_m}, 0.5 * p.vent_diameter_m, colours::kVent, kPiece);
     }
   }
+}
+
+void writeWalls(const GreenhouseParams& p, const GreenhouseTruth& t, GeomWriter& w) {
+  const double y_min = t.edge_y_min, y_max = t.edge_y_max, x_far = t.end_wall_x;
   const double h = p.wall_height_m, zc = t.row_ground_z + 0.5 * (h - t.row_ground_z);
   const double hz = 0.5 * (h - t.row_ground_z), ym = 0.5 * (y_min + y_max), hy = 0.5 * (y_max - y_min) + 0.1;
   w.boxPieces("rear_wall", {t.rear_wall_x - 0.1, ym, zc}, {0.1, hy, hz}, colours::kWall, kPiece);
@@ -114,6 +116,28 @@ WorldDescription makeGreenhouseWorld(const GreenhouseParams& p, GreenhouseTruth*
   const double xm = 0.5 * (t.rear_wall_x + x_far), hx = 0.5 * (x_far - t.rear_wall_x) + 0.2;
   w.boxPieces("side_wall_right", {xm, y_min - 0.1, zc}, {hx, 0.1, hz}, colours::kWall, kPiece);
   w.boxPieces("side_wall_left", {xm, y_max + 0.1, zc}, {hx, 0.1, hz}, colours::kWall, kPiece);
+}
+
+}  // namespace
+
+WorldDescription makeFlatWorld(double half_size_m) {
+  requirePositive(half_size_m, "half_size");
+  GeomWriter w;
+  w.plane("floor", {0, 0, 0}, half_size_m, colours::kConcrete);
+  return {"flat", w.str(), 0.0};
+}
+
+WorldDescription makeGreenhouseWorld(const GreenhouseParams& p, GreenhouseTruth* truth) {
+  validateGreenhouseParams(p);
+  GreenhouseTruth t = greenhouseFrame(p);
+  GeomWriter w;
+  w.plane("row_ground", {0, 0, t.row_ground_z}, 200.0, colours::kSoil);
+  const double y_min = t.edge_y_min, y_max = t.edge_y_max;
+  w.boxPieces("headland_floor", {-0.5 * p.headland_depth_m, 0.5 * (y_min + y_max), 0.5 * t.row_ground_z},
+              {0.5 * p.headland_depth_m, 0.5 * (y_max - y_min), 0.5 * p.row_ground_drop_m}, colours::kConcrete, kPiece);
+  writeRailSets(p, t, w);
+  writePlantRowsAndVents(p, t, w);
+  writeWalls(p, t, w);
   if (truth) *truth = t;
   return {"greenhouse", w.str(), 0.0};
 }
