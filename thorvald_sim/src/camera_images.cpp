@@ -62,42 +62,29 @@ class PixelNoise {
   uint64_t state_ = 0;
 };
 
-}  // namespace
+// Each seen geom once per frame (a frame sees few geoms, many pixels each), in the optical frame: for planes and
+// boxes the rows of A = R_geom^T R_camera (the faces' normals) and, for boxes, the map from a point in the optical
+// frame to the box frame, p_box = A p + b; the other types need their world pose.
+enum GeomKind : char { kPlane, kBox, kOther };
+struct GeomFrame {
+  Eigen::Matrix3d A;
+  Eigen::Vector3d b;
+  Eigen::Vector3d half;
+  Eigen::Matrix3d R;  ///< world frame, for the other types
+  Eigen::Vector3d c;
+  GeomKind kind = kOther;
+};
 
-void depthFromView(const RenderedView& view, const RayCaster& caster, const SensorPose& pose, const DepthCameraSpec& s,
-                   std::mt19937& rng, DepthImage* img, int threads) {
-  const Intrinsics k = intrinsics(s);
-  img->width = s.width;
-  img->height = s.height;
-  const float nan = std::numeric_limits<float>::quiet_NaN();
-  const Eigen::Vector3f none(nan, nan, nan);
-  const size_t n = static_cast<size_t>(s.width) * s.height;
-  if (view.width != s.width || view.height != s.height) {
-    img->points.assign(n, none);
-    return;
-  }
-  img->points.resize(n);  // every pixel is written below
-  const mjModel* m = caster.model();
-  const mjData* d = caster.data();
-  // Each seen geom once per frame (a frame sees few geoms, many pixels each), in the optical frame: for planes and
-  // boxes the rows of A = R_geom^T R_camera (the faces' normals) and, for boxes, the map from a point in the optical
-  // frame to the box frame, p_box = A p + b; the other types need their world pose.
-  enum Kind : char { kPlane, kBox, kOther };
-  struct Frame {
-    Eigen::Matrix3d A;
-    Eigen::Vector3d b;
-    Eigen::Vector3d half;
-    Eigen::Matrix3d R;  ///< world frame, for the other types
-    Eigen::Vector3d c;
-    Kind kind = kOther;
-  };
-  std::vector<Frame> frames(m->ngeom);
+/// The frames of the geoms `view` sees (indexed by geom id; the others left default).
+std::vector<GeomFrame> seenGeomFrames(const RenderedView& view, const mjModel* m, const mjData* d,
+                                      const SensorPose& pose) {
+  std::vector<GeomFrame> frames(m->ngeom);
   std::vector<char> seen(m->ngeom, 0);
   for (int g : view.geom)
     if (g >= 0) seen[g] = 1;
   for (int g = 0; g < m->ngeom; ++g) {
     if (!seen[g]) continue;
-    Frame& f = frames[g];
+    GeomFrame& f = frames[g];
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) f.R(r, c) = d->geom_xmat[9 * g + 3 * r + c];
     f.c = Eigen::Vector3d(d->geom_xpos[3 * g], d->geom_xpos[3 * g + 1], d->geom_xpos[3 * g + 2]);
@@ -107,82 +94,137 @@ void depthFromView(const RenderedView& view, const RayCaster& caster, const Sens
     const int type = m->geom_type[g];
     f.kind = type == mjGEOM_PLANE ? kPlane : (type == mjGEOM_BOX ? kBox : kOther);
   }
-  const double min_cos = std::cos(s.grazing_limit_rad);
-  const double min_cos2 = min_cos > 0.0 ? min_cos * min_cos : 0.0;
-  const float range_min = static_cast<float>(s.range_min_m), range_max = static_cast<float>(s.range_max_m);
-  const double noise_coeff = s.noise_coeff > 0 ? s.noise_coeff : 0.0;
-  // Dropout with probability p: the draw's 24-bit uniform below p 2^24.
-  const uint32_t dropout_below =
-      s.dropout > 0 ? static_cast<uint32_t>(std::min(1.0, s.dropout) * (1u << PixelNoise::kUniformBits)) : 0u;
-  // Per column the ray's x at z = 1 and 1 + x^2 (|ray|^2 without the row's y^2).
-  std::vector<double> xs(s.width), xs2(s.width);
-  for (int u = 0; u < s.width; ++u) xs[u] = (u - k.cx) / k.fx, xs2[u] = 1.0 + xs[u] * xs[u];
+  return frames;
+}
+
+/// The depth image's rows from a rendered view of the same size: range, dropout, grazing angle and noise per pixel.
+class DepthRows {
+ public:
+  DepthRows(const RenderedView& view, const RayCaster& caster, const SensorPose& pose, const DepthCameraSpec& s,
+            DepthImage* img)
+      : view_(view),
+        m_(caster.model()),
+        pose_(pose),
+        width_(s.width),
+        k_(intrinsics(s)),
+        frames_(seenGeomFrames(view, caster.model(), caster.data(), pose)),
+        min_cos_(std::cos(s.grazing_limit_rad)),
+        min_cos2_(min_cos_ > 0.0 ? min_cos_ * min_cos_ : 0.0),
+        range_min_(static_cast<float>(s.range_min_m)),
+        range_max_(static_cast<float>(s.range_max_m)),
+        noise_coeff_(s.noise_coeff > 0 ? s.noise_coeff : 0.0),
+        // Dropout with probability p: the draw's 24-bit uniform below p 2^24.
+        dropout_below_(
+            s.dropout > 0 ? static_cast<uint32_t>(std::min(1.0, s.dropout) * (1u << PixelNoise::kUniformBits)) : 0u),
+        xs_(s.width),
+        xs2_(s.width),
+        img_(img) {
+    // Per column the ray's x at z = 1 and 1 + x^2 (|ray|^2 without the row's y^2).
+    for (int u = 0; u < s.width; ++u) xs_[u] = (u - k_.cx) / k_.fx, xs2_[u] = 1.0 + xs_[u] * xs_[u];
+  }
+
+  /// Rows [v0, v1) with the noise stream `noise`.
+  void convert(int v0, int v1, PixelNoise& noise) const {
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const Eigen::Vector3f none(nan, nan, nan);
+    for (int v = v0; v < v1; ++v) {
+      const double y = (v - k_.cy) / k_.fy, y2 = y * y;
+      const size_t row = static_cast<size_t>(v) * width_;
+      const int* geoms = view_.geom.data() + row;
+      const float* depths = view_.depth_m.data() + row;
+      Eigen::Vector3f* out = img_->points.data() + row;
+      // A ray = A (x, y, 1) = x A_0 + (y A_1 + A_2): the second term once per row and geom (neighbouring pixels
+      // mostly see the same geom).
+      int last = -1;
+      const GeomFrame* f = nullptr;
+      Eigen::Vector3d row_term;
+      for (int u = 0; u < width_; ++u) {
+        const int g = geoms[u];
+        const float zf = depths[u];
+        if (g < 0 || !(zf >= range_min_ && zf <= range_max_)) {
+          out[u] = none;
+          continue;
+        }
+        const uint64_t draw = noise.next();
+        if (PixelNoise::uniform(draw) < dropout_below_) {
+          out[u] = none;
+          continue;
+        }
+        const double z = zf, x = xs_[u];
+        if (g != last) {
+          last = g;
+          f = &frames_[g];
+          row_term = f->A.col(1) * y + f->A.col(2);
+        }
+        if (grazing(*f, row_term, g, u, y, y2, z)) {
+          out[u] = none;
+          continue;
+        }
+        const double zn = z + noise_coeff_ * z * z * noise.normal(draw);
+        out[u] = Eigen::Vector3f(static_cast<float>(x * zn), static_cast<float>(y * zn), static_cast<float>(zn));
+      }
+    }
+  }
+
+ private:
+  /// Seen more obliquely than grazing_limit: the cosine between the ray and the surface normal n is below
+  /// min_cos. For planes and boxes, with the face normal n in the optical frame (a row of A):
+  /// (n . ray)^2 < min_cos^2 |ray|^2.
+  bool grazing(const GeomFrame& f, const Eigen::Vector3d& row_term, int g, int u, double y, double y2, double z) const {
+    const double x = xs_[u];
+    if (f.kind != kOther) {
+      const Eigen::Vector3d a_ray = f.A.col(0) * x + row_term;
+      int face = 2;
+      if (f.kind == kBox) {  // the face nearest to the point p_box = A (z ray) + b
+        const Eigen::Vector3d gap = ((z * a_ray + f.b).cwiseAbs() - f.half).cwiseAbs();
+        face = gap[0] <= gap[1] ? (gap[0] <= gap[2] ? 0 : 2) : (gap[1] <= gap[2] ? 1 : 2);
+      }
+      return a_ray[face] * a_ray[face] < min_cos2_ * (xs2_[u] + y2);
+    }
+    const Eigen::Vector3d ray(x, y, 1.0);
+    const Eigen::Vector3d dir = pose_.rotation * (ray / std::sqrt(xs2_[u] + y2));
+    const Eigen::Vector3d nrm =
+        geomNormal(m_->geom_type[g], m_->geom_size + 3 * g, f.R, f.c, pose_.origin + pose_.rotation * (ray * z), dir);
+    return -nrm.dot(dir) < min_cos_;
+  }
+
+  const RenderedView& view_;
+  const mjModel* m_;
+  const SensorPose& pose_;
+  const int width_;
+  const Intrinsics k_;
+  const std::vector<GeomFrame> frames_;
+  const double min_cos_, min_cos2_;
+  const float range_min_, range_max_;
+  const double noise_coeff_;
+  const uint32_t dropout_below_;
+  std::vector<double> xs_, xs2_;
+  DepthImage* img_;
+};
+
+}  // namespace
+
+void depthFromView(const RenderedView& view, const RayCaster& caster, const SensorPose& pose, const DepthCameraSpec& s,
+                   std::mt19937& rng, DepthImage* img, int threads) {
+  img->width = s.width;
+  img->height = s.height;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const size_t n = static_cast<size_t>(s.width) * s.height;
+  if (view.width != s.width || view.height != s.height) {
+    img->points.assign(n, Eigen::Vector3f(nan, nan, nan));
+    return;
+  }
+  img->points.resize(n);  // every pixel is written below
+  const DepthRows rows(view, caster, pose, s, img);
   // Rows in a fixed number of blocks, each with its own noise stream drawn in order from `rng`: the image is the
   // same whatever the number of threads.
   constexpr int kBlocks = 8;
   std::vector<PixelNoise> noises;
   for (int b = 0; b < kBlocks; ++b) noises.emplace_back(rng);
-  auto block = [&](int b) {
+  forBlocks(kBlocks, threads, [&](int b) {
     PixelNoise noise = noises[b];  // a copy on this thread's stack: the streams share cache lines in the vector
-    const int v0 = s.height * b / kBlocks, v1 = s.height * (b + 1) / kBlocks;
-    for (int v = v0; v < v1; ++v) {
-      const double y = (v - k.cy) / k.fy, y2 = y * y;
-      const size_t row = static_cast<size_t>(v) * s.width;
-      const int* geoms = view.geom.data() + row;
-      const float* depths = view.depth_m.data() + row;
-      Eigen::Vector3f* out = img->points.data() + row;
-      // A ray = A (x, y, 1) = x A_0 + (y A_1 + A_2): the second term once per row and geom (neighbouring pixels
-      // mostly see the same geom).
-      int last = -1;
-      const Frame* f = nullptr;
-      Eigen::Vector3d row_term;
-      for (int u = 0; u < s.width; ++u) {
-        const int g = geoms[u];
-        const float zf = depths[u];
-        if (g < 0 || !(zf >= range_min && zf <= range_max)) {
-          out[u] = none;
-          continue;
-        }
-        const uint64_t draw = noise.next();
-        if (PixelNoise::uniform(draw) < dropout_below) {
-          out[u] = none;
-          continue;
-        }
-        const double z = zf, x = xs[u];
-        if (g != last) {
-          last = g;
-          f = &frames[g];
-          row_term = f->A.col(1) * y + f->A.col(2);
-        }
-        // Seen more obliquely than grazing_limit: the cosine between the ray and the surface normal n is below
-        // min_cos. For planes and boxes, with the face normal n in the optical frame (a row of A):
-        // (n . ray)^2 < min_cos^2 |ray|^2.
-        bool grazing;
-        if (f->kind != kOther) {
-          const Eigen::Vector3d a_ray = f->A.col(0) * x + row_term;
-          int face = 2;
-          if (f->kind == kBox) {  // the face nearest to the point p_box = A (z ray) + b
-            const Eigen::Vector3d gap = ((z * a_ray + f->b).cwiseAbs() - f->half).cwiseAbs();
-            face = gap[0] <= gap[1] ? (gap[0] <= gap[2] ? 0 : 2) : (gap[1] <= gap[2] ? 1 : 2);
-          }
-          grazing = a_ray[face] * a_ray[face] < min_cos2 * (xs2[u] + y2);
-        } else {
-          const Eigen::Vector3d ray(x, y, 1.0);
-          const Eigen::Vector3d dir = pose.rotation * (ray / std::sqrt(xs2[u] + y2));
-          const Eigen::Vector3d nrm = geomNormal(m->geom_type[g], m->geom_size + 3 * g, f->R, f->c,
-                                                 pose.origin + pose.rotation * (ray * z), dir);
-          grazing = -nrm.dot(dir) < min_cos;
-        }
-        if (grazing) {
-          out[u] = none;
-          continue;
-        }
-        const double zn = z + noise_coeff * z * z * noise.normal(draw);
-        out[u] = Eigen::Vector3f(static_cast<float>(x * zn), static_cast<float>(y * zn), static_cast<float>(zn));
-      }
-    }
-  };
-  forBlocks(kBlocks, threads, block);
+    rows.convert(s.height * b / kBlocks, s.height * (b + 1) / kBlocks, noise);
+  });
 }
 
 DepthImage depthFromView(const RenderedView& view, const RayCaster& caster, const SensorPose& pose,
