@@ -8,6 +8,7 @@
 #include <string>
 #include <ctime>
 
+#include "curved_depth.h"
 #include "row_blocks.h"
 
 namespace thorvald_sim {
@@ -72,61 +73,59 @@ void convertRowFloat(const unsigned char* rgb, const float* zbuf, int width, con
   }
 }
 
-/// Smallest t >= 0 with |o + t d|^2 = r^2 (a sphere of radius r at the origin) folded into `best`.
-inline void sphereHit(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double r, double* best) {
-  const double a = d.squaredNorm(), b = o.dot(d), c = o.squaredNorm() - r * r;
-  const double disc = b * b - a * c;
-  if (disc < 0.0 || a <= 0.0) return;
-  const double q = std::sqrt(disc);
-  const double t = (-b - q) / a >= 0.0 ? (-b - q) / a : (-b + q) / a;
-  if (t >= 0.0 && (*best < 0.0 || t < *best)) *best = t;
-}
-
-/// The side of a cylinder of radius r around z, between z = -h and h.
-inline void sideHit(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double r, double h, double* best) {
-  const double a = d.x() * d.x() + d.y() * d.y();
-  if (a <= 0.0) return;
-  const double b = o.x() * d.x() + o.y() * d.y(), c = o.x() * o.x() + o.y() * o.y() - r * r;
-  const double disc = b * b - a * c;
-  if (disc < 0.0) return;
-  const double q = std::sqrt(disc);
-  for (const double t : {(-b - q) / a, (-b + q) / a})
-    if (t >= 0.0 && std::fabs(o.z() + t * d.z()) <= h && (*best < 0.0 || t < *best)) {
-      *best = t;
-      return;
-    }
-}
-
-/// Where the ray o + t d (d: a pixel's ray (x, y, 1) turned into the geom frame, so t is the depth along the
-/// optical axis) first meets the exact surface of a sphere, capsule or cylinder; -1 for none. Other types: -2 (the
-/// caller asks MuJoCo).
-double curvedDepth(int type, const double* size, const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
-  double best = -1.0;
-  switch (type) {
-    case mjGEOM_SPHERE:
-      sphereHit(o, d, size[0], &best);
-      return best;
-    case mjGEOM_CAPSULE: {
-      const double r = size[0], h = size[1];
-      sideHit(o, d, r, h, &best);
-      sphereHit(o - Eigen::Vector3d(0, 0, h), d, r, &best);
-      sphereHit(o + Eigen::Vector3d(0, 0, h), d, r, &best);
-      return best;
-    }
-    case mjGEOM_CYLINDER: {
-      const double r = size[0], h = size[1];
-      sideHit(o, d, r, h, &best);
-      if (d.z() != 0.0)
-        for (const double cap : {-h, h}) {
-          const double t = (cap - o.z()) / d.z();
-          const double px = o.x() + t * d.x(), py = o.y() + t * d.y();
-          if (t >= 0.0 && px * px + py * py <= r * r && (best < 0.0 || t < best)) best = t;
-        }
-      return best;
-    }
-    default:
-      return -2.0;
+/// The view frustum in the optical frame, as planes through the origin (unit normals pointing out of the view) and
+/// the near/far planes; a geom whose bounding sphere lies wholly outside one of them is not drawn.
+class ViewFrustum {
+ public:
+  ViewFrustum(const mjModel* m, const mjData* data, const SensorPose& pose, const CameraView& view)
+      : m_(m), data_(data), pose_(pose), near_m_(view.near_m), far_m_(view.far_m) {
+    const Intrinsics& k = view.k;
+    const double x_min = (-0.5 - k.cx) / k.fx, x_max = (view.width - 0.5 - k.cx) / k.fx;
+    const double y_min = (-0.5 - k.cy) / k.fy, y_max = (view.height - 0.5 - k.cy) / k.fy;
+    side_[0] = Eigen::Vector3d(1.0, 0.0, -x_max).normalized();
+    side_[1] = Eigen::Vector3d(-1.0, 0.0, x_min).normalized();
+    side_[2] = Eigen::Vector3d(0.0, 1.0, -y_max).normalized();
+    side_[3] = Eigen::Vector3d(0.0, -1.0, y_min).normalized();
   }
+  bool outside(int geom) const {
+    const double r = m_->geom_rbound[geom];
+    if (!(r > 0.0)) return false;  // planes (and anything without a bound) are always drawn
+    const Eigen::Vector3d c =
+        pose_.rotation.transpose() *
+        (Eigen::Vector3d(data_->geom_xpos[3 * geom], data_->geom_xpos[3 * geom + 1], data_->geom_xpos[3 * geom + 2]) -
+         pose_.origin);
+    if (c.z() + r < near_m_ || c.z() - r > far_m_) return true;
+    for (const auto& n : side_)
+      if (n.dot(c) > r) return true;
+    return false;
+  }
+
+ private:
+  const mjModel* m_;
+  const mjData* data_;
+  const SensorPose& pose_;
+  double near_m_, far_m_;
+  Eigen::Vector3d side_[4];
+};
+
+/// MuJoCo's camera for the optical frame `pose` (z forward, y down, so OpenGL's up is -y and its right x) and the
+/// view's intrinsics.
+mjvGLCamera glCamera(const SensorPose& pose, const CameraView& view) {
+  const Intrinsics& k = view.k;
+  mjvGLCamera cam;
+  for (int i = 0; i < 3; ++i) {
+    cam.pos[i] = static_cast<float>(pose.origin[i]);
+    cam.forward[i] = static_cast<float>(pose.rotation(i, 2));
+    cam.up[i] = static_cast<float>(-pose.rotation(i, 1));
+  }
+  cam.frustum_near = static_cast<float>(view.near_m);
+  cam.frustum_far = static_cast<float>(view.far_m);
+  // Pixel u spans [u - 0.5, u + 0.5] and sees x / z = (u - cx) / f; OpenGL's y is up, the image's v down. MuJoCo
+  // sets the frustum's width from its height and the viewport's aspect, so fx must equal fy.
+  cam.frustum_center = static_cast<float>(view.near_m * (0.5 * (view.width - 1) - k.cx) / k.fx);
+  cam.frustum_top = static_cast<float>(view.near_m * (k.cy + 0.5) / k.fy);
+  cam.frustum_bottom = static_cast<float>(-view.near_m * (view.height - 0.5 - k.cy) / k.fy);
+  return cam;
 }
 
 }  // namespace
@@ -203,6 +202,48 @@ int CameraRenderer::maxHeight() const { return ctx_->con.offHeight; }
 
 void CameraRenderer::render(const mjData* data, const SensorPose& pose, const CameraView& view, int own_root_body,
                             RenderedView* out, int threads) {
+  checkView(view);
+  const double t_start = cpuSeconds();
+  ctx_->makeCurrent();
+  mjvScene& s = ctx_->scene;
+  keepGeomsInView(data, pose, view, own_root_body);
+  sortNearestFirst(pose);
+  s.nlight = 0;
+  const mjvGLCamera cam = glCamera(pose, view);
+  s.camera[0] = cam;
+  s.camera[1] = cam;
+  const mjrRect rect = {0, 0, view.width, view.height};
+  const double t_scene = cpuSeconds();
+  mjr_render(rect, &s, &ctx_->con);
+  // llvmpipe rasterises when the frame is flushed: finish here so that the draw's time includes it.
+  if (ctx_->finish) ctx_->finish();
+  const double t_draw = cpuSeconds();
+  const bool direct = readBack(view);
+  const double t_read = cpuSeconds();
+  ++frames_;
+
+  const size_t n = static_cast<size_t>(view.width) * view.height;
+  out->width = view.width;
+  out->height = view.height;
+  out->depth_m.resize(n);
+  out->geom.resize(n);
+  // Segmentation colour (id + 1, 0 for the background) -> geom, -1 where none: one lookup per pixel, no range test.
+  seg_lut_.assign(seg_geom_.size() + 1, -1);
+  std::copy(seg_geom_.begin(), seg_geom_.end(), seg_lut_.begin() + 1);
+  placeCurvedInView(data, pose);
+  // The pixels that see a curved geom cost a ray test each: the rows go in blocks over the threads.
+  constexpr int kBlocks = 8;
+  forBlocks(kBlocks, threads, [&](int b) {
+    convertRows(view.height * b / kBlocks, view.height * (b + 1) / kBlocks, data, pose, view, direct, out);
+  });
+  const double t_convert = cpuSeconds();
+  stages_.scene_s = t_scene - t_start;
+  stages_.draw_s = t_draw - t_scene;
+  stages_.readback_s = t_read - t_draw;
+  stages_.convert_s = t_convert - t_read;
+}
+
+void CameraRenderer::checkView(const CameraView& view) const {
   if (view.width < 1 || view.height < 1 || view.width > maxWidth() || view.height > maxHeight())
     throw RenderError("image " + std::to_string(view.width) + "x" + std::to_string(view.height) +
                       " does not fit the model's offscreen buffer " + std::to_string(maxWidth()) + "x" +
@@ -210,32 +251,15 @@ void CameraRenderer::render(const mjData* data, const SensorPose& pose, const Ca
   if (!(view.near_m > 0.0 && view.far_m > view.near_m)) throw RenderError("camera view needs 0 < near < far");
   if (!(view.k.fx > 0.0) || std::fabs(view.k.fx - view.k.fy) > 1e-9 * view.k.fx)
     throw RenderError("camera view needs square pixels (fx = fy > 0)");
-  const double t_start = cpuSeconds();
-  ctx_->makeCurrent();
+}
+
+void CameraRenderer::keepGeomsInView(const mjData* data, const SensorPose& pose, const CameraView& view,
+                                     int own_root_body) {
   mjvScene& s = ctx_->scene;
   s.ngeom = 0;
   // mjv_addGeoms only reads the state; its signature is not const.
   mjv_addGeoms(m_, const_cast<mjData*>(data), &ctx_->option, &ctx_->perturb, mjCAT_STATIC | mjCAT_DYNAMIC, &s);
-  // The view frustum in the optical frame, as planes through the origin (unit normals pointing out of the view)
-  // and the near/far planes; a geom whose bounding sphere lies wholly outside one of them is not drawn.
-  const Intrinsics& k = view.k;
-  const double x_min = (-0.5 - k.cx) / k.fx, x_max = (view.width - 0.5 - k.cx) / k.fx;
-  const double y_min = (-0.5 - k.cy) / k.fy, y_max = (view.height - 0.5 - k.cy) / k.fy;
-  const Eigen::Vector3d side[4] = {
-      Eigen::Vector3d(1.0, 0.0, -x_max).normalized(), Eigen::Vector3d(-1.0, 0.0, x_min).normalized(),
-      Eigen::Vector3d(0.0, 1.0, -y_max).normalized(), Eigen::Vector3d(0.0, -1.0, y_min).normalized()};
-  auto outside = [&](int geom) {
-    const double r = m_->geom_rbound[geom];
-    if (!(r > 0.0)) return false;  // planes (and anything without a bound) are always drawn
-    const Eigen::Vector3d c =
-        pose.rotation.transpose() *
-        (Eigen::Vector3d(data->geom_xpos[3 * geom], data->geom_xpos[3 * geom + 1], data->geom_xpos[3 * geom + 2]) -
-         pose.origin);
-    if (c.z() + r < view.near_m || c.z() - r > view.far_m) return true;
-    for (const auto& n : side)
-      if (n.dot(c) > r) return true;
-    return false;
-  };
+  const ViewFrustum frustum(m_, data, pose, view);
   // Leave out the carrying robot, invisible geoms and geoms out of view; remember which geom each segmentation id
   // stands for.
   seg_geom_.assign(s.ngeom, -1);
@@ -246,7 +270,7 @@ void CameraRenderer::render(const mjData* data, const SensorPose& pose, const Ca
     if (g.objtype != mjOBJ_GEOM || g.objid < 0) continue;
     if (own_root_body >= 0 && m_->body_rootid[m_->geom_bodyid[g.objid]] == own_root_body) continue;
     if (m_->geom_rgba[4 * g.objid + 3] == 0.0f) continue;
-    if (outside(g.objid)) {
+    if (frustum.outside(g.objid)) {
       ++culled_;
       continue;
     }
@@ -254,44 +278,28 @@ void CameraRenderer::render(const mjData* data, const SensorPose& pose, const Ca
     s.geoms[kept++] = g;
   }
   s.ngeom = kept;
-  {
-    // Nearest first: the z-buffer then rejects the hidden parts of the geoms drawn later before they are written.
-    order_.clear();
-    for (int i = 0; i < kept; ++i) {
-      const mjvGeom& g = s.geoms[i];
-      const double r = m_->geom_rbound[g.objid];
-      const Eigen::Vector3d c(g.pos[0] - pose.origin.x(), g.pos[1] - pose.origin.y(), g.pos[2] - pose.origin.z());
-      order_.emplace_back(r > 0.0 ? std::max(0.0, c.dot(pose.rotation.col(2)) - r) : 1e30, i);
-    }
-    std::sort(order_.begin(), order_.end());
-    sorted_.resize(kept);
-    for (int i = 0; i < kept; ++i) sorted_[i] = s.geoms[order_[i].second];
-    std::copy(sorted_.begin(), sorted_.end(), s.geoms);
+}
+
+void CameraRenderer::sortNearestFirst(const SensorPose& pose) {
+  // Nearest first: the z-buffer then rejects the hidden parts of the geoms drawn later before they are written.
+  mjvScene& s = ctx_->scene;
+  const int kept = s.ngeom;
+  order_.clear();
+  for (int i = 0; i < kept; ++i) {
+    const mjvGeom& g = s.geoms[i];
+    const double r = m_->geom_rbound[g.objid];
+    const Eigen::Vector3d c(g.pos[0] - pose.origin.x(), g.pos[1] - pose.origin.y(), g.pos[2] - pose.origin.z());
+    order_.emplace_back(r > 0.0 ? std::max(0.0, c.dot(pose.rotation.col(2)) - r) : 1e30, i);
   }
-  s.nlight = 0;
-  // The optical frame: z forward, y down, so OpenGL's up is -y and its right x.
-  mjvGLCamera cam;
-  for (int i = 0; i < 3; ++i) {
-    cam.pos[i] = static_cast<float>(pose.origin[i]);
-    cam.forward[i] = static_cast<float>(pose.rotation(i, 2));
-    cam.up[i] = static_cast<float>(-pose.rotation(i, 1));
-  }
-  cam.frustum_near = static_cast<float>(view.near_m);
-  cam.frustum_far = static_cast<float>(view.far_m);
-  // Pixel u spans [u - 0.5, u + 0.5] and sees x / z = (u - cx) / f; OpenGL's y is up, the image's v down. MuJoCo
-  // sets the frustum's width from its height and the viewport's aspect, so fx must equal fy.
-  cam.frustum_center = static_cast<float>(view.near_m * (0.5 * (view.width - 1) - k.cx) / k.fx);
-  cam.frustum_top = static_cast<float>(view.near_m * (k.cy + 0.5) / k.fy);
-  cam.frustum_bottom = static_cast<float>(-view.near_m * (view.height - 0.5 - k.cy) / k.fy);
-  s.camera[0] = cam;
-  s.camera[1] = cam;
-  const mjrRect rect = {0, 0, view.width, view.height};
-  const double t_scene = cpuSeconds();
-  mjr_render(rect, &s, &ctx_->con);
-  // llvmpipe rasterises when the frame is flushed: finish here so that the draw's time includes it.
-  if (ctx_->finish) ctx_->finish();
-  const double t_draw = cpuSeconds();
+  std::sort(order_.begin(), order_.end());
+  sorted_.resize(kept);
+  for (int i = 0; i < kept; ++i) sorted_[i] = s.geoms[order_[i].second];
+  std::copy(sorted_.begin(), sorted_.end(), s.geoms);
+}
+
+bool CameraRenderer::readBack(const CameraView& view) {
   const size_t n = static_cast<size_t>(view.width) * view.height;
+  const mjrRect rect = {0, 0, view.width, view.height};
   const bool direct = ctx_->read_pixels && ctx_->con.offSamples == 0;
   if (direct) {
     // The offscreen buffer is bound for reading (mjr_setBuffer) and needs no resolve: read it in its own formats,
@@ -305,17 +313,12 @@ void CameraRenderer::render(const mjData* data, const SensorPose& pose, const Ca
     zbuf_.resize(n);
     mjr_readPixels(rgb_.data(), zbuf_.data(), rect, &ctx_->con);
   }
-  const double t_read = cpuSeconds();
-  ++frames_;
+  return direct;
+}
 
-  out->width = view.width;
-  out->height = view.height;
-  out->depth_m.resize(n);
-  out->geom.resize(n);
-  // Segmentation colour (id + 1, 0 for the background) -> geom, -1 where none: one lookup per pixel, no range test.
-  seg_lut_.assign(seg_geom_.size() + 1, -1);
-  std::copy(seg_geom_.begin(), seg_geom_.end(), seg_lut_.begin() + 1);
+void CameraRenderer::placeCurvedInView(const mjData* data, const SensorPose& pose) {
   // The curved geoms drawn, each in its own frame once per frame (their pixels' exact depths below).
+  const mjvScene& s = ctx_->scene;
   in_view_.resize(m_->ngeom);
   for (int i = 0; i < s.ngeom; ++i) {
     const int g = s.geoms[i].objid;
@@ -330,50 +333,50 @@ void CameraRenderer::render(const mjData* data, const SensorPose& pose, const Ca
     c.type = m_->geom_type[g];
     for (int k = 0; k < 3; ++k) c.size[k] = m_->geom_size[3 * g + k];
   }
+}
+
+void CameraRenderer::convertRows(int row0, int row1, const mjData* data, const SensorPose& pose, const CameraView& view,
+                                 bool direct, RenderedView* out) const {
   const ZBufferToDepth to_depth(view.near_m, view.far_m);
   const int lut_size = static_cast<int>(seg_lut_.size());
-  // The pixels that see a curved geom cost a ray test each: the rows go in blocks over the threads.
-  constexpr int kBlocks = 8;
-  forBlocks(kBlocks, threads, [&](int b) {
-    for (int row = view.height * b / kBlocks; row < view.height * (b + 1) / kBlocks; ++row) {
-      const size_t src = static_cast<size_t>(view.height - 1 - row) * view.width;  // OpenGL: bottom row first
-      const size_t dst = static_cast<size_t>(row) * view.width;
-      float* depth = &out->depth_m[dst];
-      int* geom = &out->geom[dst];
-      if (direct)
-        convertRow(&rgba_[4 * src], &zbits_[src], view.width, seg_lut_.data(), lut_size, to_depth, geom, depth);
-      else
-        convertRowFloat(&rgb_[3 * src], &zbuf_[src], view.width, seg_lut_.data(), lut_size, to_depth, geom, depth);
-      // Tessellation only decided which geom a pixel sees; the depth of a curved geom comes from its exact surface.
-      const double y = (row - view.k.cy) / view.k.fy;
-      const mjtNum pnt[3] = {pose.origin.x(), pose.origin.y(), pose.origin.z()};
-      int last = -1;
-      Eigen::Vector3d row_term;  // A (0, y, 1) of the last geom
-      for (int u = 0; u < view.width; ++u) {
-        const int g = geom[u];
-        if (g < 0 || !curved_[g]) continue;
-        const CurvedInView& c = in_view_[g];
-        if (g != last) last = g, row_term = c.A.col(1) * y + c.A.col(2);
-        const double x = (u - view.k.cx) / view.k.fx;
-        double z = curvedDepth(c.type, c.size, c.o, c.A.col(0) * x + row_term);
-        if (z == -2.0) {  // MuJoCo's intersection, along the unit ray
-          const Eigen::Vector3d ray(x, y, 1.0);
-          const double len = ray.norm();
-          const Eigen::Vector3d dir = pose.rotation * (ray / len);
-          const mjtNum vec[3] = {dir.x(), dir.y(), dir.z()};
-          const double t = mju_rayGeom(data->geom_xpos + 3 * g, data->geom_xmat + 9 * g, m_->geom_size + 3 * g, pnt,
-                                       vec, m_->geom_type[g]);
-          z = t >= 0.0 ? t / len : -1.0;
-        }
-        if (z >= 0.0) depth[u] = static_cast<float>(z);
-      }
+  for (int row = row0; row < row1; ++row) {
+    const size_t src = static_cast<size_t>(view.height - 1 - row) * view.width;  // OpenGL: bottom row first
+    const size_t dst = static_cast<size_t>(row) * view.width;
+    float* depth = &out->depth_m[dst];
+    int* geom = &out->geom[dst];
+    if (direct)
+      convertRow(&rgba_[4 * src], &zbits_[src], view.width, seg_lut_.data(), lut_size, to_depth, geom, depth);
+    else
+      convertRowFloat(&rgb_[3 * src], &zbuf_[src], view.width, seg_lut_.data(), lut_size, to_depth, geom, depth);
+    refineCurvedDepths(row, data, pose, view, geom, depth);
+  }
+}
+
+void CameraRenderer::refineCurvedDepths(int row, const mjData* data, const SensorPose& pose, const CameraView& view,
+                                        const int* geom, float* depth) const {
+  // Tessellation only decided which geom a pixel sees; the depth of a curved geom comes from its exact surface.
+  const double y = (row - view.k.cy) / view.k.fy;
+  const mjtNum pnt[3] = {pose.origin.x(), pose.origin.y(), pose.origin.z()};
+  int last = -1;
+  Eigen::Vector3d row_term;  // A (0, y, 1) of the last geom
+  for (int u = 0; u < view.width; ++u) {
+    const int g = geom[u];
+    if (g < 0 || !curved_[g]) continue;
+    const CurvedInView& c = in_view_[g];
+    if (g != last) last = g, row_term = c.A.col(1) * y + c.A.col(2);
+    const double x = (u - view.k.cx) / view.k.fx;
+    double z = curvedDepth(c.type, c.size, c.o, c.A.col(0) * x + row_term);
+    if (z == -2.0) {  // MuJoCo's intersection, along the unit ray
+      const Eigen::Vector3d ray(x, y, 1.0);
+      const double len = ray.norm();
+      const Eigen::Vector3d dir = pose.rotation * (ray / len);
+      const mjtNum vec[3] = {dir.x(), dir.y(), dir.z()};
+      const double t = mju_rayGeom(data->geom_xpos + 3 * g, data->geom_xmat + 9 * g, m_->geom_size + 3 * g, pnt, vec,
+                                   m_->geom_type[g]);
+      z = t >= 0.0 ? t / len : -1.0;
     }
-  });
-  const double t_convert = cpuSeconds();
-  stages_.scene_s = t_scene - t_start;
-  stages_.draw_s = t_draw - t_scene;
-  stages_.readback_s = t_read - t_draw;
-  stages_.convert_s = t_convert - t_read;
+    if (z >= 0.0) depth[u] = static_cast<float>(z);
+  }
 }
 
 CameraView cameraView(const DepthCameraSpec& depth, bool color, double color_range_max_m) {

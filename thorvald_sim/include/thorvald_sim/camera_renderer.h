@@ -74,6 +74,24 @@ class CameraRenderer {
   const StageTimes& lastStageTimes() const { return stages_; }
 
  private:
+  /// Throws RenderError for a view that does not fit the offscreen buffer, has no depth range or non-square pixels.
+  void checkView(const CameraView& view) const;
+  /// MuJoCo's scene of the geoms in `data` without the carrying robot, invisible geoms and geoms out of view;
+  /// fills seg_geom_ (segmentation id -> geom) and culled_.
+  void keepGeomsInView(const mjData* data, const SensorPose& pose, const CameraView& view, int own_root_body);
+  /// Orders the scene's geoms nearest first by their bounding spheres (planes last).
+  void sortNearestFirst(const SensorPose& pose);
+  /// Reads the drawn ids and depths back; true when read directly as RGBA bytes and 24-bit integers (rgba_,
+  /// zbits_), false through MuJoCo (rgb_, zbuf_).
+  bool readBack(const CameraView& view);
+  /// in_view_ for the curved geoms in the scene.
+  void placeCurvedInView(const mjData* data, const SensorPose& pose);
+  /// Image rows [row0, row1) of `out` from the read-back buffers, curved geoms with their exact depth.
+  void convertRows(int row0, int row1, const mjData* data, const SensorPose& pose, const CameraView& view, bool direct,
+                   RenderedView* out) const;
+  void refineCurvedDepths(int row, const mjData* data, const SensorPose& pose, const CameraView& view, const int* geom,
+                          float* depth) const;
+
   struct Context;
   const mjModel* m_;
   std::unique_ptr<Context> ctx_;
