@@ -3,7 +3,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "../src/mux_params.h"
+#include "../src/ros/mux_params.h"
 
 using thorvald_twist_mux::MuxEntry;
 using thorvald_twist_mux::parseMuxEntries;

@@ -11,7 +11,7 @@
 #include <std_msgs/Bool.h>
 #include <thorvald_common/param_reader.h>
 
-#include "mux_params.h"
+#include "../ros/mux_params.h"
 #include "thorvald_twist_mux/twist_selector.h"
 
 namespace thorvald_twist_mux {
