@@ -12,6 +12,8 @@
 namespace thorvald_sim {
 
 namespace {
+/// [s] of wall clock a paced simulation may make up by running faster than requested; beyond it the lag is dropped.
+constexpr double kMaxCatchUpS = 0.05;
 
 double xmlNumber(XmlRpc::XmlRpcValue& v, const std::string& key, double def) {
   if (!v.hasMember(key)) return def;
@@ -284,9 +286,16 @@ void SimRos::run() {
       updater_.force_update();
     }
     if (params_.real_time_factor > 0.0) {
-      // Pace simulated time against the wall clock.
+      // Pace simulated time against the wall clock. A simulation that fell behind (a busy machine) goes on at the
+      // requested pace from where it is instead of running flat out to catch up: such a burst outruns the nodes on
+      // its clock, whose inputs then age by whole timeouts in simulated time (a mission saw its odometry as lost).
       const ros::WallTime due = wall_start + ros::WallDuration((sim_->time() - sim_start) / params_.real_time_factor);
-      if (due > now) (due - now).sleep();
+      if (due > now) {
+        (due - now).sleep();
+      } else if ((now - due).toSec() > kMaxCatchUpS) {
+        wall_start = now;
+        sim_start = sim_->time();
+      }
     }
   }
 }
