@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "../src/teleop_params.h"
+#include "../src/ros/teleop_params.h"
 
 using namespace thorvald_teleop;
 using XmlRpc::XmlRpcValue;

@@ -13,7 +13,7 @@
 #include <std_msgs/Bool.h>
 #include <std_srvs/Trigger.h>
 
-#include "teleop_params.h"
+#include "../ros/teleop_params.h"
 #include "thorvald_common/stop_signals.h"
 #include "thorvald_teleop/joy_teleop.h"
 
