@@ -82,6 +82,19 @@ class PathFollower {
   const thorvald_base::Twist2D& lastCommand() const { return last_; }
 
  private:
+  struct Frame;
+  /// Scales the command's forward speed by the frame's sign (reversing) and limits it.
+  thorvald_base::Twist2D output(const Frame& f, thorvald_base::Twist2D t, double dt);
+  /// A yaw rate that the acceleration limit can still bring to zero within `angle` [rad/s].
+  double turnRate(double angle) const;
+  /// Inside the xy tolerance: switches to the final turn, or (differential) fills `creep` and returns true.
+  bool closeIn(const Frame& f, thorvald_base::Twist2D* creep);
+  /// The turn on the spot to the goal's heading along a braking profile; arrives when the heading is within aim.
+  thorvald_base::Twist2D finalTurn(const Frame& f, double dt);
+  /// Towards the carrot at the speed that can still stop at the goal (omnidirectional directly, else pursue()).
+  thorvald_base::Twist2D drive(const Frame& f, double dt);
+  /// Differential: slows for a sharp corner, turns on the spot towards the carrot or follows a pure-pursuit arc.
+  thorvald_base::Twist2D pursue(const Frame& f, const Eigen::Vector2d& to_target, double speed, double dt);
   Eigen::Vector2d carrot(const Eigen::Vector2d& p);
   /// Path length from the closest point (after carrot()) to the next corner a differential robot turns on the spot
   /// at (a heading change above rotate_in_place_rad); infinite when none is left [m].
