@@ -84,24 +84,7 @@ LocalizationUpdate MapLocalizer::update(const thorvald_base::Pose2D& odom,
     return u;
   }
   if (global_requested_) {
-    GlobalSearchParams gp = params_.global;
-    if (window_xy_m_ > 0.0) {  // a local search: finer steps over the small window
-      gp.window_xy_m = window_xy_m_;
-      gp.window_yaw_rad = window_yaw_rad_;
-      gp.center = window_center_;
-      gp.step_xy_m = std::min(gp.step_xy_m, 0.1);
-      gp.step_yaw_rad = std::min(gp.step_yaw_rad, 0.05);
-      gp.min_clearance_m = 0.0;
-    }
-    const GlobalResult g = globalSearch(field_, map_, points_base, gp, params_.matcher);
-    global_requested_ = false;
-    if (!g.found) {
-      status_ = LocalizationStatus::kLost;
-      u.status = status_;
-      u.message = "global localisation found no candidate pose";
-      return u;
-    }
-    adopt(g, odom, "global localisation", &u);
+    globalUpdate(odom, points_base, &u);
     return u;
   }
   if (status_ == LocalizationStatus::kNoPose) {
@@ -112,6 +95,39 @@ LocalizationUpdate MapLocalizer::update(const thorvald_base::Pose2D& odom,
     scans_to_recheck_ = params_.recheck_every_scans;
     if (recheck(odom, points_base, &u)) return u;
   }
+  const thorvald_base::Pose2D predicted = map_to_odom_ * odom;
+  const MatchResult m = matchScan(field_, pts, predicted, trackingParams(odom));
+  last_odom_ = odom;
+  have_last_odom_ = true;
+  u.inlier_fraction = m.inlier_fraction;
+  if (rejectMatch(m, predicted, &u)) return u;
+  acceptMatch(m, odom, &u);
+  return u;
+}
+
+void MapLocalizer::globalUpdate(const thorvald_base::Pose2D& odom, const std::vector<Eigen::Vector2d>& points_base,
+                                LocalizationUpdate* u) {
+  GlobalSearchParams gp = params_.global;
+  if (window_xy_m_ > 0.0) {  // a local search: finer steps over the small window
+    gp.window_xy_m = window_xy_m_;
+    gp.window_yaw_rad = window_yaw_rad_;
+    gp.center = window_center_;
+    gp.step_xy_m = std::min(gp.step_xy_m, 0.1);
+    gp.step_yaw_rad = std::min(gp.step_yaw_rad, 0.05);
+    gp.min_clearance_m = 0.0;
+  }
+  const GlobalResult g = globalSearch(field_, map_, points_base, gp, params_.matcher);
+  global_requested_ = false;
+  if (!g.found) {
+    status_ = LocalizationStatus::kLost;
+    u->status = status_;
+    u->message = "global localisation found no candidate pose";
+    return;
+  }
+  adopt(g, odom, "global localisation", u);
+}
+
+ScanMatcherParams MapLocalizer::trackingParams(const thorvald_base::Pose2D& odom) const {
   const thorvald_base::Pose2D delta = have_last_odom_ ? last_odom_.inverse() * odom : thorvald_base::Pose2D{};
   const double moved = std::hypot(delta.x, delta.y), turned = std::abs(delta.yaw);
   ScanMatcherParams mp = params_.matcher;
@@ -121,11 +137,10 @@ LocalizationUpdate MapLocalizer::update(const thorvald_base::Pose2D& odom,
     mp.prior_sigma_xy_m *= 5.0;
     mp.prior_sigma_yaw_rad *= 5.0;
   }
-  const thorvald_base::Pose2D predicted = map_to_odom_ * odom;
-  const MatchResult m = matchScan(field_, pts, predicted, mp);
-  last_odom_ = odom;
-  have_last_odom_ = true;
-  u.inlier_fraction = m.inlier_fraction;
+  return mp;
+}
+
+bool MapLocalizer::rejectMatch(const MatchResult& m, const thorvald_base::Pose2D& predicted, LocalizationUpdate* u) {
   const double jump = std::hypot(m.pose.x - predicted.x, m.pose.y - predicted.y);
   if (m.inlier_fraction < params_.lost_inlier_fraction || jump > params_.max_jump_m || !m.pose.finite()) {
     ++bad_scans_;
@@ -135,14 +150,14 @@ LocalizationUpdate MapLocalizer::update(const thorvald_base::Pose2D& odom,
     std::ostringstream msg;
     msg << "scan not used: " << m.inlier_fraction << " of beams matched, correction " << jump << " m"
         << (known_wrong ? " (more than max_jump: odometry and map disagree)" : "");
-    u.message = msg.str();
+    u->message = msg.str();
     if ((known_wrong || bad_scans_ >= params_.lost_after_scans) && status_ != LocalizationStatus::kLost) {
       status_ = LocalizationStatus::kLost;
       scans_to_recheck_ = 1;  // re-check on the next scan
     }
-    u.status = status_;
-    u.pose = predicted;
-    return u;
+    u->status = status_;
+    u->pose = predicted;
+    return true;
   }
   bad_scans_ = 0;
   // Weak matches are used for a moment (a passer-by hiding walls), not for long: a run of them, or any while lost,
@@ -154,11 +169,15 @@ LocalizationUpdate MapLocalizer::update(const thorvald_base::Pose2D& odom,
     status_ = LocalizationStatus::kLost;
     std::ostringstream msg;
     msg << "scan not used: only " << m.inlier_fraction << " of beams matched for " << weak_scans_ << " scans";
-    u.message = msg.str();
-    u.status = status_;
-    u.pose = predicted;
-    return u;
+    u->message = msg.str();
+    u->status = status_;
+    u->pose = predicted;
+    return true;
   }
+  return false;
+}
+
+void MapLocalizer::acceptMatch(const MatchResult& m, const thorvald_base::Pose2D& odom, LocalizationUpdate* u) {
   map_to_odom_ = m.pose * odom.inverse();
   if (status_ == LocalizationStatus::kLost) confirm_left_ = params_.confirm_scans;  // found again by tracking
   if (m.inlier_fraction < params_.uncertain_inlier_fraction) {
@@ -169,11 +188,10 @@ LocalizationUpdate MapLocalizer::update(const thorvald_base::Pose2D& odom,
   } else {
     status_ = LocalizationStatus::kLocalized;
   }
-  u.used = true;
-  u.pose = m.pose;
-  u.covariance = m.covariance;
-  u.status = status_;
-  return u;
+  u->used = true;
+  u->pose = m.pose;
+  u->covariance = m.covariance;
+  u->status = status_;
 }
 
 void MapLocalizer::adopt(const GlobalResult& g, const thorvald_base::Pose2D& odom, const std::string& what,

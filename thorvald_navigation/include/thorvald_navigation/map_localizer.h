@@ -90,6 +90,15 @@ class MapLocalizer {
   bool hasPose() const { return status_ != LocalizationStatus::kNoPose; }
 
  private:
+  /// The requested global (or windowed) search, adopting its best pose when it finds one.
+  void globalUpdate(const thorvald_base::Pose2D& odom, const std::vector<Eigen::Vector2d>& points_base,
+                    LocalizationUpdate* u);
+  /// Scan-matcher parameters whose odometry prior widens with the motion since the last scan (more when lost).
+  ScanMatcherParams trackingParams(const thorvald_base::Pose2D& odom) const;
+  /// Counts a poor, jumping or weak match, updates the status and fills u with the prediction; true when rejected.
+  bool rejectMatch(const MatchResult& m, const thorvald_base::Pose2D& predicted, LocalizationUpdate* u);
+  /// Takes a good match as the new map-to-odometry transform and updates the status (confirmation after lost).
+  void acceptMatch(const MatchResult& m, const thorvald_base::Pose2D& odom, LocalizationUpdate* u);
   /// Takes a search's best pose (status uncertain until confirm_scans good scans agree), fills `u`.
   void adopt(const GlobalResult& g, const thorvald_base::Pose2D& odom, const std::string& what, LocalizationUpdate* u);
   /// The lost robot's windowed search around the odometry prediction; true when it relocalised.
