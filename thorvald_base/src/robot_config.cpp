@@ -13,7 +13,7 @@
 
 #include "module_fields.h"
 #include "thorvald_base/angles.h"
-#include "thorvald_base/edit_distance.h"
+#include "thorvald_common/edit_distance.h"
 
 namespace thorvald_base {
 namespace {
@@ -354,7 +354,7 @@ std::string nearestRobotFileGroup(const std::string& key) {
   std::string best;
   size_t best_distance = 3;  // at most two edits: a missing plural s, a swapped or missing letter
   for (const auto& g : groups) {
-    const size_t distance = editDistance(key, g);
+    const size_t distance = thorvald_common::editDistance(key, g);
     const size_t limit = g.size() <= 3 ? 0 : 2;  // "io" only exactly
     if (distance <= limit && distance < best_distance) {
       best_distance = distance;

@@ -1,5 +1,7 @@
 #include "thorvald_common/param_reader.h"
 
+#include "thorvald_common/edit_distance.h"
+
 #include <ros/console.h>
 #include <ros/master.h>
 #include <ros/param.h>
@@ -17,22 +19,6 @@ std::string formatNumber(double v) {
   std::ostringstream s;
   s << std::setprecision(10) << v;
   return s.str();
-}
-
-/// Levenshtein distance, to suggest the parameter a misspelt name meant.
-size_t editDistance(const std::string& a, const std::string& b) {
-  std::vector<size_t> row(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    size_t diagonal = row[0];
-    row[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j) {
-      const size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diagonal = up;
-    }
-  }
-  return row[b.size()];
 }
 
 bool coveredBy(const std::string& name, const std::set<std::string>& read) {

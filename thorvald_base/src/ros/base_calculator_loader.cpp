@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <vector>
 
-#include "thorvald_base/edit_distance.h"
+#include "thorvald_common/edit_distance.h"
 
 namespace thorvald_base {
 
@@ -14,7 +14,8 @@ void BaseCalculatorLoader::check(const RobotConfig& config) const {
   if (std::find(known.begin(), known.end(), config.base_calculator) != known.end()) return;
   // The nearest spelling first: a typing slip shows at a glance.
   std::stable_sort(known.begin(), known.end(), [&](const std::string& a, const std::string& b) {
-    return editDistance(config.base_calculator, a) < editDistance(config.base_calculator, b);
+    return thorvald_common::editDistance(config.base_calculator, a) <
+           thorvald_common::editDistance(config.base_calculator, b);
   });
   std::string list;
   for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;

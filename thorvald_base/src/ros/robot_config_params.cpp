@@ -7,7 +7,7 @@
 #include <set>
 #include <sstream>
 
-#include "thorvald_base/edit_distance.h"
+#include "thorvald_common/edit_distance.h"
 #include "thorvald_base/ros/bounded_param_read.h"
 
 namespace thorvald_base {
@@ -131,7 +131,8 @@ ConfigError missingDrives(const ros::NodeHandle& nh, const std::string& ns, cons
                            " holds no parameters (the file is empty, or was not loaded): " + load);
   }
   size_t distance = 0;
-  const std::string nearest = nearestName("motor_drives", {found.children.begin(), found.children.end()}, &distance);
+  const std::string nearest =
+      thorvald_common::nearestName("motor_drives", {found.children.begin(), found.children.end()}, &distance);
   if (distance <= 3) {
     return ConfigError(source, "motor_drives",
                        "not found in " + ns + "; did you mean " + nearest +
