@@ -25,7 +25,7 @@ RULES = {
     "command-line": "no program calls CLI11_PARSE or CLI::App::exit itself (thorvald_common/command_line.h does)",
 }
 APPLICATIONS = {"thorvald_navigation", "greenhouse_rail_nav", "cotton_harvester"}
-TOP_LAYER = {"thorvald_sim", "thorvald_bringup"}
+TOP_LAYER = {"thorvald_sim", "thorvald_bringup", "cotton_harvester_sim"}
 ADAPTER_DIRS = ("src/nodes/", "src/ros/", "src/plugins/")
 CPP = re.compile(r"\.(h|hh|hpp|c|cc|cpp|cxx)$")
 ROS_INCLUDE_ROOTS = {
