@@ -20,85 +20,114 @@ Footprint makeFootprint(const std::vector<double>& flat, double padding) {
   return fp;
 }
 
-bool loadSettings(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, Settings* s, std::string* error) {
-  using R = thorvald_common::ParamRange;
-  auto check = [](const std::string& problem) {
-    if (!problem.empty()) throw thorvald_common::ParamError("headland_navigator: " + problem);
+namespace {
+
+using R = thorvald_common::ParamRange;
+
+void check(const std::string& problem) {
+  if (!problem.empty()) throw thorvald_common::ParamError("headland_navigator: " + problem);
+}
+
+/// Frames, topics, localisation gate, footprint, obstacles, timing, costmap and planner.
+void readNavigatorParams(thorvald_common::ParamReader& r, Settings* s) {
+  s->global_frame = r.text("global_frame", s->global_frame);
+  s->base_frame = r.text("robot_base_frame", s->base_frame);
+  s->keep_out_topic = r.text("keep_out_topic", s->keep_out_topic);
+  s->localization_status_topic = r.text("localization_status_topic", s->localization_status_topic);
+  s->gate.lost_wait_s = r.number("localization_lost_wait", s->gate.lost_wait_s, R::aboveUpTo(0.0, 3600.0), "s");
+  s->gate.uncertain_wait_s =
+      r.number("localization_uncertain_wait", s->gate.uncertain_wait_s, R::aboveUpTo(0.0, 3600.0), "s");
+  s->controller_frequency = r.number("controller_frequency", s->controller_frequency, R::aboveUpTo(0.0, 200.0), "Hz");
+  s->footprint_padding = r.number("footprint_padding", s->footprint_padding, R::closed(0.0, 1.0), "m");
+  s->footprint = r.numbers("footprint", s->footprint, R::closed(-20.0, 20.0), "m", 0, 200);
+  s->drive_mode = r.choice("drive_mode", s->drive_mode, {"auto", "omnidirectional", "differential"});
+  s->obstacle_range = r.number("obstacle_range", s->obstacle_range, R::above(0.0), "m");
+  s->obstacle_check_ahead = r.number("obstacle_check_ahead", s->obstacle_check_ahead, R::above(0.0), "m");
+  s->obstacle_wait = r.number("obstacle_wait", s->obstacle_wait, R::above(0.0), "s");
+  s->planner_patience = r.number("planner_patience", s->planner_patience, R::above(0.0), "s");
+  s->settle_time = r.number("settle_time", s->settle_time, R::closed(0.0, 5.0), "s");
+  s->goal_corrections = r.integer("goal_corrections", s->goal_corrections, 0, 20);
+  s->final_approach = r.number("final_approach", s->final_approach, R::closed(0.0, 2.0), "m");
+  s->obstacle_update_rate = r.number("obstacle_update_rate", s->obstacle_update_rate, R::aboveUpTo(0.0, 100.0), "Hz");
+  s->scan_max_age = r.number("scan_max_age", s->scan_max_age, R::above(0.0), "s");
+  s->costmap.inflation_radius_m = r.number("inflation_radius", s->costmap.inflation_radius_m, R::atLeast(0.0), "m");
+  // 0: half the footprint's width (+ padding), set below.
+  s->costmap.planning_radius_m = r.number("planning_radius", 0.0, R::atLeast(0.0), "m");
+  s->costmap.cost_scaling = r.number("cost_scaling_factor", s->costmap.cost_scaling, R::above(0.0), "1/m");
+  s->costmap.unknown_is_blocked = !r.flag("allow_unknown", !s->costmap.unknown_is_blocked);
+  s->costmap.known_structure_tolerance_m =
+      r.number("known_structure_tolerance", s->costmap.known_structure_tolerance_m, R::closed(0.0, 1.0), "m");
+  s->planner.cost_weight = r.number("cost_weight", s->planner.cost_weight, R::atLeast(0.0));
+}
+
+/// The path follower's keys, in the order they are read: name, member, range, unit.
+struct FollowerKey {
+  const char* name;
+  double FollowerParams::*member;
+  R range;
+  const char* unit;
+};
+
+void readFollowerParams(thorvald_common::ParamReader& r, FollowerParams* f) {
+  const FollowerKey keys[] = {
+      {"max_vel_x", &FollowerParams::max_speed_mps, R::above(0.0), "m/s"},
+      {"max_vel_theta", &FollowerParams::max_yaw_rate_radps, R::above(0.0), "rad/s"},
+      {"acc_lim_x", &FollowerParams::max_accel_mps2, R::above(0.0), "m/s^2"},
+      {"acc_lim_theta", &FollowerParams::max_yaw_accel_radps2, R::above(0.0), "rad/s^2"},
+      {"xy_goal_tolerance", &FollowerParams::xy_tolerance_m, R::above(0.0), "m"},
+      {"yaw_goal_tolerance", &FollowerParams::yaw_tolerance_rad, R::above(0.0), "rad"},
+      {"lookahead", &FollowerParams::lookahead_m, R::above(0.0), "m"},
+      {"rotate_in_place_angle", &FollowerParams::rotate_in_place_rad, R::closed(0.0, 3.1416), "rad"},
+      {"arrive_fraction", &FollowerParams::arrive_fraction, R::closed(0.05, 1.0), ""},
+      {"command_latency", &FollowerParams::command_latency_s, R::closed(0.0, 2.0), "s"},
+      {"min_vel_theta", &FollowerParams::min_yaw_rate_radps, R::above(0.0), "rad/s"},
   };
+  for (const auto& k : keys) f->*k.member = r.number(k.name, f->*k.member, k.range, k.unit);
+  f->max_turn_reversals = r.integer("max_turn_reversals", f->max_turn_reversals, 0, 20);
+}
+
+/// The box around the wheels, casters and corners of the robot file in the robot's namespace; an "auto" drive mode
+/// becomes omnidirectional when every drive steers and no passive wheel drags.
+void footprintFromRobotFile(const ros::NodeHandle& nh, Settings* s) {
+  thorvald_base::RobotConfig cfg;
+  try {
+    cfg = thorvald_base::robotConfigFromParams(nh);
+  } catch (const std::exception& e) {
+    check("no ~footprint and no usable robot file in " + nh.getNamespace() + ": " + e.what());
+  }
+  double x0 = 1e9, x1 = -1e9, y0 = 1e9, y1 = -1e9;
+  auto grow = [&](double x, double y, double rx, double ry) {
+    x0 = std::min(x0, x - rx);
+    x1 = std::max(x1, x + rx);
+    y0 = std::min(y0, y - ry);
+    y1 = std::max(y1, y + ry);
+  };
+  bool all_steered = !cfg.drives.empty();
+  for (const auto& d : cfg.drives) {
+    grow(d.x, d.y, d.r_wheel, 0.5 * d.w_wheel);
+    all_steered = all_steered && d.type == 0;
+  }
+  for (const auto& c : cfg.casters) grow(c.x, c.y, c.r_wheel + c.offset, 0.5 * c.w_wheel);
+  for (const auto& c : cfg.passive_wheels) grow(c.x, c.y, c.r_wheel, 0.5 * c.w_wheel);
+  for (const auto& c : cfg.corners) grow(c.x, c.y, 0.05, 0.05);
+  s->footprint = {x0, y0, x1, y0, x1, y1, x0, y1};
+  if (s->drive_mode == "auto")
+    s->drive_mode = all_steered && cfg.passive_wheels.empty() ? "omnidirectional" : "differential";
+}
+
+}  // namespace
+
+bool loadSettings(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, Settings* s, std::string* error) {
   try {
     thorvald_common::ParamReader r(pnh, "headland_navigator");
-    s->global_frame = r.text("global_frame", s->global_frame);
-    s->base_frame = r.text("robot_base_frame", s->base_frame);
-    s->keep_out_topic = r.text("keep_out_topic", s->keep_out_topic);
-    s->localization_status_topic = r.text("localization_status_topic", s->localization_status_topic);
-    s->gate.lost_wait_s = r.number("localization_lost_wait", s->gate.lost_wait_s, R::aboveUpTo(0.0, 3600.0), "s");
-    s->gate.uncertain_wait_s =
-        r.number("localization_uncertain_wait", s->gate.uncertain_wait_s, R::aboveUpTo(0.0, 3600.0), "s");
-    s->controller_frequency = r.number("controller_frequency", s->controller_frequency, R::aboveUpTo(0.0, 200.0), "Hz");
-    s->footprint_padding = r.number("footprint_padding", s->footprint_padding, R::closed(0.0, 1.0), "m");
-    s->footprint = r.numbers("footprint", s->footprint, R::closed(-20.0, 20.0), "m", 0, 200);
-    s->drive_mode = r.choice("drive_mode", s->drive_mode, {"auto", "omnidirectional", "differential"});
-    s->obstacle_range = r.number("obstacle_range", s->obstacle_range, R::above(0.0), "m");
-    s->obstacle_check_ahead = r.number("obstacle_check_ahead", s->obstacle_check_ahead, R::above(0.0), "m");
-    s->obstacle_wait = r.number("obstacle_wait", s->obstacle_wait, R::above(0.0), "s");
-    s->planner_patience = r.number("planner_patience", s->planner_patience, R::above(0.0), "s");
-    s->settle_time = r.number("settle_time", s->settle_time, R::closed(0.0, 5.0), "s");
-    s->goal_corrections = r.integer("goal_corrections", s->goal_corrections, 0, 20);
-    s->final_approach = r.number("final_approach", s->final_approach, R::closed(0.0, 2.0), "m");
-    s->obstacle_update_rate = r.number("obstacle_update_rate", s->obstacle_update_rate, R::aboveUpTo(0.0, 100.0), "Hz");
-    s->scan_max_age = r.number("scan_max_age", s->scan_max_age, R::above(0.0), "s");
-    s->costmap.inflation_radius_m = r.number("inflation_radius", s->costmap.inflation_radius_m, R::atLeast(0.0), "m");
-    // 0: half the footprint's width (+ padding), set below.
-    s->costmap.planning_radius_m = r.number("planning_radius", 0.0, R::atLeast(0.0), "m");
-    s->costmap.cost_scaling = r.number("cost_scaling_factor", s->costmap.cost_scaling, R::above(0.0), "1/m");
-    s->costmap.unknown_is_blocked = !r.flag("allow_unknown", !s->costmap.unknown_is_blocked);
-    s->costmap.known_structure_tolerance_m =
-        r.number("known_structure_tolerance", s->costmap.known_structure_tolerance_m, R::closed(0.0, 1.0), "m");
-    s->planner.cost_weight = r.number("cost_weight", s->planner.cost_weight, R::atLeast(0.0));
+    readNavigatorParams(r, s);
     auto& f = s->follower;
-    f.max_speed_mps = r.number("max_vel_x", f.max_speed_mps, R::above(0.0), "m/s");
-    f.max_yaw_rate_radps = r.number("max_vel_theta", f.max_yaw_rate_radps, R::above(0.0), "rad/s");
-    f.max_accel_mps2 = r.number("acc_lim_x", f.max_accel_mps2, R::above(0.0), "m/s^2");
-    f.max_yaw_accel_radps2 = r.number("acc_lim_theta", f.max_yaw_accel_radps2, R::above(0.0), "rad/s^2");
-    f.xy_tolerance_m = r.number("xy_goal_tolerance", f.xy_tolerance_m, R::above(0.0), "m");
-    f.yaw_tolerance_rad = r.number("yaw_goal_tolerance", f.yaw_tolerance_rad, R::above(0.0), "rad");
-    f.lookahead_m = r.number("lookahead", f.lookahead_m, R::above(0.0), "m");
-    f.rotate_in_place_rad = r.number("rotate_in_place_angle", f.rotate_in_place_rad, R::closed(0.0, 3.1416), "rad");
-    f.arrive_fraction = r.number("arrive_fraction", f.arrive_fraction, R::closed(0.05, 1.0));
-    f.command_latency_s = r.number("command_latency", f.command_latency_s, R::closed(0.0, 2.0), "s");
-    f.min_yaw_rate_radps = r.number("min_vel_theta", f.min_yaw_rate_radps, R::above(0.0), "rad/s");
-    f.max_turn_reversals = r.integer("max_turn_reversals", f.max_turn_reversals, 0, 20);
+    readFollowerParams(r, &f);
     r.finish();
     if (!s->footprint.empty() && (s->footprint.size() < 6 || s->footprint.size() % 2 != 0))
       check("~footprint must be a flat list x0 y0 x1 y1 ... of at least 3 points, got " +
             std::to_string(s->footprint.size()) + " numbers");
-    if (s->footprint.empty()) {
-      // The robot file in the robot's namespace: the box around wheels, casters and corners.
-      thorvald_base::RobotConfig cfg;
-      try {
-        cfg = thorvald_base::robotConfigFromParams(nh);
-      } catch (const std::exception& e) {
-        check("no ~footprint and no usable robot file in " + nh.getNamespace() + ": " + e.what());
-      }
-      double x0 = 1e9, x1 = -1e9, y0 = 1e9, y1 = -1e9;
-      auto grow = [&](double x, double y, double rx, double ry) {
-        x0 = std::min(x0, x - rx);
-        x1 = std::max(x1, x + rx);
-        y0 = std::min(y0, y - ry);
-        y1 = std::max(y1, y + ry);
-      };
-      bool all_steered = !cfg.drives.empty();
-      for (const auto& d : cfg.drives) {
-        grow(d.x, d.y, d.r_wheel, 0.5 * d.w_wheel);
-        all_steered = all_steered && d.type == 0;
-      }
-      for (const auto& c : cfg.casters) grow(c.x, c.y, c.r_wheel + c.offset, 0.5 * c.w_wheel);
-      for (const auto& c : cfg.passive_wheels) grow(c.x, c.y, c.r_wheel, 0.5 * c.w_wheel);
-      for (const auto& c : cfg.corners) grow(c.x, c.y, 0.05, 0.05);
-      s->footprint = {x0, y0, x1, y0, x1, y1, x0, y1};
-      if (s->drive_mode == "auto")
-        s->drive_mode = all_steered && cfg.passive_wheels.empty() ? "omnidirectional" : "differential";
-    }
+    if (s->footprint.empty()) footprintFromRobotFile(nh, s);
     if (s->drive_mode == "auto") s->drive_mode = "differential";
     f.omnidirectional = s->drive_mode == "omnidirectional";
     if (s->costmap.planning_radius_m <= 0.0)
