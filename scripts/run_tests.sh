@@ -20,9 +20,9 @@ echo "== unit tests and rostests"
 # shellcheck disable=SC1091
 set +u; source "$src/.ws/devel/setup.bash"; set -u  # ROS setup scripts read unset variables
 export ROS_HOME="$src/.ws/ros_home" ROS_LOG_DIR="$src/.ws/ros_home/log"
-# Independent test targets run TEST_JOBS at a time (rostest masters take free ports; most tests wait on time, not
-# CPU); of the heavy ones in heavy_tests.txt one at a time. Output: .ws/run_tests.log; the ten slowest are printed.
-/usr/bin/python3 "$src/scripts/run_test_targets.py" "$src/.ws/build" --jobs "${TEST_JOBS:-3}" \
+# Independent test targets run TEST_JOBS (default 2) at a time (rostest masters take free ports; most tests wait on
+# time, not CPU); of the heavy ones in heavy_tests.txt one at a time. Output: .ws/run_tests.log; ten slowest printed.
+/usr/bin/python3 "$src/scripts/run_test_targets.py" "$src/.ws/build" --jobs "${TEST_JOBS:-2}" \
   --log "$src/.ws/run_tests.log" --heavy-file "$src/scripts/heavy_tests.txt"
 
 echo "== install into a scratch folder"
