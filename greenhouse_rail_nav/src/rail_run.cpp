@@ -57,4 +57,26 @@ double returnSpeed(const RailRunParams& p, double current, double reversed_m, do
   return rampTowards(current, target, p.accel_mps2, dt_s);
 }
 
+void CruiseSpeedMeter::add(bool cruising, double moved_m, double dt_s) {
+  if (!(dt_s > 0.0 && cruising)) {
+    open_m_ = open_s_ = 0.0;
+    return;
+  }
+  open_m_ += moved_m;
+  open_s_ += dt_s;
+  if (open_s_ < window_s_) return;
+  const double speed = open_m_ / open_s_;
+  sum_ += speed;
+  sum2_ += speed * speed;
+  ++n_;
+  open_m_ = open_s_ = 0.0;
+}
+
+bool CruiseSpeedMeter::stats(double* mean_mps, double* std_mps) const {
+  if (n_ <= 0) return false;
+  *mean_mps = sum_ / n_;
+  *std_mps = std::sqrt(std::max(0.0, sum2_ / n_ - *mean_mps * *mean_mps));
+  return true;
+}
+
 }  // namespace greenhouse_rail_nav

@@ -1,6 +1,7 @@
 // The UV mission's machine behind UvMission: its states' bodies share the robot's interface, the current rail
 // set and what was stored before entering the rails. Private to the mission library (uv_mission.cpp: selecting,
-// navigating, detecting, aligning and skipping; uv_mission_rails.cpp: the rail phase).
+// navigating, detecting, aligning and skipping; uv_mission_rails.cpp: the rail phase; uv_mission_recovery.cpp:
+// back onto the headland floor after a failure or a stop on the rails).
 #pragma once
 
 #include <algorithm>
@@ -71,6 +72,13 @@ class UvMission::Impl {
   std::string enter(tsm::ExecutionContext& ctx);
   std::string backOut(tsm::ExecutionContext& ctx);
   std::string treat(tsm::ExecutionContext& ctx);
+  /// TREAT's drive along the rails from rail_start (lights on since t_start [s]) until the far wall says the rail
+  /// ends ("end_of_rail"), a fault ("failed", with skip_reason_) or preemption; `pose` ends as the last odometry
+  /// pose read, `speed` holds the cruise speed measured.
+  std::string driveAlongRails(tsm::ExecutionContext& ctx, const thorvald_base::Pose2D& rail_start, double t_start,
+                              thorvald_base::Pose2D* pose, CruiseSpeedMeter* speed);
+  /// Why the treatment must stop at this tick (empty: it goes on); reads the odometry pose into `pose`.
+  std::string railRunFault(thorvald_base::Pose2D* pose);
   std::string comeBack(tsm::ExecutionContext& ctx);
   /// First state of every run: a robot that the last run left after it began entering a set's rails reverses to
   /// the pose stored before the entry (RETURN's motion) before anything else; "clear", "unsafe" or preempted.

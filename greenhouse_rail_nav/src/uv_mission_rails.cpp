@@ -1,6 +1,6 @@
 // The rail phase of the UV mission: entering the rails while the range finders watch for the floor's edge,
-// backing out, the treatment with the lights on, the return to the stored pose, and getting the robot back onto
-// the headland floor (or stopping it) after a failure at a rail set.
+// backing out, the treatment with the lights on and the return to the stored pose (uv_mission_recovery.cpp: getting
+// the robot back onto the headland floor, or stopping it, after a failure at a rail set or a stop on the rails).
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -101,93 +101,73 @@ std::string UvMission::Impl::backOut(tsm::ExecutionContext& ctx) {
 }
 
 std::string UvMission::Impl::treat(tsm::ExecutionContext& ctx) {
-  thorvald_base::Pose2D pose, last;
+  thorvald_base::Pose2D pose;
   if (!io_.odomPose(&pose)) {
     skip_reason_ = "no odometry on the rails";
     return "failed";
   }
-  last = pose;
-  const double yaw_ref = pose.yaw;
   const thorvald_base::Pose2D rail_start = pose;
-  double v = 0.0, t_last = io_.now(), lights_since = t_last;
-  double sum = 0.0, sum2 = 0.0, window_m = 0.0, window_s = 0.0;
-  constexpr double kSpeedWindowS = 0.5;
-  int n = 0;
+  const double lights_since = io_.now();
+  CruiseSpeedMeter speed;
   io_.setLights(true);
   log("UV lights on, driving along the rails");
-  std::string outcome = "end_of_rail";
-  while (io_.ok()) {
-    if (ctx.preemptRequested()) {
-      outcome = tsm::kPreempted;
-      break;
-    }
-    std::string why;
-    if (io_.safetyStopped(&why)) {
-      v = 0.0;
-      if (!holdWhileStopped(ctx)) {
-        outcome = tsm::kPreempted;
-        break;
-      }
-      io_.setLights(true);
-    }
-    if (surfaceStale() || !io_.odomPose(&pose)) {
-      skip_reason_ = "treatment stopped: surface readings or odometry lost on the rails";
-      log(skip_reason_);
-      outcome = "failed";
-      break;
-    }
-    if (io_.surface().wheels == Surface::kEdge) {
-      skip_reason_ = "treatment stopped: edge under a wheel on the rails";
-      log(skip_reason_);
-      outcome = "failed";
-      break;
-    }
-    const double now = io_.now();
-    const double dt = now - t_last;
-    t_last = now;
-    const double along = (pose.position() - rail_start.position()).dot(rail_start.heading());
-    // The speed at cruise, over windows of kSpeedWindowS: odometry comes at its own rate, so over one control tick
-    // the pose may not have moved at all, or moved twice.
-    if (dt > 0.0 && std::fabs(v - p_.rail_run.treat_speed_mps) < 1e-9) {
-      window_m += (pose.position() - last.position()).norm();
-      window_s += dt;
-      if (window_s >= kSpeedWindowS) {
-        const double speed = window_m / window_s;
-        sum += speed;
-        sum2 += speed * speed;
-        ++n;
-        window_m = window_s = 0.0;
-      }
-    } else {
-      window_m = window_s = 0.0;
-    }
-    last = pose;
-    if (along > p_.rail_run.max_rail_length_m) {
-      skip_reason_ = "treatment stopped: longer than max_rail_length without seeing the far wall";
-      log(skip_reason_);
-      outcome = "failed";
-      break;
-    }
-    v = inboundSpeed(p_.rail_run, v, io_.forwardRange(), dt);
-    if (v == 0.0 && along > 0.5) break;  // the far wall says the rail ends here
-    io_.commandTwist(v, railSteering(yaw_ref, pose.yaw));
-    io_.waitTick();
-  }
+  const std::string outcome = driveAlongRails(ctx, rail_start, lights_since, &pose, &speed);
   stop();
   io_.setLights(false);
   report_.lights_on_s = io_.now() - lights_since;
   driven_in_m_ = entered_m_ + (pose.position() - rail_start.position()).dot(rail_start.heading());
   report_.rail_length_m = driven_in_m_ - entered_m_;
-  if (n > 0) {
-    report_.speed_mean_mps = sum / n;
-    report_.speed_std_mps = std::sqrt(std::max(0.0, sum2 / n - report_.speed_mean_mps * report_.speed_mean_mps));
-  }
+  speed.stats(&report_.speed_mean_mps, &report_.speed_std_mps);
   treat_complete_ = outcome == "end_of_rail";
   std::ostringstream o;
   o << "UV lights off after " << report_.rail_length_m << " m on the rails (mean speed " << report_.speed_mean_mps
     << " m/s)";
   log(o.str());
   return outcome;
+}
+
+std::string UvMission::Impl::railRunFault(thorvald_base::Pose2D* pose) {
+  if (surfaceStale() || !io_.odomPose(pose)) return "treatment stopped: surface readings or odometry lost on the rails";
+  if (io_.surface().wheels == Surface::kEdge) return "treatment stopped: edge under a wheel on the rails";
+  return "";
+}
+
+std::string UvMission::Impl::driveAlongRails(tsm::ExecutionContext& ctx, const thorvald_base::Pose2D& rail_start,
+                                             double t_start, thorvald_base::Pose2D* pose, CruiseSpeedMeter* speed) {
+  const double yaw_ref = rail_start.yaw;
+  thorvald_base::Pose2D last = rail_start;
+  double v = 0.0, t_last = t_start;
+  while (io_.ok()) {
+    if (ctx.preemptRequested()) return tsm::kPreempted;
+    std::string why;
+    if (io_.safetyStopped(&why)) {
+      v = 0.0;
+      if (!holdWhileStopped(ctx)) return tsm::kPreempted;
+      io_.setLights(true);
+    }
+    const std::string fault = railRunFault(pose);
+    if (!fault.empty()) {
+      skip_reason_ = fault;
+      log(skip_reason_);
+      return "failed";
+    }
+    const double now = io_.now();
+    const double dt = now - t_last;
+    t_last = now;
+    const double along = (pose->position() - rail_start.position()).dot(rail_start.heading());
+    speed->add(std::fabs(v - p_.rail_run.treat_speed_mps) < 1e-9, (pose->position() - last.position()).norm(), dt);
+    last = *pose;
+    if (along > p_.rail_run.max_rail_length_m) {
+      skip_reason_ = "treatment stopped: longer than max_rail_length without seeing the far wall";
+      log(skip_reason_);
+      return "failed";
+    }
+    v = inboundSpeed(p_.rail_run, v, io_.forwardRange(), dt);
+    if (v == 0.0 && along > 0.5) break;  // the far wall says the rail ends here
+    io_.commandTwist(v, railSteering(yaw_ref, pose->yaw));
+    io_.waitTick();
+  }
+  return "end_of_rail";
 }
 
 UvMission::Impl::Loop UvMission::Impl::reverseToEntry(tsm::ExecutionContext& ctx, std::string* why) {
@@ -264,154 +244,6 @@ std::string UvMission::Impl::comeBack(tsm::ExecutionContext& ctx) {
   owner_.done_.insert(current_->index);
   log("back on the headland floor; rail set treated");
   return "back";
-}
-
-std::string UvMission::Impl::resume(tsm::ExecutionContext& ctx) {
-  if (!rail_phase_) return "clear";  // the last run did not stop after entering a set's rails
-  // The last run was stopped (preempted or aborted) after the robot began to enter a set's rails: it may stand on
-  // them, and no navigation goal may be sent from there. Wait for a fresh, decided reading at the wheels.
-  const double deadline = io_.now() + p_.secure_wait_s;
-  while (surfaceStale() || io_.surface().wheels == Surface::kUnknown) {
-    if (!io_.ok() || ctx.preemptRequested()) return tsm::kPreempted;
-    if (io_.now() >= deadline) {
-      owner_.stop_reason_ =
-          "resuming after a stop at the rails: no fresh, decided reading of the range finders "
-          "at the wheels";
-      log(owner_.stop_reason_);
-      return "unsafe";
-    }
-    stop();
-    io_.waitTick();
-  }
-  const Surface wheels = io_.surface().wheels;
-  if (wheels == Surface::kEdge) {
-    owner_.stop_reason_ = "resuming after a stop at the rails: an edge under a wheel";
-    log(owner_.stop_reason_);
-    return "unsafe";
-  }
-  if (wheels == Surface::kRail) {
-    thorvald_base::Pose2D pose;
-    if (!io_.odomPose(&pose)) {
-      owner_.stop_reason_ = "resuming on the rails: no odometry to reverse on";
-      log(owner_.stop_reason_);
-      return "unsafe";
-    }
-    driven_in_m_ = std::max(0.0, (pose.position() - entry_odom_.position()).dot(entry_odom_.heading()));
-    std::ostringstream l;
-    l << "resuming: the last run stopped on the rails, " << driven_in_m_
-      << " m from the stored pose; reversing to it before anything else";
-    log(l.str());
-    std::string why;
-    const Loop r = reverseToEntry(ctx, &why);
-    if (r == Loop::kPreempted) return tsm::kPreempted;
-    if (r != Loop::kDone) {
-      owner_.stop_reason_ = "resuming on the rails: " + why;
-      log(owner_.stop_reason_);
-      return "unsafe";
-    }
-    log("resuming: back on the headland floor at the stored pose");
-  }
-  rail_phase_ = false;
-  return "clear";
-}
-
-UvMission::Impl::Safety UvMission::Impl::reverseToFloor(tsm::ExecutionContext& ctx, std::string* note) {
-  thorvald_base::Pose2D start, pose;
-  if (!io_.odomPose(&start)) {
-    *note = "rail under the wheels and no odometry to reverse on";
-    return Safety::kUnsafe;
-  }
-  std::ostringstream l;
-  l << "rail under the wheels: reversing at " << p_.rail_run.slow_speed_mps << " m/s to find the floor (at most "
-    << p_.recover_reverse_max_m << " m)";
-  log(l.str());
-  pose = start;
-  while (io_.ok()) {
-    if (ctx.preemptRequested()) {
-      stop();
-      return Safety::kPreempted;
-    }
-    if (!holdWhileStopped(ctx)) return Safety::kPreempted;
-    if (surfaceStale() || !io_.odomPose(&pose)) {
-      stop();
-      *note = "surface readings or odometry lost while reversing to the floor";
-      return Safety::kUnsafe;
-    }
-    const double reversed = (pose.position() - start.position()).norm();
-    const SurfaceReading s = io_.surface();
-    if (s.wheels == Surface::kEdge) {
-      stop();
-      *note = "an edge under a wheel while reversing to the floor";
-      return Safety::kUnsafe;
-    }
-    if (s.wheels == Surface::kFloor) {
-      stop();
-      if (entry_map_known_) io_.resetLocalisation(entry_map_);
-      std::ostringstream o;
-      o << "floor found after reversing " << reversed << " m more";
-      *note = o.str();
-      return Safety::kSafe;
-    }
-    if (reversed > p_.recover_reverse_max_m) {
-      stop();
-      std::ostringstream o;
-      o << "still on the rails after reversing " << reversed << " m more";
-      *note = o.str();
-      return Safety::kUnsafe;
-    }
-    io_.commandTwist(-p_.rail_run.slow_speed_mps, railSteering(entry_odom_.yaw, pose.yaw));
-    io_.waitTick();
-  }
-  stop();
-  return Safety::kPreempted;
-}
-
-UvMission::Impl::Safety UvMission::Impl::secure(tsm::ExecutionContext& ctx, std::string* note) {
-  // The surface classifier needs a few agreeing readings after a change: wait for a fresh, decided reading.
-  const double deadline = io_.now() + p_.secure_wait_s;
-  SurfaceReading s;
-  while (true) {
-    if (!io_.ok() || ctx.preemptRequested()) return Safety::kPreempted;
-    if (!holdWhileStopped(ctx)) return Safety::kPreempted;
-    stop();
-    s = io_.surface();
-    const bool fresh = !surfaceStale();
-    if (fresh && s.wheels != Surface::kUnknown) break;
-    if (io_.now() >= deadline) {
-      *note = fresh ? "the range finders at the wheels read neither floor nor rail under both wheels"
-                    : "no fresh readings from the range finders";
-      return Safety::kUnsafe;
-    }
-    io_.waitTick();
-  }
-  if (s.wheels == Surface::kEdge) {
-    *note = "an edge under a wheel";
-    return Safety::kUnsafe;
-  }
-  if (s.wheels == Surface::kRail) {
-    if (!rail_phase_) {
-      *note = "rail under the wheels away from the rails' entry";
-      return Safety::kUnsafe;
-    }
-    const Safety r = reverseToFloor(ctx, note);
-    if (r != Safety::kSafe) return r;
-  }
-  thorvald_base::Pose2D pose;
-  if (!io_.odomPose(&pose)) {
-    *note = "no odometry";
-    return Safety::kUnsafe;
-  }
-  const double map_deadline = io_.now() + p_.detect_timeout_s;
-  while (!io_.mapPose(&pose)) {
-    if (!io_.ok() || ctx.preemptRequested()) return Safety::kPreempted;
-    if (io_.now() >= map_deadline) {
-      *note = "the robot's pose in the map is unknown";
-      return Safety::kUnsafe;
-    }
-    stop();
-    io_.waitTick();
-  }
-  return Safety::kSafe;
 }
 
 }  // namespace greenhouse_rail_nav

@@ -33,4 +33,25 @@ double inboundSpeed(const RailRunParams& p, double current_speed_mps, double wal
 double returnSpeed(const RailRunParams& p, double current_speed_mps, double reversed_m, double driven_in_m,
                    double dt_s);
 
+/// The speed held at cruise while treating, as the report gives it: odometry comes at its own rate, so over one
+/// control tick the pose may not have moved at all, or moved twice; the speed is measured over windows of at least
+/// window_s instead, and their mean and standard deviation reported. A tick off cruise (ramping, braking, a
+/// safety stop) or without elapsed time drops the open window.
+class CruiseSpeedMeter {
+ public:
+  explicit CruiseSpeedMeter(double window_s = 0.5) : window_s_(window_s) {}
+  /// One control tick: `moved_m` [m] driven over `dt_s` [s], `cruising` when the commanded speed was the cruise
+  /// speed.
+  void add(bool cruising, double moved_m, double dt_s);
+  int windows() const { return n_; }  ///< closed windows
+  /// Mean and standard deviation of the windows' speeds [m/s]; false (outputs untouched) without a closed window.
+  bool stats(double* mean_mps, double* std_mps) const;
+
+ private:
+  double window_s_;
+  double open_m_ = 0.0, open_s_ = 0.0;
+  double sum_ = 0.0, sum2_ = 0.0;
+  int n_ = 0;
+};
+
 }  // namespace greenhouse_rail_nav

@@ -17,18 +17,18 @@
 #include <tf2_ros/transform_listener.h>
 #include <thorvald_common/param_reader.h>
 #include <thorvald_state_machine/ros/status_publisher.h>
-#include <yaml-cpp/yaml.h>
 
-#include <atomic>
-#include <fstream>
+#include <limits>
 #include <mutex>
-#include <sstream>
-#include <thread>
+#include <string>
+#include <vector>
 
 #include "greenhouse_rail_nav/RailDetectionStatus.h"
 #include "greenhouse_rail_nav/SurfaceState.h"
 #include "greenhouse_rail_nav/rail_set_file.h"
 #include "greenhouse_rail_nav/uv_mission.h"
+#include "greenhouse_rail_nav/uv_mission_files.h"
+#include "greenhouse_rail_nav/uv_mission_runner.h"
 #include "thorvald_map/ros/conversions.h"
 
 namespace greenhouse_rail_nav {
@@ -217,38 +217,140 @@ class RosMissionIO : public MissionIO {
   ros::Publisher cmd_pub_, lights_pub_, initialpose_pub_;
 };
 
-std::set<int> loadProgress(const std::string& path) {
-  std::set<int> done;
-  if (path.empty()) return done;
-  std::ifstream in(path);
-  if (!in) return done;
-  const YAML::Node n = YAML::Load(in);
-  if (n["treated"] && n["treated"].IsSequence())
-    for (const auto& v : n["treated"]) done.insert(v.as<int>());
-  return done;
+/// The node's parameters: the mission's, the robot interface's and how the node runs it.
+struct NodeSettings {
+  UvMissionParams mission;
+  RosMissionIO::Config io;
+  std::string rail_sets_file, progress_file;
+  bool autostart = true, exit_when_done = false;
+  double wait_for_rail_sets_s = 0.0;  ///< [s]
+};
+
+/// Reads the robot interface's and the mission's motion parameters (in this order; defaults from their structs).
+void readMotionParams(thorvald_common::ParamReader& params, NodeSettings* s) {
+  using R = thorvald_common::ParamRange;
+  RosMissionIO::Config& io = s->io;
+  UvMissionParams& p = s->mission;
+  io.map_frame = params.text("map_frame", io.map_frame);
+  io.base_frame = params.text("base_frame", io.base_frame);
+  io.rate_hz = params.number("control_rate", io.rate_hz, R::aboveUpTo(1.0, 200.0), "Hz");
+  io.odom_timeout_s = params.number("odom_timeout", io.odom_timeout_s, R::above(0.0), "s");
+  p.alignment.approach_x_m = params.number("approach_x", p.alignment.approach_x_m, R::closed(-5.0, -0.2), "m");
+  p.alignment.y_limit_m = params.number("y_limit", p.alignment.y_limit_m, R::aboveUpTo(0.0, 0.1), "m");
+  p.alignment.yaw_limit_rad = params.number("yaw_limit", p.alignment.yaw_limit_rad, R::aboveUpTo(0.0, 0.2), "rad");
+  p.alignment.max_turn_rad = params.number("max_turn", p.alignment.max_turn_rad, R::closed(0.1, 1.4), "rad");
+  p.motion.max_speed_mps = params.number("align_speed", p.motion.max_speed_mps, R::aboveUpTo(0.0, 1.0), "m/s");
+  p.motion.max_turn_rate_rps = params.number("turn_rate", p.motion.max_turn_rate_rps, R::aboveUpTo(0.0, 2.0), "rad/s");
+  p.motion.response_time_s = params.number("response_time", p.motion.response_time_s, R::closed(0.0, 1.0), "s");
+  p.rail_run.treat_speed_mps = params.number("treat_speed", p.rail_run.treat_speed_mps, R::aboveUpTo(0.0, 1.5), "m/s");
+  p.rail_run.return_speed_mps =
+      params.number("return_speed", p.rail_run.return_speed_mps, R::aboveUpTo(0.0, 1.5), "m/s");
+  p.rail_run.end_wall_range_m = params.number("end_wall_range", p.rail_run.end_wall_range_m, R::above(0.0), "m");
+  p.rail_run.slow_fraction = params.number("slow_fraction", p.rail_run.slow_fraction, R::closed(0.1, 0.99));
 }
 
-void saveProgress(const std::string& path, const std::set<int>& done) {
-  if (path.empty()) return;
-  std::ofstream out(path);
-  out << "# Rail sets the UV mission has treated; a restarted mission skips them. Delete to start over.\ntreated: [";
-  bool first = true;
-  for (int i : done) {
-    out << (first ? "" : ", ") << i;
-    first = false;
+/// Reads the mission's steps' parameters (in this order; defaults from UvMissionParams).
+void readStepParams(thorvald_common::ParamReader& params, UvMissionParams* p) {
+  using R = thorvald_common::ParamRange;
+  p->nav_timeout_s = params.number("nav_timeout", p->nav_timeout_s, R::above(0.0), "s");
+  p->detect_timeout_s = params.number("detect_timeout", p->detect_timeout_s, R::above(0.0), "s");
+  p->search_step_rad = params.number("search_step", p->search_step_rad, R::aboveUpTo(0.0, 1.0), "rad");
+  p->search_limit_rad = params.number("search_limit", p->search_limit_rad, R::aboveUpTo(0.0, 3.14), "rad");
+  p->max_align_attempts = params.integer("max_align_attempts", p->max_align_attempts, 1, 50);
+  p->enter_speed_mps = params.number("enter_speed", p->enter_speed_mps, R::aboveUpTo(0.0, 0.3), "m/s");
+  p->enter_max_distance_m = params.number("enter_max_distance", p->enter_max_distance_m, R::above(0.0), "m");
+  p->on_rails_margin_m = params.number("on_rails_margin", p->on_rails_margin_m, R::closed(0.0, 1.0), "m");
+  p->enter_line_frequency_rps =
+      params.number("enter_line_frequency", p->enter_line_frequency_rps, R::closed(0.0, 3.0), "rad/s");
+  p->secure_wait_s = params.number("secure_wait", p->secure_wait_s, R::aboveUpTo(0.0, 10.0), "s");
+  p->recover_reverse_max_m = params.number("recover_reverse_max", p->recover_reverse_max_m, R::closed(0.0, 5.0), "m");
+}
+
+/// Every private parameter, checked; throws ParamError naming the bad one.
+NodeSettings readSettings(ros::NodeHandle& pnh) {
+  thorvald_common::ParamReader params(pnh);
+  NodeSettings s;
+  s.rail_sets_file = params.text("rail_sets_file", "");
+  s.progress_file = params.text("progress_file", "");
+  s.autostart = params.flag("autostart", true);
+  s.exit_when_done = params.flag("exit_when_done", false);
+  s.wait_for_rail_sets_s =
+      params.number("wait_for_rail_sets", 0.0, thorvald_common::ParamRange::closed(0.0, 3600.0), "s");
+  readMotionParams(params, &s);
+  readStepParams(params, &s.mission);
+  params.finish();
+  const std::string problems = s.mission.validate();
+  if (!problems.empty()) throw thorvald_common::ParamError("uv_mission: " + problems);
+  if (s.rail_sets_file.empty())
+    throw thorvald_common::ParamError("uv_mission: ~rail_sets_file is required (map_analyzer's output)");
+  return s;
+}
+
+/// map_analyzer, started together with the mission, writes the rail-set file before it publishes rail_targets
+/// (latched): the file is read once that message has come, so a file left by an earlier run is not taken. False
+/// (said in a fatal log line) when none came in time or the map has no rail set.
+bool waitForRailSets(ros::NodeHandle& nh, double wait_s) {
+  ROS_INFO("uv_mission: waiting up to %.0f s for map_analyzer's rail_targets", wait_s);
+  const auto good = ros::topic::waitForMessage<geometry_msgs::PoseArray>("rail_targets", nh, ros::Duration(wait_s));
+  if (!good) {
+    ROS_FATAL("uv_mission: no rail_targets from map_analyzer within %.0f s (wait_for_rail_sets)", wait_s);
+    return false;
   }
-  out << "]\n";
+  if (good->poses.empty()) {
+    // No good set: either all are uncertain (the file lists them) or nothing was found (no file is written,
+    // and one left by an earlier run must not be read).
+    const auto uncertain =
+        ros::topic::waitForMessage<geometry_msgs::PoseArray>("rail_targets_uncertain", nh, ros::Duration(5.0));
+    if (!uncertain || uncertain->poses.empty()) {
+      ROS_FATAL("uv_mission: map_analyzer found no rail sets in the map (see its status)");
+      return false;
+    }
+  }
+  return true;
 }
 
-std::string reportText(const UvMission& m) {
-  std::ostringstream o;
-  o << "rail_set,treated,result,align_attempts,entry_attempts,searches,rail_length_m,lights_on_s,speed_mean_mps,"
-       "speed_std_mps,duration_s\n";
-  for (const auto& r : m.reports())
-    o << r.index << "," << (r.treated ? 1 : 0) << ",\"" << r.result << "\"," << r.align_attempts << ","
-      << r.entry_attempts << "," << r.searches << "," << r.rail_length_m << "," << r.lights_on_s << ","
-      << r.speed_mean_mps << "," << r.speed_std_mps << "," << r.duration_s << "\n";
-  return o.str();
+/// Runs the mission on ROS until the node shuts down: status and report topics, the ~start and ~stop services.
+void runMission(ros::NodeHandle& nh, ros::NodeHandle& pnh, const NodeSettings& settings,
+                const std::vector<MissionTarget>& targets) {
+  RosMissionIO io(nh, settings.io);
+  UvMission mission(io, settings.mission, targets);
+  mission.markDone(loadProgress(settings.progress_file));
+  thorvald_state_machine::StatusPublisher status(nh, mission.machine(), "mission/status", 1.0);
+  ros::Publisher report_pub = nh.advertise<std_msgs::String>("mission/report", 1, true);
+  UvMissionRunner::Hooks hooks;
+  hooks.error = [](const std::string& e) { ROS_ERROR("uv_mission: the mission stopped on an error: %s", e.c_str()); };
+  hooks.finished = [&](const std::string& outcome) {
+    saveProgress(settings.progress_file, mission.done());
+    std_msgs::String r;
+    r.data = reportCsv(mission.reports());
+    report_pub.publish(r);
+    if (!mission.stopReason().empty())
+      ROS_ERROR("uv_mission: stopped before the end, the robot needs a person: %s", mission.stopReason().c_str());
+    // The report covers this run; done() also holds the sets treated by earlier runs.
+    ROS_INFO("uv_mission: finished with '%s': %zu of %zu rail sets treated\n%s", outcome.c_str(), mission.done().size(),
+             targets.size(), r.data.c_str());
+  };
+  hooks.exit = [] { ros::shutdown(); };
+  UvMissionRunner runner(mission, io, settings.exit_when_done, hooks);
+  using Trigger = std_srvs::Trigger;
+  ros::ServiceServer start_srv = pnh.advertiseService<Trigger::Request, Trigger::Response>(
+      "start", [&](Trigger::Request&, Trigger::Response& res) {
+        res.message = runner.start();
+        res.success = res.message == "started";
+        return true;
+      });
+  ros::ServiceServer stop_srv =
+      pnh.advertiseService<Trigger::Request, Trigger::Response>("stop", [&](Trigger::Request&, Trigger::Response& res) {
+        bool was_running = false;
+        res.message = runner.stop(&was_running);
+        res.success = was_running;
+        return true;
+      });
+  ros::AsyncSpinner spinner(3);
+  spinner.start();
+  if (settings.autostart) runner.start();
+  ros::waitForShutdown();
+  runner.shutdown();
 }
 
 }  // namespace
@@ -259,138 +361,17 @@ int main(int argc, char** argv) {
   ros::init(argc, argv, "uv_mission");
   ros::NodeHandle nh, pnh("~");
   try {
-    thorvald_common::ParamReader params(pnh);
-    using R = thorvald_common::ParamRange;
-    grn::UvMissionParams p;
-    const std::string file = params.text("rail_sets_file", "");
-    const std::string progress_file = params.text("progress_file", "");
-    const bool autostart = params.flag("autostart", true);
-    const bool exit_when_done = params.flag("exit_when_done", false);
-    const double wait_for_rail_sets_s = params.number("wait_for_rail_sets", 0.0, R::closed(0.0, 3600.0), "s");
-    grn::RosMissionIO::Config io_cfg;
-    io_cfg.map_frame = params.text("map_frame", io_cfg.map_frame);
-    io_cfg.base_frame = params.text("base_frame", io_cfg.base_frame);
-    io_cfg.rate_hz = params.number("control_rate", io_cfg.rate_hz, R::aboveUpTo(1.0, 200.0), "Hz");
-    io_cfg.odom_timeout_s = params.number("odom_timeout", io_cfg.odom_timeout_s, R::above(0.0), "s");
-    p.alignment.approach_x_m = params.number("approach_x", p.alignment.approach_x_m, R::closed(-5.0, -0.2), "m");
-    p.alignment.y_limit_m = params.number("y_limit", p.alignment.y_limit_m, R::aboveUpTo(0.0, 0.1), "m");
-    p.alignment.yaw_limit_rad = params.number("yaw_limit", p.alignment.yaw_limit_rad, R::aboveUpTo(0.0, 0.2), "rad");
-    p.alignment.max_turn_rad = params.number("max_turn", p.alignment.max_turn_rad, R::closed(0.1, 1.4), "rad");
-    p.motion.max_speed_mps = params.number("align_speed", p.motion.max_speed_mps, R::aboveUpTo(0.0, 1.0), "m/s");
-    p.motion.max_turn_rate_rps =
-        params.number("turn_rate", p.motion.max_turn_rate_rps, R::aboveUpTo(0.0, 2.0), "rad/s");
-    p.motion.response_time_s = params.number("response_time", p.motion.response_time_s, R::closed(0.0, 1.0), "s");
-    p.rail_run.treat_speed_mps =
-        params.number("treat_speed", p.rail_run.treat_speed_mps, R::aboveUpTo(0.0, 1.5), "m/s");
-    p.rail_run.return_speed_mps =
-        params.number("return_speed", p.rail_run.return_speed_mps, R::aboveUpTo(0.0, 1.5), "m/s");
-    p.rail_run.end_wall_range_m = params.number("end_wall_range", p.rail_run.end_wall_range_m, R::above(0.0), "m");
-    p.rail_run.slow_fraction = params.number("slow_fraction", p.rail_run.slow_fraction, R::closed(0.1, 0.99));
-    p.nav_timeout_s = params.number("nav_timeout", p.nav_timeout_s, R::above(0.0), "s");
-    p.detect_timeout_s = params.number("detect_timeout", p.detect_timeout_s, R::above(0.0), "s");
-    p.search_step_rad = params.number("search_step", p.search_step_rad, R::aboveUpTo(0.0, 1.0), "rad");
-    p.search_limit_rad = params.number("search_limit", p.search_limit_rad, R::aboveUpTo(0.0, 3.14), "rad");
-    p.max_align_attempts = params.integer("max_align_attempts", p.max_align_attempts, 1, 50);
-    p.enter_speed_mps = params.number("enter_speed", p.enter_speed_mps, R::aboveUpTo(0.0, 0.3), "m/s");
-    p.enter_max_distance_m = params.number("enter_max_distance", p.enter_max_distance_m, R::above(0.0), "m");
-    p.on_rails_margin_m = params.number("on_rails_margin", p.on_rails_margin_m, R::closed(0.0, 1.0), "m");
-    p.enter_line_frequency_rps =
-        params.number("enter_line_frequency", p.enter_line_frequency_rps, R::closed(0.0, 3.0), "rad/s");
-    p.secure_wait_s = params.number("secure_wait", p.secure_wait_s, R::aboveUpTo(0.0, 10.0), "s");
-    p.recover_reverse_max_m = params.number("recover_reverse_max", p.recover_reverse_max_m, R::closed(0.0, 5.0), "m");
-    params.finish();
-    const std::string problems = p.validate();
-    if (!problems.empty()) throw thorvald_common::ParamError("uv_mission: " + problems);
-    if (file.empty())
-      throw thorvald_common::ParamError("uv_mission: ~rail_sets_file is required (map_analyzer's output)");
-    if (wait_for_rail_sets_s > 0.0) {
-      // map_analyzer, started together with the mission, writes the file before it publishes rail_targets
-      // (latched): the file is read once that message has come, so a file left by an earlier run is not taken.
-      ROS_INFO("uv_mission: waiting up to %.0f s for map_analyzer's rail_targets", wait_for_rail_sets_s);
-      const auto good =
-          ros::topic::waitForMessage<geometry_msgs::PoseArray>("rail_targets", nh, ros::Duration(wait_for_rail_sets_s));
-      if (!good) {
-        ROS_FATAL("uv_mission: no rail_targets from map_analyzer within %.0f s (wait_for_rail_sets)",
-                  wait_for_rail_sets_s);
-        return 1;
-      }
-      if (good->poses.empty()) {
-        // No good set: either all are uncertain (the file lists them) or nothing was found (no file is written,
-        // and one left by an earlier run must not be read).
-        const auto uncertain =
-            ros::topic::waitForMessage<geometry_msgs::PoseArray>("rail_targets_uncertain", nh, ros::Duration(5.0));
-        if (!uncertain || uncertain->poses.empty()) {
-          ROS_FATAL("uv_mission: map_analyzer found no rail sets in the map (see its status)");
-          return 1;
-        }
-      }
-    }
+    const grn::NodeSettings settings = grn::readSettings(pnh);
+    if (settings.wait_for_rail_sets_s > 0.0 && !grn::waitForRailSets(nh, settings.wait_for_rail_sets_s)) return 1;
     grn::RailSetFile sets;
     std::string error;
-    if (!grn::loadRailSetFile(file, &sets, &error)) {
+    if (!grn::loadRailSetFile(settings.rail_sets_file, &sets, &error)) {
       ROS_FATAL("uv_mission: %s", error.c_str());
       return 1;
     }
-    std::vector<grn::MissionTarget> targets;
-    for (const auto& s : sets.rail_sets) targets.push_back({s.index, s.target_pose, s.good, s.reason});
-    ROS_INFO("uv_mission: %zu rail sets in %s", targets.size(), file.c_str());
-
-    grn::RosMissionIO io(nh, io_cfg);
-    grn::UvMission mission(io, p, targets);
-    mission.markDone(grn::loadProgress(progress_file));
-    thorvald_state_machine::StatusPublisher status(nh, mission.machine(), "mission/status", 1.0);
-    ros::Publisher report_pub = nh.advertise<std_msgs::String>("mission/report", 1, true);
-    std::atomic<bool> running{false};
-    std::thread worker;
-    std::mutex worker_mutex;
-    auto start = [&]() -> std::string {
-      std::lock_guard<std::mutex> l(worker_mutex);
-      if (running) return "already running";
-      if (worker.joinable()) worker.join();
-      running = true;
-      worker = std::thread([&] {
-        std::string outcome;
-        try {
-          outcome = mission.run();
-        } catch (const std::exception& e) {
-          outcome = "aborted";
-          ROS_ERROR("uv_mission: the mission stopped on an error: %s", e.what());
-          io.commandTwist(0.0, 0.0);
-          io.setLights(false);
-        }
-        grn::saveProgress(progress_file, mission.done());
-        std_msgs::String r;
-        r.data = grn::reportText(mission);
-        report_pub.publish(r);
-        if (!mission.stopReason().empty())
-          ROS_ERROR("uv_mission: stopped before the end, the robot needs a person: %s", mission.stopReason().c_str());
-        // The report covers this run; done() also holds the sets treated by earlier runs.
-        ROS_INFO("uv_mission: finished with '%s': %zu of %zu rail sets treated\n%s", outcome.c_str(),
-                 mission.done().size(), targets.size(), r.data.c_str());
-        running = false;
-        if (exit_when_done && outcome != thorvald_state_machine::kPreempted) ros::shutdown();
-      });
-      return "started";
-    };
-    ros::ServiceServer start_srv = pnh.advertiseService<std_srvs::Trigger::Request, std_srvs::Trigger::Response>(
-        "start", [&](std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
-          res.message = start();
-          res.success = res.message == "started";
-          return true;
-        });
-    ros::ServiceServer stop_srv = pnh.advertiseService<std_srvs::Trigger::Request, std_srvs::Trigger::Response>(
-        "stop", [&](std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
-          mission.requestPreempt();
-          res.success = running;
-          res.message = running ? "stopping; ~start resumes at the first rail set not treated" : "not running";
-          return true;
-        });
-    ros::AsyncSpinner spinner(3);
-    spinner.start();
-    if (autostart) start();
-    ros::waitForShutdown();
-    mission.requestPreempt();
-    if (worker.joinable()) worker.join();
+    const std::vector<grn::MissionTarget> targets = grn::missionTargets(sets);
+    ROS_INFO("uv_mission: %zu rail sets in %s", targets.size(), settings.rail_sets_file.c_str());
+    grn::runMission(nh, pnh, settings, targets);
   } catch (const thorvald_common::ParamError& e) {
     ROS_FATAL("%s", e.what());
     return 1;
