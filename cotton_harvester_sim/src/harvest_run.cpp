@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cmath>
 #include <exception>
+#include <memory>
 #include <stdexcept>
 
 #include <opencv2/imgcodecs.hpp>
@@ -111,107 +112,153 @@ HarvestRunConfig fieldConfig(unsigned seed) {
   return c;
 }
 
+void StateTimeTally::observe(const std::string& active_state, double now_s) {
+  if (!active_state.empty()) report_->states_visited.insert(active_state);
+  if (active_state == state_now_) return;
+  if (!state_now_.empty()) report_->state_time_s[state_now_] += now_s - state_since_s_;
+  if (!active_state.empty()) ++report_->state_entries[active_state];
+  state_now_ = active_state;
+  state_since_s_ = now_s;
+}
+
+void StateTimeTally::finish(double now_s) {
+  if (!state_now_.empty()) report_->state_time_s[state_now_] += now_s - state_since_s_;
+}
+
+namespace {
+
+/// The perception pipeline of the stack on the simulated rover: the colour detector, with partial bolls or without.
+std::unique_ptr<perception::PerceptionPipeline> makePipeline(const HarvestRunConfig& config) {
+  const perception::PerceptionParams pp = simPerceptionParams(config.sim);
+  return std::make_unique<perception::PerceptionPipeline>(
+      pp, std::make_unique<perception::ColourBollDetector>(config.partial_bolls ? simColourBollParams()
+                                                                                : perception::ColourBollParams()));
+}
+
+/// The machine's last transition on stderr: simulated time, states, outcome, the rover, the points it decided on.
+void printTransition(const thorvald_state_machine::StatusSnapshot& s, const control::HarvestMachine& machine,
+                     const SimHarvestPlant& plant, const RoverSim& sim) {
+  const auto& h = s.history.back();
+  const auto points = machine.lastDecisionPoints();
+  std::fprintf(stderr, "[%7.2f s] %s -> %s (%s) rover %.3f m", h.stamp_s, h.state.c_str(), h.next.c_str(),
+               h.outcome.c_str(), plant.roverPositionM());
+  if (points)
+    std::fprintf(stderr, "  boll (%.3f %.3f %.3f) effector (%.3f %.3f %.3f)", points->first.x, points->first.y,
+                 points->first.z, points->second.x, points->second.y, points->second.z);
+  std::fprintf(stderr, "  captured %d\n", sim.bollsCaptured());
+}
+
+/// One record per boll with the truth known before the run: whether the arm can reach it along the driven stretch
+/// and whether any camera position on the row could see it past the leaves as they grew (every 5 cm of the drive).
+/// Returns the reachable flags.
+std::vector<bool> startBollRecords(const RoverSim& sim, double row_length_m, HarvestRunReport* report) {
+  const std::vector<bool> reachable = reachableBolls(sim, row_length_m);
+  report->boll_records.resize(sim.bolls().size());
+  for (size_t i = 0; i < reachable.size(); ++i) report->boll_records[i].reachable = reachable[i];
+  std::vector<double> offsets;
+  for (double s = 0.0; s <= row_length_m + 0.3; s += 0.05) offsets.push_back(s);
+  for (size_t i = 0; i < reachable.size(); ++i)
+    if (reachable[i]) report->boll_records[i].row_best_visible_fraction = sim.bestVisibleFractionAlongRow(i, offsets);
+  return reachable;
+}
+
+/// The frame's images as the configuration asks: every frame into frames_dir, and the first one with the
+/// end-effector and a boll as the debug image (`debug_written` set once it is written).
+void writeFrameImages(const HarvestRunConfig& config, int frame, const cv::Mat& bgr,
+                      const perception::FrameResult& result, bool* debug_written) {
+  if (!config.frames_dir.empty()) {
+    char name[32];
+    std::snprintf(name, sizeof(name), "/frame_%04d.png", frame);
+    cv::imwrite(config.frames_dir + name, perception::drawDebugOverlay(bgr, result));
+  }
+  if (!*debug_written && result.end_effector && !result.bolls.empty()) {
+    *debug_written = cv::imwrite(config.debug_image_path, perception::drawDebugOverlay(bgr, result));
+  }
+}
+
+/// What the run did, after it: the machine's counts with the picks the simulation saw, the stack's frame and leaf
+/// counts, the rover's travel and odometry error, and each boll's fate with the cause of a miss.
+void fillReport(const RoverSim& sim, const SimHarvestPlant& plant, const control::HarvestMachine& machine,
+                const control::HarvestParams& mp, double encoder_start_m, HarvestRunReport* report) {
+  report->counts = machine.counts();
+  report->machine_picked = report->counts.picked;
+  report->counts.picked = sim.bollsCaptured();
+  report->bolls_present = static_cast<int>(sim.bolls().size());
+  report->counts.bolls_present = report->bolls_present;
+  report->metrics = control::computeMetrics(report->counts);
+  report->frames = plant.frames();
+  report->frames_with_effector = plant.framesWithEffector();
+  report->effector_rejected = plant.effectorRejected();
+  report->effector_from_calibration = plant.effectorFromCalibration();
+  report->picks_cleared = machine.actions().picksCleared();
+  report->picks_redetected = machine.actions().picksRedetected();
+  report->leaves_pushed = sim.leavesPushed();
+  report->leaf_searches = machine.actions().leafSearches();
+  report->leaf_sweeps = machine.actions().leafSweeps();
+  report->rover_track = plant.track();
+  report->bolls = sim.bolls();
+  report->rover_end = sim.roverPosition();
+  const Eigen::Vector3d travel = report->rover_end - report->rover_start;
+  report->odometry_error_m = (plant.roverPositionM() - encoder_start_m) - std::copysign(travel.norm(), travel.x());
+  report->divergences = sim.divergences();
+  const std::vector<control::TrackedBoll> tracks = machine.tracks();
+  for (size_t i = 0; i < report->bolls.size(); ++i) {
+    BollRecord& r = report->boll_records[i];
+    r.captured = report->bolls[i].captured;
+    r.closest_vacuum_m = report->bolls[i].closest_vacuum_m;
+    const MissCause cause = classifyMiss(r, tracks, mp.tracker);
+    report->miss_causes.push_back(cause);
+    report->misses.add(cause);
+  }
+}
+
+/// Builds the rover and its stack, runs the machine to its end and fills the report; throws what they throw.
+void harvest(const HarvestRunConfig& config, HarvestRunReport* report) {
+  RoverSim sim(config.sim);
+  auto pipeline = makePipeline(config);
+  StackParams stack = simStackParams(config.sim);
+  stack.effector_search_near_arm = config.effector_search_near_arm;
+  SimHarvestPlant plant(sim, stack, config.machine.actions.arm, std::move(pipeline));
+  control::HarvestParams mp = config.machine;
+  mp.bolls_present = static_cast<int>(sim.bolls().size());
+  if (auto bad = mp.check(); !bad.empty()) throw std::invalid_argument("harvest machine: " + bad);
+  control::HarvestMachine machine(plant, mp);
+  StateTimeTally tally(report);
+  std::uint32_t printed = 0;
+  machine.machine().setObserver([&](const thorvald_state_machine::StatusSnapshot& s) {
+    tally.observe(s.active_state, sim.time());
+    if (config.status_observer) config.status_observer(s);
+    if (config.verbose && s.transitions != printed && !s.history.empty()) {
+      printed = s.transitions;
+      printTransition(s, machine, plant, sim);
+    }
+  });
+  machine.machine().setClock([&sim] { return sim.time(); });
+  bool debug_written = config.debug_image_path.empty();
+  const double t0 = sim.time();
+  const std::vector<bool> reachable = startBollRecords(sim, mp.row_length_m, report);
+  plant.setFrameHook([&](const cv::Mat& bgr, const perception::FrameResult& result) {
+    if (sim.time() - t0 > config.time_limit_s) machine.machine().requestPreempt();
+    scoreFrame(sim, result, plant.roverPositionM(), mp.decision.y_forward_sign, mp.tracker.match_radius_m,
+               &report->boll_records);
+    writeFrameImages(config, plant.frames(), bgr, result, &debug_written);
+  });
+  report->rover_start = sim.roverPosition();
+  const double encoder_start_m = plant.roverPositionM();
+  report->bolls_reachable = static_cast<int>(std::count(reachable.begin(), reachable.end(), true));
+  report->outcome = machine.run();
+  tally.finish(sim.time());
+  report->sim_time_s = sim.time() - t0;
+  fillReport(sim, plant, machine, mp, encoder_start_m, report);
+}
+
+}  // namespace
+
 HarvestRunReport runHarvest(const HarvestRunConfig& config) {
   HarvestRunReport report;
   const auto wall_start = std::chrono::steady_clock::now();
   try {
-    RoverSim sim(config.sim);
-    perception::PerceptionParams pp = simPerceptionParams(config.sim);
-    auto pipeline = std::make_unique<perception::PerceptionPipeline>(
-        pp, std::make_unique<perception::ColourBollDetector>(config.partial_bolls ? simColourBollParams()
-                                                                                  : perception::ColourBollParams()));
-    StackParams stack = simStackParams(config.sim);
-    stack.effector_search_near_arm = config.effector_search_near_arm;
-    SimHarvestPlant plant(sim, stack, config.machine.actions.arm, std::move(pipeline));
-    control::HarvestParams mp = config.machine;
-    mp.bolls_present = static_cast<int>(sim.bolls().size());
-    if (auto bad = mp.check(); !bad.empty()) throw std::invalid_argument("harvest machine: " + bad);
-    control::HarvestMachine machine(plant, mp);
-    const bool verbose = config.verbose;
-    std::uint32_t printed = 0;
-    std::string state_now;
-    double state_since = sim.time();
-    machine.machine().setObserver([&](const thorvald_state_machine::StatusSnapshot& s) {
-      if (!s.active_state.empty()) report.states_visited.insert(s.active_state);
-      if (s.active_state != state_now) {
-        if (!state_now.empty()) report.state_time_s[state_now] += sim.time() - state_since;
-        if (!s.active_state.empty()) ++report.state_entries[s.active_state];
-        state_now = s.active_state;
-        state_since = sim.time();
-      }
-      if (config.status_observer) config.status_observer(s);
-      if (verbose && s.transitions != printed && !s.history.empty()) {
-        printed = s.transitions;
-        const auto& h = s.history.back();
-        const auto points = machine.lastDecisionPoints();
-        std::fprintf(stderr, "[%7.2f s] %s -> %s (%s) rover %.3f m", h.stamp_s, h.state.c_str(), h.next.c_str(),
-                     h.outcome.c_str(), plant.roverPositionM());
-        if (points)
-          std::fprintf(stderr, "  boll (%.3f %.3f %.3f) effector (%.3f %.3f %.3f)", points->first.x, points->first.y,
-                       points->first.z, points->second.x, points->second.y, points->second.z);
-        std::fprintf(stderr, "  captured %d\n", sim.bollsCaptured());
-      }
-    });
-    machine.machine().setClock([&sim] { return sim.time(); });
-    bool debug_written = config.debug_image_path.empty();
-    const double t0 = sim.time();
-    const std::vector<bool> reachable = reachableBolls(sim, mp.row_length_m);
-    report.boll_records.resize(sim.bolls().size());
-    for (size_t i = 0; i < reachable.size(); ++i) report.boll_records[i].reachable = reachable[i];
-    // Could any camera position on the row see each boll past the leaves as they grew (every 5 cm of the drive)?
-    std::vector<double> offsets;
-    for (double s = 0.0; s <= mp.row_length_m + 0.3; s += 0.05) offsets.push_back(s);
-    for (size_t i = 0; i < reachable.size(); ++i)
-      if (reachable[i]) report.boll_records[i].row_best_visible_fraction = sim.bestVisibleFractionAlongRow(i, offsets);
-    plant.setFrameHook([&](const cv::Mat& bgr, const perception::FrameResult& result) {
-      if (sim.time() - t0 > config.time_limit_s) machine.machine().requestPreempt();
-      scoreFrame(sim, result, plant.roverPositionM(), mp.decision.y_forward_sign, mp.tracker.match_radius_m,
-                 &report.boll_records);
-      if (!config.frames_dir.empty()) {
-        char name[32];
-        std::snprintf(name, sizeof(name), "/frame_%04d.png", plant.frames());
-        cv::imwrite(config.frames_dir + name, perception::drawDebugOverlay(bgr, result));
-      }
-      if (!debug_written && result.end_effector && !result.bolls.empty()) {
-        debug_written = cv::imwrite(config.debug_image_path, perception::drawDebugOverlay(bgr, result));
-      }
-    });
-    report.rover_start = sim.roverPosition();
-    const double encoder_start_m = plant.roverPositionM();
-    report.bolls_reachable = static_cast<int>(std::count(reachable.begin(), reachable.end(), true));
-    report.outcome = machine.run();
-    if (!state_now.empty()) report.state_time_s[state_now] += sim.time() - state_since;
-    report.counts = machine.counts();
-    report.machine_picked = report.counts.picked;
-    report.counts.picked = sim.bollsCaptured();
-    report.bolls_present = static_cast<int>(sim.bolls().size());
-    report.counts.bolls_present = report.bolls_present;
-    report.metrics = control::computeMetrics(report.counts);
-    report.frames = plant.frames();
-    report.frames_with_effector = plant.framesWithEffector();
-    report.effector_rejected = plant.effectorRejected();
-    report.effector_from_calibration = plant.effectorFromCalibration();
-    report.picks_cleared = machine.actions().picksCleared();
-    report.picks_redetected = machine.actions().picksRedetected();
-    report.leaves_pushed = sim.leavesPushed();
-    report.leaf_searches = machine.actions().leafSearches();
-    report.leaf_sweeps = machine.actions().leafSweeps();
-    report.sim_time_s = sim.time() - t0;
-    report.rover_track = plant.track();
-    report.bolls = sim.bolls();
-    report.rover_end = sim.roverPosition();
-    const Eigen::Vector3d travel = report.rover_end - report.rover_start;
-    report.odometry_error_m = (plant.roverPositionM() - encoder_start_m) - std::copysign(travel.norm(), travel.x());
-    report.divergences = sim.divergences();
-    const std::vector<control::TrackedBoll> tracks = machine.tracks();
-    for (size_t i = 0; i < report.bolls.size(); ++i) {
-      BollRecord& r = report.boll_records[i];
-      r.captured = report.bolls[i].captured;
-      r.closest_vacuum_m = report.bolls[i].closest_vacuum_m;
-      const MissCause cause = classifyMiss(r, tracks, mp.tracker);
-      report.miss_causes.push_back(cause);
-      report.misses.add(cause);
-    }
+    harvest(config, &report);
   } catch (const std::exception& e) {
     report.error = e.what();
   }

@@ -1,8 +1,9 @@
 #include "cotton_harvester_sim/rover_sim.h"
 
+#include "cotton_harvester_sim/rover_scene.h"
+
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 #include <stdexcept>
 
 #include <thorvald_sim/ray_caster.h>
@@ -14,70 +15,13 @@ namespace sim {
 namespace {
 
 constexpr double kDegToRad = M_PI / 180.0;
-const char* const kWheelNames[4] = {"wheel_front_left", "wheel_front_right", "wheel_rear_left", "wheel_rear_right"};
-constexpr const char* kFrameColour = "0.22 0.22 0.24 1";
-constexpr const char* kTyreColour = "0.08 0.08 0.08 1";
-constexpr const char* kArmColour = "0.3 0.3 0.32 1";      // anodised, dark: never bright like a boll
-constexpr const char* kEffectorColour = "1 0.45 0.05 1";  // the orange housing (§2.6)
-
-bool positive(double v) { return v > 0.0 && std::isfinite(v); }
-
-std::string vec3(double x, double y, double z) {
-  std::ostringstream s;
-  s.precision(9);
-  s << x << " " << y << " " << z;
-  return s.str();
-}
 
 }  // namespace
 
-std::string RoverGeometry::check() const {
-  const std::pair<const char*, double> lengths[] = {
-      {"wheel_radius_m", wheel_radius_m},   {"front_length_m", front_length_m},
-      {"rear_length_m", rear_length_m},     {"width_m", width_m},
-      {"wheel_width_m", wheel_width_m},     {"axle_to_joint_m", axle_to_joint_m},
-      {"camera_height_m", camera_height_m}, {"horizontal_travel_m", horizontal_travel_m},
-      {"min_depth_m", min_depth_m},         {"max_depth_m", max_depth_m},
-      {"effector_half_m", effector_half_m}, {"effector_height_m", effector_height_m},
-      {"rear_mass_kg", rear_mass_kg},       {"front_mass_kg", front_mass_kg},
-      {"wheel_mass_kg", wheel_mass_kg},     {"articulation_limit_deg", articulation_limit_deg}};
-  for (const auto& [key, v] : lengths)
-    if (!positive(v)) return std::string(key) + ": expected > 0";
-  if (!(min_depth_m < max_depth_m)) return "min_depth_m: expected below max_depth_m";
-  if (!(max_depth_m < camera_height_m)) return "max_depth_m: expected below camera_height_m";
-  if (!(camera_height_m > 2.0 * wheel_radius_m)) return "camera_height_m: expected above the wheels";
-  if (!(wheel_width_m < width_m)) return "wheel_width_m: expected below width_m";
-  if (!(axle_to_joint_m < front_length_m && axle_to_joint_m < rear_length_m))
-    return "axle_to_joint_m: expected inside the rover's length";
-  if (!std::isfinite(camera_ahead_m) || !std::isfinite(arm_base_offset_m)) return "camera_ahead_m: expected finite";
-  return "";
-}
-
-std::string RoverSimParams::check() const {
-  if (auto bad = geometry.check(); !bad.empty()) return bad;
-  if (const char* bad = drive.check(); bad && *bad) return bad;
-  const std::pair<const char*, double> values[] = {{"timestep_s", timestep_s},
-                                                   {"wheel_damping", wheel_damping},
-                                                   {"vertical_speed_mps", vertical_speed_mps},
-                                                   {"horizontal_speed_mps", horizontal_speed_mps},
-                                                   {"capture_radius_m", capture_radius_m},
-                                                   {"capture_time_s", capture_time_s},
-                                                   {"fx", fx}};
-  for (const auto& [key, v] : values)
-    if (!positive(v)) return std::string(key) + ": expected > 0";
-  if (timestep_s > 0.01) return "timestep_s: expected <= 0.01";
-  if (camera_width < 16 || camera_height < 16 || camera_width > 4096 || camera_height > 4096)
-    return "camera_width/height: expected 16..4096";
-  if (!std::isfinite(start_x_m)) return "start_x_m: expected finite";
-  if (!(leaf_push_max_m >= 0.0) || !std::isfinite(leaf_push_max_m)) return "leaf_push_max_m: expected >= 0";
-  if (!(depth_noise_coeff >= 0.0) || !(depth_dropout >= 0.0 && depth_dropout < 1.0))
-    return "depth_noise_coeff/depth_dropout: expected >= 0 (dropout < 1)";
-  return "";
-}
-
 RoverSim::RoverSim(const RoverSimParams& params) : params_(params), drive_(params.drive), rng_(params.seed) {
   if (auto bad = params_.check(); !bad.empty()) throw std::invalid_argument("rover simulation: " + bad);
-  xml_ = buildXml();
+  const thorvald_sim::WorldDescription world = thorvald_sim::makeCottonRowWorld(params_.row, &row_truth_);
+  xml_ = roverSceneXml(params_, world.worldbody);
   model_ = thorvald_sim::compileXml(xml_, "cotton rover scene");
   data_.reset(mj_makeData(model_.get()));
   const mjModel* m = model_.get();
@@ -90,8 +34,8 @@ RoverSim::RoverSim(const RoverSimParams& params) : params_(params), drive_(param
   front_body_ = id(mjOBJ_BODY, "rover_front");
   effector_body_ = id(mjOBJ_BODY, "end_effector");
   for (int w = 0; w < 4; ++w) {
-    wheel_joint_[w] = id(mjOBJ_JOINT, kWheelNames[w]);
-    wheel_act_[w] = id(mjOBJ_ACTUATOR, kWheelNames[w]);
+    wheel_joint_[w] = id(mjOBJ_JOINT, kRoverWheelNames[w]);
+    wheel_act_[w] = id(mjOBJ_ACTUATOR, kRoverWheelNames[w]);
   }
   articulation_joint_ = id(mjOBJ_JOINT, "articulation");
   articulation_act_ = id(mjOBJ_ACTUATOR, "articulation");
@@ -136,88 +80,6 @@ RoverSim::RoverSim(const RoverSimParams& params) : params_(params), drive_(param
 }
 
 RoverSim::~RoverSim() = default;
-
-std::string RoverSim::buildXml() {
-  const RoverGeometry& g = params_.geometry;
-  thorvald_sim::WorldDescription world = thorvald_sim::makeCottonRowWorld(params_.row, &row_truth_);
-  const double th = params_.row.slope_deg * kDegToRad;
-  const double r = g.wheel_radius_m;
-  const double x0 = params_.start_x_m;
-  // Body frames sit at the wheels' centre height, pitched with the ground.
-  const double bx = x0 - r * std::sin(th), bz = x0 * std::tan(th) + r * std::cos(th) + 0.01;
-  const double wy = 0.5 * (g.width_m - g.wheel_width_m);
-  const double cam_z = g.camera_height_m - r;
-  const double rail_y = wy - 0.5 * g.wheel_width_m - 0.08;
-  std::ostringstream x;
-  x.precision(9);
-  x << "<mujoco model=\"cotton_rover_row\">\n"
-    << "<compiler angle=\"radian\" autolimits=\"true\"/>\n"
-    << "<option timestep=\"" << params_.timestep_s << "\" integrator=\"Euler\"/>\n"
-    << "<visual><global offwidth=\"" << std::max(1280, params_.camera_width) << "\" offheight=\""
-    << std::max(720, params_.camera_height)
-    << "\"/><quality offsamples=\"0\" numslices=\"32\" numstacks=\"16\"/></visual>\n"
-    << "<default><geom contype=\"1\" conaffinity=\"3\" friction=\"1 0.005 0.0001\"/></default>\n"
-    << "<worldbody>\n"
-    << world.worldbody;
-  auto wheel = [&](const char* name, double ax, double ay) {
-    x << "  <body name=\"" << name << "\" pos=\"" << vec3(ax, ay, 0) << "\">\n"
-      << "   <joint name=\"" << name << "\" type=\"hinge\" axis=\"0 1 0\" damping=\"" << params_.wheel_damping
-      << "\" armature=\"0.5\"/>\n"
-      << "   <geom name=\"" << name << "_tyre\" type=\"sphere\" size=\"" << r << "\" mass=\"" << g.wheel_mass_kg
-      << "\" contype=\"2\" conaffinity=\"1\" rgba=\"" << kTyreColour << "\"/>\n  </body>\n";
-  };
-  auto frame = [&](const std::string& name, double x_from, double x_to, double mass) {
-    const double cx = 0.5 * (x_from + x_to), hx = 0.5 * std::abs(x_to - x_from);
-    for (int side = -1; side <= 1; side += 2) {
-      x << "  <geom name=\"" << name << (side > 0 ? "_left" : "_right") << "\" type=\"box\" pos=\""
-        << vec3(cx, side * rail_y, 0.9) << "\" size=\"" << vec3(hx, 0.06, 0.08) << "\" mass=\"" << 0.5 * mass
-        << "\" contype=\"0\" conaffinity=\"0\" rgba=\"" << kFrameColour << "\"/>\n";
-    }
-  };
-  x << " <body name=\"rover_rear\" pos=\"" << vec3(bx, 0, bz) << "\" euler=\"0 " << -th << " 0\">\n"
-    << "  <freejoint name=\"rover\"/>\n";
-  frame("rear_frame", -g.rear_length_m, 0.0, g.rear_mass_kg);
-  wheel(kWheelNames[2], -g.axle_to_joint_m, wy);
-  wheel(kWheelNames[3], -g.axle_to_joint_m, -wy);
-  x << "  <body name=\"rover_front\" pos=\"0 0 0\">\n"
-    << "   <joint name=\"articulation\" type=\"hinge\" axis=\"0 0 1\" range=\"" << -g.articulation_limit_deg * kDegToRad
-    << " " << g.articulation_limit_deg * kDegToRad << "\" damping=\"20000\" armature=\"10\"/>\n";
-  frame("front_frame", 0.0, g.front_length_m, g.front_mass_kg);
-  // Top beam carrying the camera (above it: never in its view) and the arm's vertical mast.
-  x << "   <geom name=\"camera_beam\" type=\"box\" pos=\"" << vec3(g.camera_ahead_m, 0, cam_z + 0.12) << "\" size=\""
-    << vec3(0.06, rail_y, 0.05) << "\" mass=\"20\" contype=\"0\" conaffinity=\"0\" rgba=\"" << kFrameColour << "\"/>\n";
-  const double mast_bottom = cam_z - g.max_depth_m - 0.02, mast_top = cam_z + 0.07;
-  x << "   <geom name=\"arm_mast\" type=\"box\" pos=\""
-    << vec3(g.camera_ahead_m + 0.12, -g.arm_base_offset_m, 0.5 * (mast_bottom + mast_top)) << "\" size=\""
-    << vec3(0.03, 0.03, 0.5 * (mast_top - mast_bottom)) << "\" mass=\"15\" contype=\"0\" conaffinity=\"0\" rgba=\""
-    << kArmColour << "\"/>\n";
-  wheel(kWheelNames[0], g.axle_to_joint_m, wy);
-  wheel(kWheelNames[1], g.axle_to_joint_m, -wy);
-  // The arm: the vertical axis carries the horizontal one; the end-effector slides along +y (camera x).
-  const double e = g.effector_half_m, h = g.effector_height_m;
-  x << "   <body name=\"arm_carriage\" pos=\"" << vec3(g.camera_ahead_m, -g.arm_base_offset_m, cam_z - g.min_depth_m)
-    << "\">\n"
-    << "    <joint name=\"vertical\" type=\"slide\" axis=\"0 0 -1\" range=\"0 " << g.max_depth_m - g.min_depth_m
-    << "\" damping=\"3000\" armature=\"5\"/>\n"
-    << "    <geom name=\"arm_carriage_box\" type=\"box\" pos=\"0.08 0 -0.03\" size=\"0.04 0.05 0.04\" mass=\"8\" "
-       "contype=\"0\" conaffinity=\"0\" rgba=\""
-    << kArmColour << "\"/>\n"
-    << "    <body name=\"end_effector\" pos=\"0 0 0\">\n"
-    << "     <joint name=\"horizontal\" type=\"slide\" axis=\"0 1 0\" range=\"0 " << g.horizontal_travel_m
-    << "\" damping=\"3000\" armature=\"5\"/>\n"
-    << "     <geom name=\"end_effector_housing\" type=\"box\" pos=\"" << vec3(0, 0, -0.5 * h) << "\" size=\""
-    << vec3(e, e, 0.5 * h) << "\" mass=\"3\" contype=\"0\" conaffinity=\"0\" rgba=\"" << kEffectorColour << "\"/>\n"
-    << "     <geom name=\"horizontal_arm\" type=\"capsule\" fromto=\""
-    << vec3(0, -e - 0.015, -0.03) + " " + vec3(0, -g.horizontal_travel_m - 0.05, -0.03)
-    << "\" size=\"0.015\" mass=\"2\" contype=\"0\" conaffinity=\"0\" rgba=\"" << kArmColour << "\"/>\n"
-    << "    </body>\n   </body>\n  </body>\n </body>\n</worldbody>\n<actuator>\n";
-  for (const char* w : kWheelNames) x << " <motor name=\"" << w << "\" joint=\"" << w << "\" gear=\"1\"/>\n";
-  x << " <position name=\"articulation\" joint=\"articulation\" kp=\"200000\"/>\n"
-    << " <position name=\"vertical\" joint=\"vertical\" kp=\"100000\"/>\n"
-    << " <position name=\"horizontal\" joint=\"horizontal\" kp=\"100000\"/>\n"
-    << "</actuator>\n</mujoco>\n";
-  return x.str();
-}
 
 void RoverSim::setSwashplatePwm(double pwm) {
   if (!std::isfinite(pwm)) return;

@@ -63,6 +63,22 @@ struct HarvestRunReport {
   std::string error;  ///< set when the run could not be done (model, renderer)
 };
 
+/// Simulated time spent in each state of the machine and how often each was entered, from its active state as it
+/// changes (HarvestRunReport::states_visited, state_time_s, state_entries).
+class StateTimeTally {
+ public:
+  explicit StateTimeTally(HarvestRunReport* report) : report_(report) {}
+  /// The machine's active state at `now_s` (empty: none, e.g. before it starts or after it ends).
+  void observe(const std::string& active_state, double now_s);
+  /// Counts the time of the state still active at the end of the run.
+  void finish(double now_s);
+
+ private:
+  HarvestRunReport* report_;
+  std::string state_now_;
+  double state_since_s_ = 0.0;
+};
+
 /// Builds the world and the rover, runs the harvest state machine on SimHarvestPlant until it ends (or the time
 /// limit), and scores it against the simulation's truth. Never throws; `error` says what went wrong.
 HarvestRunReport runHarvest(const HarvestRunConfig& config);

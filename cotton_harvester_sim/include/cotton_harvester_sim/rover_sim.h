@@ -143,7 +143,6 @@ class RoverSim {
   const std::string& sceneXml() const { return xml_; }
 
  private:
-  std::string buildXml();
   void stepOnce();
   void cameraPose(Eigen::Vector3d* origin, Eigen::Matrix3d* rotation) const;
   double visibleFractionFrom(size_t index, const Eigen::Vector3d& origin) const;
