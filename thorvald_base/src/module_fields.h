@@ -169,5 +169,9 @@ void readFields(T& out, const YAML::Node& module, const std::vector<Field<T>>& f
   }
 }
 
+/// The keys of a drive module (`motor_drives.driveN`) with their physical ranges: read at load time (robot_config.cpp)
+/// and checked again for a run-time change (validateDrive).
+const std::vector<Field<DriveConfig>>& driveFields();
+
 }  // namespace detail
 }  // namespace thorvald_base

@@ -38,71 +38,100 @@ std::string searchedTfPrefix(const ros::NodeHandle& nh) {
 
 }  // namespace
 
+/// The node's parameters besides the robot file, read once at start-up.
+struct BaseDriverRos::Settings {
+  double rate_hz = 50.0;
+  BaseDriverOptions options;
+  SimulatedDriveOptions sim;
+  int sim_seed = 1;
+  std::string hardware_plugin, can_type, can_name;
+  CanRelayOptions relay;
+  RelayIdList relay_ids;
+};
+
 BaseDriverRos::BaseDriverRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), pnh_(pnh), diagnostics_(nh, pnh) {
   ParamReader params(pnh_);
   RobotConfig config = robotConfigFromParams(nh_, params.text("robot_file", ""));
   for (const auto& w : config.warnings) ROS_WARN_STREAM(w);
+  const Settings settings = readSettings(params, config);
+  if (!simple_sim_) loadHardware(params, settings.hardware_plugin);
+  params.finish();
 
+  buildDriver(config, settings);
+  connect(settings.rate_hz);
+  ROS_INFO_STREAM("base_driver: " << driver_->config().drives.size() << " drives, model "
+                                  << driver_->calculator().name() << ", odometry "
+                                  << settings.options.calculator.estimator << ", "
+                                  << (simple_sim_ ? "simulation" : "hardware") << " at " << settings.rate_hz << " Hz");
+}
+
+BaseDriverRos::Settings BaseDriverRos::readSettings(ParamReader& params, const RobotConfig& config) {
+  Settings s;
   tf_prefix_ = params.text("tf_prefix", "");
   if (tf_prefix_.empty()) tf_prefix_ = searchedTfPrefix(nh_);
   while (!tf_prefix_.empty() && tf_prefix_.front() == '/') tf_prefix_.erase(0, 1);
   simple_sim_ = params.flag("simple_sim", true);
   enable_odom_tf_ = params.flag("enable_odom_tf", true);
-  CanRelayOptions relay_options;
-  relay_options.max_sent_per_cycle = params.integer("relay_max_frames_per_cycle", 20, 1, 1000);
-  relay_options.max_received_per_cycle = params.integer("relay_max_received_per_cycle", 200, 1, 1000);
-  const double rate = params.number("rate", 50.0, ParamRange::aboveUpTo(0.0, 1000.0), "Hz");
+  s.relay.max_sent_per_cycle = params.integer("relay_max_frames_per_cycle", 20, 1, 1000);
+  s.relay.max_received_per_cycle = params.integer("relay_max_received_per_cycle", 200, 1, 1000);
+  s.rate_hz = params.number("rate", 50.0, ParamRange::aboveUpTo(0.0, 1000.0), "Hz");
 
-  BaseDriverOptions options;
+  BaseDriverOptions& options = s.options;
   options.cmd_vel_timeout_s = params.number("cmd_vel_timeout", 0.5, ParamRange::aboveUpTo(0.0, 60.0), "s");
   options.calculator.estimator =
       params.choice("odometry_estimator", "least_squares", {"least_squares", "random_pairs"});
   options.calculator.seed = static_cast<unsigned>(params.integer("estimator_seed", 1, 0));
-  SimulatedDriveOptions sim;
-  sim.speed_noise_radps = params.number("sim_speed_noise", 0.0, ParamRange::closed(0.0, 10.0), "rad/s");
-  sim.steering_noise_rad = params.number("sim_steering_noise", 0.0, ParamRange::closed(0.0, 0.5), "rad");
-  const int sim_seed = params.integer("sim_seed", 1, 0);
-  const std::string hardware_plugin = params.text("hardware_plugin", "thorvald_can_devices/CanBaseHardware");
-  const std::string can_type = params.text("can_interface_type", "socketcan");
-  const std::string can_name = params.text("can_interface_name", "can0");
+  s.sim.speed_noise_radps = params.number("sim_speed_noise", 0.0, ParamRange::closed(0.0, 10.0), "rad/s");
+  s.sim.steering_noise_rad = params.number("sim_steering_noise", 0.0, ParamRange::closed(0.0, 0.5), "rad");
+  s.sim_seed = params.integer("sim_seed", 1, 0);
+  s.hardware_plugin = params.text("hardware_plugin", "thorvald_can_devices/CanBaseHardware");
+  s.can_type = params.text("can_interface_type", "socketcan");
+  s.can_name = params.text("can_interface_name", "can0");
   readLimitsAndBatteryPolicy(params, options);
-  const RelayIdList relay_ids = readRelayIds(params, config);
+  s.relay_ids = readRelayIds(params, config);
   params.alsoRead("diagnostic_period");  // read by diagnostic_updater
-  if (!simple_sim_) {
-    hardware_loader_ =
-        std::make_unique<pluginlib::ClassLoader<BaseHardware>>("thorvald_base", "thorvald_base::BaseHardware");
-    try {
-      hardware_ = hardware_loader_->createSharedInstance(hardware_plugin);
-    } catch (const pluginlib::PluginlibException& e) {
-      throw std::runtime_error("cannot load hardware plugin '" + hardware_plugin + "' (~hardware_plugin): " + e.what());
-    }
-    hardware_->readParameters(params);  // its own parameters, through the same reader
-  }
-  params.finish();
+  return s;
+}
 
+void BaseDriverRos::loadHardware(ParamReader& params, const std::string& plugin) {
+  hardware_loader_ =
+      std::make_unique<pluginlib::ClassLoader<BaseHardware>>("thorvald_base", "thorvald_base::BaseHardware");
+  try {
+    hardware_ = hardware_loader_->createSharedInstance(plugin);
+  } catch (const pluginlib::PluginlibException& e) {
+    throw std::runtime_error("cannot load hardware plugin '" + plugin + "' (~hardware_plugin): " + e.what());
+  }
+  hardware_->readParameters(params);  // its own parameters, through the same reader
+}
+
+void BaseDriverRos::buildDriver(const RobotConfig& config, const Settings& s) {
   calculator_loader_ = std::make_unique<BaseCalculatorLoader>();
   std::unique_ptr<BaseCalculator> calculator = calculator_loader_->create(config);
 
   std::vector<std::unique_ptr<MotorDrive>> drives;
   std::vector<std::unique_ptr<Battery>> batteries;
   if (simple_sim_) {
+    SimulatedDriveOptions sim = s.sim;
     for (const auto& d : config.drives) {
-      sim.seed = static_cast<unsigned>(sim_seed + d.index);
+      sim.seed = static_cast<unsigned>(s.sim_seed + d.index);
       drives.push_back(std::make_unique<SimulatedDrive>(d, sim));
     }
   } else {
-    hardware_->initialize(config, can_type, can_name);
-    relay_ = std::make_unique<CanRelayRos>(nh_, pnh_, *hardware_, relayAllowList(relay_ids, *hardware_), relay_options);
+    hardware_->initialize(config, s.can_type, s.can_name);
+    relay_ = std::make_unique<CanRelayRos>(nh_, pnh_, *hardware_, relayAllowList(s.relay_ids, *hardware_), s.relay);
     drives = hardware_->takeDrives();
     batteries = hardware_->takeBatteries();
   }
   driver_ =
-      std::make_unique<BaseDriver>(config, std::move(calculator), std::move(drives), std::move(batteries), options);
+      std::make_unique<BaseDriver>(config, std::move(calculator), std::move(drives), std::move(batteries), s.options);
 
   for (const auto& d : driver_->config().drives) {
     if (d.steered()) joint_names_.push_back(frame("steering" + std::to_string(d.index)));
     joint_names_.push_back(frame("wheel" + std::to_string(d.index)));
   }
+}
+
+void BaseDriverRos::connect(double rate_hz) {
   odom_pub_ = nh_.advertise<nav_msgs::Odometry>("odometry/base_raw", 10);
   joint_pub_ = nh_.advertise<sensor_msgs::JointState>("joint_states", 10);
   state_pub_ = nh_.advertise<BaseState>("base_state", 10);
@@ -121,11 +150,8 @@ BaseDriverRos::BaseDriverRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh),
   diagnostics_.add("base", this, &BaseDriverRos::diagnoseBase);
   diagnostics_.add("drives", this, &BaseDriverRos::diagnoseDrives);
   if (!driver_->batteryDevices().empty()) diagnostics_.add("batteries", this, &BaseDriverRos::diagnoseBatteries);
-  period_s_ = 1.0 / rate;
-  timer_ = nh_.createTimer(ros::Duration(1.0 / rate), &BaseDriverRos::onTimer, this);
-  ROS_INFO_STREAM("base_driver: " << driver_->config().drives.size() << " drives, model "
-                                  << driver_->calculator().name() << ", odometry " << options.calculator.estimator
-                                  << ", " << (simple_sim_ ? "simulation" : "hardware") << " at " << rate << " Hz");
+  period_s_ = 1.0 / rate_hz;
+  timer_ = nh_.createTimer(ros::Duration(1.0 / rate_hz), &BaseDriverRos::onTimer, this);
 }
 
 std::string BaseDriverRos::frame(const std::string& name) const {
@@ -200,6 +226,12 @@ void BaseDriverRos::onTimer(const ros::TimerEvent&) {
 }
 
 void BaseDriverRos::publish(const ros::Time& now) {
+  publishOdometry(now);
+  publishJointsAndState(now);
+  publishBatteries(now);
+}
+
+void BaseDriverRos::publishOdometry(const ros::Time& now) {
   const auto& odom = driver_->odometry();
   const auto& vel = driver_->velocity();
   nav_msgs::Odometry o;
@@ -229,7 +261,9 @@ void BaseDriverRos::publish(const ros::Time& now) {
     t.transform.rotation = o.pose.pose.orientation;
     tf_broadcaster_.sendTransform(t);
   }
+}
 
+void BaseDriverRos::publishJointsAndState(const ros::Time& now) {
   sensor_msgs::JointState js;
   js.header.stamp = now;
   js.name = joint_names_;
@@ -270,7 +304,9 @@ void BaseDriverRos::publish(const ros::Time& now) {
   }
   joint_pub_.publish(js);
   state_pub_.publish(state);
+}
 
+void BaseDriverRos::publishBatteries(const ros::Time& now) {
   const auto readings = driver_->batteries();
   for (size_t i = 0; i < readings.size() && i < battery_pubs_.size(); ++i) {
     const auto& r = readings[i];

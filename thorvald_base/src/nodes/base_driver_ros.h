@@ -40,6 +40,16 @@ class BaseDriverRos {
   BaseDriverRos(ros::NodeHandle nh, ros::NodeHandle pnh);
 
  private:
+  struct Settings;
+  /// Reads the node's parameters but the robot file and the hardware plugin's; sets tf_prefix_, simple_sim_ and
+  /// enable_odom_tf_.
+  Settings readSettings(ParamReader& params, const RobotConfig& config);
+  /// Loads the hardware plugin (~hardware_plugin), which reads its own parameters through `params`.
+  void loadHardware(ParamReader& params, const std::string& plugin);
+  /// The BaseDriver on simulated drives or on the hardware's, and the joint names it publishes.
+  void buildDriver(const RobotConfig& config, const Settings& settings);
+  /// Publishers, the command subscriber, services, diagnostics and the control timer.
+  void connect(double rate_hz);
   void readLimitsAndBatteryPolicy(ParamReader& params, BaseDriverOptions& options);
   /// The relay's allow-list as configured: the robot file's implement_can_ids, or ~relay_allowed_ids when set.
   RelayIdList readRelayIds(ParamReader& params, const RobotConfig& config);
@@ -51,6 +61,9 @@ class BaseDriverRos {
   bool onSafetyStop(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res);
   bool onClearDriveStop(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
   void publish(const ros::Time& now);
+  void publishOdometry(const ros::Time& now);        ///< odometry/base_raw and, when enabled, odom -> base_link
+  void publishJointsAndState(const ros::Time& now);  ///< joint_states and base_state
+  void publishBatteries(const ros::Time& now);       ///< battery/<name>
   void diagnoseBase(diagnostic_updater::DiagnosticStatusWrapper& stat);
   void diagnoseDrives(diagnostic_updater::DiagnosticStatusWrapper& stat);
   void diagnoseBatteries(diagnostic_updater::DiagnosticStatusWrapper& stat);
