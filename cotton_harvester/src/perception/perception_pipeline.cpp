@@ -164,60 +164,76 @@ FrameResult PerceptionPipeline::process(const cv::Mat& bgr, const cv::Mat& cloud
   return process(bgr, cloud, std::nullopt);
 }
 
-FrameResult PerceptionPipeline::process(const cv::Mat& bgr, const cv::Mat& cloud,
-                                        const std::optional<EndEffectorPrior>& prior) {
-  FrameResult result;
-  if (bgr.empty()) {
-    result.status = FrameStatus::kEmptyImage;
-    return result;
+int nearestReachable(const std::vector<LocatedBoll>& bolls, const std::optional<LocatedPoint>& end_effector,
+                     NearestBy nearest_by) {
+  int nearest = -1;
+  double best = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < bolls.size(); ++i) {
+    const LocatedBoll& boll = bolls[i];
+    if (!boll.reachable) continue;
+    double distance = boll.range_m;
+    if (nearest_by == NearestBy::kEndEffector && end_effector) {
+      const cv::Point3d d = boll.position - end_effector->position;
+      distance = std::sqrt(d.dot(d));
+    }
+    if (distance < best) {
+      best = distance;
+      nearest = static_cast<int>(i);
+    }
   }
-  if (bgr.type() != CV_8UC3) {
-    result.status = FrameStatus::kBadImage;
-    return result;
-  }
-  if (bgr.cols != params_.intrinsics.width || bgr.rows != params_.intrinsics.height) {
-    result.status = FrameStatus::kSizeMismatch;
-    return result;
-  }
-  const bool has_depth = !cloud.empty() && cloud.type() == CV_32FC3 && cloud.size() == bgr.size();
+  return nearest;
+}
 
-  // Steps 1-3: end-effector, then bolls outside its region and the arm's.
+namespace {
+
+/// The housing's top face where the prior puts it, projected into the image: its centre pixel and its box.
+EndEffectorObservation projectedHousing(const EndEffectorPrior& prior, const CameraIntrinsics& k) {
+  const cv::Point3d& p = prior.position;
+  const double e = prior.housing_half_m;
+  EndEffectorObservation projected;
+  projected.pixel = {k.cx + k.fx * p.x / p.z, k.cy + k.fy * p.y / p.z};
+  projected.box = cv::Rect(
+      cv::Point(static_cast<int>(k.cx + k.fx * (p.x - e) / p.z), static_cast<int>(k.cy + k.fy * (p.y - e) / p.z)),
+      cv::Point(static_cast<int>(k.cx + k.fx * (p.x + e) / p.z) + 1,
+                static_cast<int>(k.cy + k.fy * (p.y + e) / p.z) + 1));
+  return projected;
+}
+
+}  // namespace
+
+FrameStatus PerceptionPipeline::checkImage(const cv::Mat& bgr) const {
+  if (bgr.empty()) return FrameStatus::kEmptyImage;
+  if (bgr.type() != CV_8UC3) return FrameStatus::kBadImage;
+  if (bgr.cols != params_.intrinsics.width || bgr.rows != params_.intrinsics.height) return FrameStatus::kSizeMismatch;
+  return FrameStatus::kOk;
+}
+
+void PerceptionPipeline::findEndEffectorAndArm(const cv::Mat& bgr, const cv::Mat& cloud, bool has_depth,
+                                               const std::optional<EndEffectorPrior>& prior,
+                                               FrameResult* result) const {
   const bool use_prior = prior && has_depth && validate(*prior).empty();
   if (use_prior)
-    findEndEffectorNear(bgr, cloud, *prior, &result);
+    findEndEffectorNear(bgr, cloud, *prior, result);
   else
-    result.end_effector_image = end_effector_detector_.detect(bgr, &result.end_effector_mask);
-  if (result.end_effector_image) {
+    result->end_effector_image = end_effector_detector_.detect(bgr, &result->end_effector_mask);
+  if (result->end_effector_image) {
     if (has_depth && !use_prior)
-      result.end_effector = locateRegion(cloud, result.end_effector_mask, result.end_effector_image->pixel,
-                                         params_.intrinsics, params_.locator);
-    result.boll_exclusion = result.end_effector
-                                ? armMask(bgr.size(), *result.end_effector_image, result.end_effector->position,
-                                          params_.intrinsics, cloud, params_.end_effector)
-                                : armBandMask(bgr.size(), *result.end_effector_image, params_.end_effector);
-    result.boll_exclusion |= result.end_effector_mask;
+      result->end_effector = locateRegion(cloud, result->end_effector_mask, result->end_effector_image->pixel,
+                                          params_.intrinsics, params_.locator);
+    result->boll_exclusion = result->end_effector
+                                 ? armMask(bgr.size(), *result->end_effector_image, result->end_effector->position,
+                                           params_.intrinsics, cloud, params_.end_effector)
+                                 : armBandMask(bgr.size(), *result->end_effector_image, params_.end_effector);
+    result->boll_exclusion |= result->end_effector_mask;
   } else if (use_prior) {
     // The housing is hidden (a leaf) or not where the arm is: the arm is still masked where its sensing puts it.
-    const CameraIntrinsics& k = params_.intrinsics;
-    const cv::Point3d& p = prior->position;
-    const double e = prior->housing_half_m;
-    EndEffectorObservation projected;
-    projected.pixel = {k.cx + k.fx * p.x / p.z, k.cy + k.fy * p.y / p.z};
-    projected.box = cv::Rect(
-        cv::Point(static_cast<int>(k.cx + k.fx * (p.x - e) / p.z), static_cast<int>(k.cy + k.fy * (p.y - e) / p.z)),
-        cv::Point(static_cast<int>(k.cx + k.fx * (p.x + e) / p.z) + 1,
-                  static_cast<int>(k.cy + k.fy * (p.y + e) / p.z) + 1));
-    result.boll_exclusion = armMask(bgr.size(), projected, p, k, cloud, params_.end_effector);
+    result->boll_exclusion = armMask(bgr.size(), projectedHousing(*prior, params_.intrinsics), prior->position,
+                                     params_.intrinsics, cloud, params_.end_effector);
   }
-  const std::vector<BollDetection> detections = detector_->detect(bgr, result.boll_exclusion);
-  result.bolls_detected = static_cast<int>(detections.size());
-  if (!has_depth) {
-    result.status = FrameStatus::kNoDepth;
-    result.bolls_without_depth = result.bolls_detected;
-    return result;
-  }
+}
 
-  // Steps 4-5: depth of each centroid; step 7: its position.
+void PerceptionPipeline::locateBolls(const std::vector<BollDetection>& detections, const cv::Mat& cloud,
+                                     FrameResult* result) const {
   const double ground_depth_m = detections.empty() ? 0.0 : groundDepth(cloud);
   for (const BollDetection& detection : detections) {
     // A detector that estimates the boll's disc: its depth from the visible surface, at its centre. Otherwise (or
@@ -228,11 +244,11 @@ FrameResult PerceptionPipeline::process(const cv::Mat& bgr, const cv::Mat& cloud
                                   params_.locator);
     if (!located) located = locate(cloud, detection.centroid, params_.intrinsics, params_.locator);
     if (!located) {
-      ++result.bolls_without_depth;
+      ++result->bolls_without_depth;
       continue;
     }
     if (params_.check_plausibility && !plausible(detection, *located, ground_depth_m)) {
-      ++result.bolls_implausible;
+      ++result->bolls_implausible;
       continue;
     }
     LocatedBoll boll;
@@ -242,24 +258,29 @@ FrameResult PerceptionPipeline::process(const cv::Mat& bgr, const cv::Mat& cloud
     boll.reachable = isReachable(located->position, params_.reach);
     boll.dome_m = located->dome_m;
     boll.dome_sigma_m = located->dome_sigma_m;
-    result.bolls.push_back(boll);
+    result->bolls.push_back(boll);
   }
+}
 
-  // Step 6: the closest reachable boll.
-  double best = std::numeric_limits<double>::infinity();
-  for (size_t i = 0; i < result.bolls.size(); ++i) {
-    const LocatedBoll& boll = result.bolls[i];
-    if (!boll.reachable) continue;
-    double distance = boll.range_m;
-    if (params_.nearest_by == NearestBy::kEndEffector && result.end_effector) {
-      const cv::Point3d d = boll.position - result.end_effector->position;
-      distance = std::sqrt(d.dot(d));
-    }
-    if (distance < best) {
-      best = distance;
-      result.nearest_reachable = static_cast<int>(i);
-    }
+FrameResult PerceptionPipeline::process(const cv::Mat& bgr, const cv::Mat& cloud,
+                                        const std::optional<EndEffectorPrior>& prior) {
+  FrameResult result;
+  result.status = checkImage(bgr);
+  if (result.status != FrameStatus::kOk) return result;
+  const bool has_depth = !cloud.empty() && cloud.type() == CV_32FC3 && cloud.size() == bgr.size();
+
+  // Steps 1-3: end-effector, then bolls outside its region and the arm's.
+  findEndEffectorAndArm(bgr, cloud, has_depth, prior, &result);
+  const std::vector<BollDetection> detections = detector_->detect(bgr, result.boll_exclusion);
+  result.bolls_detected = static_cast<int>(detections.size());
+  if (!has_depth) {
+    result.status = FrameStatus::kNoDepth;
+    result.bolls_without_depth = result.bolls_detected;
+    return result;
   }
+  // Steps 4-5: depth of each centroid; step 7: its position; step 6: the closest reachable boll.
+  locateBolls(detections, cloud, &result);
+  result.nearest_reachable = nearestReachable(result.bolls, result.end_effector, params_.nearest_by);
   return result;
 }
 

@@ -334,3 +334,37 @@ TEST(PerceptionPipeline, AnInvalidPriorFallsBackToTheWholeImage) {
   prior.radius_m = 0.0;
   EXPECT_FALSE(validate(prior).empty());
 }
+
+namespace {
+
+LocatedBoll bollAt(double x, double y, double z, bool reachable) {
+  LocatedBoll b;
+  b.position = {x, y, z};
+  b.range_m = std::sqrt(x * x + y * y + z * z);
+  b.reachable = reachable;
+  return b;
+}
+
+}  // namespace
+
+TEST(NearestReachable, ByRangeFromTheLensSkippingUnreachableBolls) {
+  const std::vector<LocatedBoll> bolls = {bollAt(0.0, 0.0, 1.2, false), bollAt(0.3, 0.0, 1.6, true),
+                                          bollAt(-0.1, 0.0, 1.5, true)};
+  EXPECT_EQ(nearestReachable(bolls, std::nullopt, NearestBy::kCamera), 2);
+  LocatedPoint effector;
+  effector.position = {0.3, 0.0, 1.55};
+  // By range even with an end-effector, unless asked to measure from it.
+  EXPECT_EQ(nearestReachable(bolls, effector, NearestBy::kCamera), 2);
+  EXPECT_EQ(nearestReachable(bolls, effector, NearestBy::kEndEffector), 1);
+  // Asked to measure from the end-effector but it is not located: from the lens.
+  EXPECT_EQ(nearestReachable(bolls, std::nullopt, NearestBy::kEndEffector), 2);
+}
+
+TEST(NearestReachable, NoneReachableOrNoBolls) {
+  EXPECT_EQ(nearestReachable({}, std::nullopt, NearestBy::kCamera), -1);
+  EXPECT_EQ(nearestReachable({bollAt(0.0, 0.0, 1.0, false)}, std::nullopt, NearestBy::kCamera), -1);
+  // The first of two at the same range.
+  EXPECT_EQ(
+      nearestReachable({bollAt(0.1, 0.0, 1.4, true), bollAt(-0.1, 0.0, 1.4, true)}, std::nullopt, NearestBy::kCamera),
+      0);
+}

@@ -104,6 +104,11 @@ struct FrameResult {
   int end_effector_candidates_refused = 0;
 };
 
+/// Step 6 of Algorithm 1: the index of the nearest reachable boll (-1: none reachable). Nearest by range from the
+/// lens, or with NearestBy::kEndEffector and a located end-effector by 3D distance from it; the first of equals.
+int nearestReachable(const std::vector<LocatedBoll>& bolls, const std::optional<LocatedPoint>& end_effector,
+                     NearestBy nearest_by);
+
 /// Algorithm 1 up to step 7: end-effector by colour (its depth: the median over its segmented region), bolls by
 /// the detector (the end-effector's region and the arm masked out: the band from the end-effector to the arm's
 /// base, at the arm's depth), each boll centroid located in the organised cloud, detections on the ground or of
@@ -126,6 +131,14 @@ class PerceptionPipeline {
 
  private:
   void applyGeometry();
+  /// kOk when the image is 8-bit colour of the intrinsics' size, else why not.
+  FrameStatus checkImage(const cv::Mat& bgr) const;
+  /// Steps 1-3 up to the boll search: the end-effector (near the prior when it is usable, else in the whole image),
+  /// its depth, and the region where bolls are not searched (the housing and the arm).
+  void findEndEffectorAndArm(const cv::Mat& bgr, const cv::Mat& cloud, bool has_depth,
+                             const std::optional<EndEffectorPrior>& prior, FrameResult* result) const;
+  /// Steps 4, 5 and 7: each detection located in the cloud, implausible ones dropped, reachability; the counts.
+  void locateBolls(const std::vector<BollDetection>& detections, const cv::Mat& cloud, FrameResult* result) const;
   bool plausible(const BollDetection& detection, const LocatedPoint& located, double ground_depth_m) const;
   /// The end-effector near the prior: fills end_effector_image, end_effector, end_effector_mask and the counts.
   void findEndEffectorNear(const cv::Mat& bgr, const cv::Mat& cloud, const EndEffectorPrior& prior,
