@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <cstring>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -19,6 +18,7 @@
 #include <std_msgs/Bool.h>
 #include <std_msgs/Float64.h>
 
+#include "../cloud_message.h"
 #include "cotton_harvester/BollArray.h"
 
 namespace cotton_harvester {
@@ -75,31 +75,18 @@ class FakeRover {
   void publishCloud(const ros::Time& stamp, bool leaf) {
     const int w = 320, h = 180;
     const double f = 175.0, cx = 160.0, cy = 90.0;
-    sensor_msgs::PointCloud2 c;
-    c.header.stamp = stamp;
-    c.height = h;
-    c.width = w;
-    const char* names[] = {"x", "y", "z"};
-    for (int i = 0; i < 3; ++i) {
-      sensor_msgs::PointField field;
-      field.name = names[i];
-      field.offset = 4 * i;
-      field.datatype = sensor_msgs::PointField::FLOAT32;
-      field.count = 1;
-      c.fields.push_back(field);
-    }
-    c.point_step = 12;
-    c.row_step = 12 * w;
-    c.data.resize(static_cast<std::size_t>(c.row_step) * h);
+    cv::Mat points(h, w, CV_32FC3);
     for (int v = 0; v < h; ++v)
       for (int u = 0; u < w; ++u) {
         const double rx = (u - cx) / f, ry = (v - cy) / f;
         double z = 2.2;
         if (leaf && rx * 1.55 >= -0.30 && rx * 1.55 <= -0.18 && std::abs(ry * 1.55 - 0.02) <= 0.05) z = 1.55;
-        const float xyz[3] = {static_cast<float>(rx * z), static_cast<float>(ry * z), static_cast<float>(z)};
-        std::memcpy(&c.data[static_cast<std::size_t>(v) * c.row_step + 12 * u], xyz, sizeof(xyz));
+        points.at<cv::Vec3f>(v, u) =
+            cv::Vec3f(static_cast<float>(rx * z), static_cast<float>(ry * z), static_cast<float>(z));
       }
-    cloud_pub_.publish(c);
+    std_msgs::Header header;
+    header.stamp = stamp;
+    cloud_pub_.publish(cotton_harvester::test::toCloud(points, header));
   }
 
   /// Every arm target received: (extension, depth), NaN for an axis left where it is.
