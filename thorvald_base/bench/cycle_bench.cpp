@@ -10,7 +10,7 @@
 #include <memory>
 
 #include "thorvald_base/base_driver.h"
-#include "thorvald_base/odometry_trial.h"
+#include "thorvald_base/testing/odometry_trial.h"
 #include "thorvald_base/simulated_drive.h"
 #include "thorvald_base/standard_calculator.h"
 

@@ -8,7 +8,7 @@
 #include <fstream>
 #include <string>
 
-#include "thorvald_base/odometry_trial.h"
+#include "thorvald_base/testing/odometry_trial.h"
 
 int main(int argc, char** argv) {
   int seeds = 5;

@@ -4,7 +4,7 @@
 
 #include "test_robots.h"
 #include "thorvald_base/base_driver.h"
-#include "thorvald_base/ideal_base.h"
+#include "thorvald_base/testing/ideal_base.h"
 #include "thorvald_base/standard_calculator.h"
 
 using namespace thorvald_base;

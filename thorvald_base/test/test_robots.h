@@ -3,7 +3,7 @@
 #include <string>
 #include <vector>
 
-#include "thorvald_base/odometry_trial.h"
+#include "thorvald_base/testing/odometry_trial.h"
 #include "thorvald_base/robot_config.h"
 
 namespace thorvald_base {

@@ -2,7 +2,7 @@
 // commands, up to 1000 m/s, never drive a wheel past its drive's limit, and where the geometry can perform a command
 // the executed twist is that command scaled by one common factor (the centre of rotation stays where it was put).
 #include <gtest/gtest.h>
-#include <thorvald_base/ideal_base.h>
+#include <thorvald_base/testing/ideal_base.h>
 #include <thorvald_base/robot_config.h>
 #include <thorvald_base/speed_limiter.h>
 

@@ -8,7 +8,7 @@
 //   rosrun thorvald_sim fused_odometry_bench [--seeds 5] [--gyro-noise 0.002] [--gyro-bias 0]
 #include <CLI/CLI.hpp>
 #include <thorvald_common/command_line.h>
-#include <thorvald_base/odometry_trial.h>
+#include <thorvald_base/testing/odometry_trial.h>
 
 #include <algorithm>
 #include <cmath>

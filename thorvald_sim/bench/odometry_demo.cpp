@@ -10,7 +10,7 @@
 // (one command line)
 #include <CLI/CLI.hpp>
 #include <thorvald_common/command_line.h>
-#include <thorvald_base/odometry_trial.h>
+#include <thorvald_base/testing/odometry_trial.h>
 #include <thorvald_base/standard_calculator.h>
 #include <unistd.h>
 

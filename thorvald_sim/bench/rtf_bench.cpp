@@ -21,7 +21,7 @@
 #include <string>
 #include <thread>
 
-#include <thorvald_base/odometry_trial.h>
+#include <thorvald_base/testing/odometry_trial.h>
 
 #include "thorvald_sim/camera_renderer.h"
 #include "thorvald_sim/drive_loop.h"

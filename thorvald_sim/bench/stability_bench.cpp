@@ -12,7 +12,7 @@
 #include <cstdlib>
 #include <string>
 
-#include <thorvald_base/odometry_trial.h>
+#include <thorvald_base/testing/odometry_trial.h>
 
 #include "thorvald_sim/drive_loop.h"
 #include "thorvald_sim/testing/reference_urdf.h"

@@ -1,6 +1,6 @@
 #pragma once
 
-#include <thorvald_base/odometry_trial.h>
+#include <thorvald_base/testing/odometry_trial.h>
 
 #include <array>
 #include <cmath>

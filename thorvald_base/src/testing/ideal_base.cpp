@@ -1,4 +1,4 @@
-#include "thorvald_base/ideal_base.h"
+#include "thorvald_base/testing/ideal_base.h"
 
 #include <vector>
 

@@ -1,4 +1,4 @@
-#include "thorvald_base/odometry_trial.h"
+#include "thorvald_base/testing/odometry_trial.h"
 
 #include <cmath>
 #include <memory>
