@@ -1,13 +1,12 @@
 // headland_navigator: move_base's interface (move_base_msgs/MoveBaseAction on `move_base`,
 // `move_base_simple/goal`) over a global A* plan on the map plus the keep-out grid, inflated for the robot's
 // footprint, and a path follower (omnidirectional where every drive steers, differential otherwise) that stops for
-// lidar obstacles and replans. Commands go to `nav_vel`. Thin shell around the library: Costmap and
-// sweptObstacleDistance, planToGoal, PathFollower, ArrivalJudge and approachAgain; parameters in
-// headland_navigator_settings.
+// lidar obstacles and replans. Commands go to `nav_vel`. ROS I/O only: the goal's lifecycle is GoalRunner's (on the
+// Costmap through costmapPlanners), this node converts messages, keeps the costmap's layers, publishes what the
+// runner decides and reports diagnostics; parameters in headland_navigator_settings.
 #include <algorithm>
 #include <cmath>
 #include <memory>
-#include <mutex>
 #include <string>
 #include <vector>
 
@@ -27,10 +26,8 @@
 #include "ros_conversions.h"
 #include "scan_frames.h"
 #include "thorvald_navigation/costmap.h"
-#include "thorvald_navigation/goal_approach.h"
-#include "thorvald_navigation/grid_planner.h"
+#include "thorvald_navigation/goal_runner.h"
 #include "thorvald_navigation/localization_gate.h"
-#include "thorvald_navigation/path_follower.h"
 
 namespace thorvald_navigation {
 namespace {
@@ -42,9 +39,8 @@ class HeadlandNavigatorNode {
   HeadlandNavigatorNode(ros::NodeHandle& nh, ros::NodeHandle& pnh, const Settings& s)
       : s_(s),
         footprint_(makeFootprint(s.footprint, s.footprint_padding)),
-        follower_(s.follower),
-        arrival_(ArrivalParams{s.follower.xy_tolerance_m, s.follower.yaw_tolerance_rad, s.goal_corrections}),
-        gate_(s.gate),
+        runner_(s.goal, costmapPlanners([this]() -> const Costmap& { return *costmap_; }, footprint_, s.planner,
+                                        s.final_approach, s.obstacle_check_ahead, s.goal.follower.omnidirectional)),
         tf_listener_(tf_buffer_),
         frames_(tf_buffer_),
         updater_(nh, pnh),
@@ -138,24 +134,9 @@ class HeadlandNavigatorNode {
       ROS_WARN_STREAM_THROTTLE(5.0, "headland_navigator: localiser status '" << msg->data << "' not understood");
       return;
     }
-    if (state != gate_.state()) ROS_INFO_STREAM("headland_navigator: localiser " << localizerStateName(state));
-    gate_.setStatus(state, ros::Time::now().toSec());
-  }
-
-  // Holds the robot while the localiser is lost, aborts the goal when it stays lost. True when it may drive.
-  bool localizationAllows(const GateVerdict& v) {
-    if (v.action == GateAction::kAbort) {
-      abort(v.reason);
-      return false;
-    }
-    if (v.action == GateAction::kHold) {
-      stopRobot();
-      if (!holding_) ROS_WARN_STREAM("headland_navigator: " << v.reason);
-      holding_ = true;
-      hold_reason_ = v.reason;
-      return false;
-    }
-    return true;
+    if (state != runner_.localizerState())
+      ROS_INFO_STREAM("headland_navigator: localiser " << localizerStateName(state));
+    runner_.setLocalizerStatus(state, ros::Time::now().toSec());
   }
 
   void onSimpleGoal(const geometry_msgs::PoseStamped::ConstPtr& msg) {
@@ -176,250 +157,126 @@ class HeadlandNavigatorNode {
     if (g.finite() && frame != s_.global_frame) {
       thorvald_base::Pose2D frame_in_map;
       if (!frames_.lookup(s_.global_frame, frame, ros::Time(0), 0.2, &frame_in_map, &error)) {
-        abort("goal frame '" + frame + "' cannot be transformed to '" + s_.global_frame + "': " + error);
+        apply(runner_.abort("goal frame '" + frame + "' cannot be transformed to '" + s_.global_frame + "': " + error));
         return;
       }
       g = frame_in_map * g;
     }
-    if (!g.finite()) {
-      abort("goal pose is not finite (or its quaternion is zero)");
-      return;
+    apply(runner_.accept(g, ros::Time::now().toSec()));
+  }
+
+  void onPreempt() { apply(runner_.cancel()); }
+
+  // Sends what the goal runner decided: its log lines, the plan, the command to the base, the goal's result.
+  // `pose` and `stamp`: the cycle's, for the feedback.
+  void apply(const GoalTick& t, const thorvald_base::Pose2D* pose = nullptr, const ros::Time& stamp = ros::Time()) {
+    for (const GoalNote& n : t.notes) {
+      if (n.warning)
+        ROS_WARN_STREAM("headland_navigator: " << n.text);
+      else
+        ROS_INFO_STREAM("headland_navigator: " << n.text);
     }
-    goal_ = g;
-    active_ = true;
-    need_plan_ = true;
-    blocked_since_ = ros::Time();
-    arrived_at_ = ros::Time();
-    arrival_.reset();
-    last_phase_ = FollowPhase::kIdle;
-    to_pre_goal_ = false;
-    holding_ = false;
-    started_ = ros::Time::now();
-    ROS_INFO("headland_navigator: new goal (%.2f, %.2f, %.2f)", g.x, g.y, g.yaw);
-  }
-
-  void onPreempt() {
-    stopRobot();
-    active_ = false;
-    server_.setPreempted(move_base_msgs::MoveBaseResult(), "cancelled");
-    ROS_INFO("headland_navigator: goal cancelled, robot stopped");
-  }
-
-  void abort(const std::string& reason) {
-    stopRobot();
-    active_ = false;
-    last_failure_ = reason;
-    ROS_WARN_STREAM("headland_navigator: goal aborted: " << reason);
-    if (server_.isActive()) server_.setAborted(move_base_msgs::MoveBaseResult(), reason);
-  }
-
-  void stopRobot() {
-    follower_.stop();
-    cmd_pub_.publish(geometry_msgs::Twist());
-  }
-
-  // Plans from `pose` to the goal and publishes the plan; false with the reason, and whether lidar obstacles alone
-  // stand in the way, when there is none.
-  bool plan(const thorvald_base::Pose2D& pose, std::string* error, bool* obstacle) {
-    const GoalPlan r = planToGoal(*costmap_, footprint_, pose, goal_, s_.planner,
-                                  s_.follower.omnidirectional ? 0.0 : s_.final_approach);
-    if (!r.ok) {
-      *error = r.error;
-      *obstacle = r.blocked_by_obstacle;
-      return false;
+    if (t.new_plan) publishPlan();
+    if (t.command == DriveCommand::kStop) cmd_pub_.publish(geometry_msgs::Twist());
+    if (t.command == DriveCommand::kTwist) {
+      geometry_msgs::Twist cmd;
+      cmd.linear.x = t.twist.vx;
+      cmd.linear.y = t.twist.vy;
+      cmd.angular.z = t.twist.wz;
+      cmd_pub_.publish(cmd);
+      if (pose) publishFeedback(*pose, stamp);
     }
-    path_ = r.path;
-    follower_.setPath(path_, goal_);
-    publishPlan();
-    ++plans_;
-    return true;
+    if (t.state == GoalState::kAborted && server_.isActive())
+      server_.setAborted(move_base_msgs::MoveBaseResult(), t.reason);
+    if (t.state == GoalState::kSucceeded) server_.setSucceeded(move_base_msgs::MoveBaseResult(), "goal reached");
+    if (t.state == GoalState::kCancelled) server_.setPreempted(move_base_msgs::MoveBaseResult(), "cancelled");
+  }
+
+  void publishFeedback(const thorvald_base::Pose2D& pose, const ros::Time& stamp) {
+    move_base_msgs::MoveBaseFeedback fb;
+    fb.base_position.header.stamp = stamp;
+    fb.base_position.header.frame_id = s_.global_frame;
+    fb.base_position.pose = thorvald_map::toPose(pose);
+    server_.publishFeedback(fb);
   }
 
   void publishPlan() {
+    const std::vector<Eigen::Vector2d>& path = runner_.path();
+    const thorvald_base::Pose2D& goal = runner_.goal();
     nav_msgs::Path msg;
     msg.header.stamp = ros::Time::now();
     msg.header.frame_id = s_.global_frame;
-    for (std::size_t i = 0; i < path_.size(); ++i) {
+    for (std::size_t i = 0; i < path.size(); ++i) {
       geometry_msgs::PoseStamped p;
       p.header = msg.header;
-      const Eigen::Vector2d d = i + 1 < path_.size() ? Eigen::Vector2d(path_[i + 1] - path_[i]) : Eigen::Vector2d(0, 0);
-      p.pose = thorvald_map::toPose(
-          {path_[i].x(), path_[i].y(), i + 1 < path_.size() ? std::atan2(d.y(), d.x()) : goal_.yaw});
+      const Eigen::Vector2d d = i + 1 < path.size() ? Eigen::Vector2d(path[i + 1] - path[i]) : Eigen::Vector2d(0, 0);
+      p.pose =
+          thorvald_map::toPose({path[i].x(), path[i].y(), i + 1 < path.size() ? std::atan2(d.y(), d.x()) : goal.yaw});
       msg.poses.push_back(p);
     }
     plan_pub_.publish(msg);
   }
 
-  // Is a lidar obstacle (not a known wall or the keep-out zone) under the footprint along the next
-  // obstacle_check_ahead metres of the path?
-  bool obstacleAhead(const thorvald_base::Pose2D& pose) const {
-    return sweptObstacleDistance(*costmap_, footprint_, pose, path_, follower_.progressIndex() + 1,
-                                 s_.obstacle_check_ahead, s_.follower.omnidirectional, goal_.yaw,
-                                 follower_.reversing()) >= 0.0;
+  // The lidar went quiet: do not steer around ghosts, but say so.
+  void forgetStaleObstacles(const ros::Time& now) {
+    if (last_scan_.isZero() || (now - last_scan_).toSec() <= s_.scan_max_age || obstacles_.empty()) return;
+    obstacles_.clear();
+    if (costmap_) costmap_->setObstacles(obstacles_);
+    ROS_WARN_THROTTLE(5.0, "headland_navigator: no recent scan: obstacle layer cleared");
   }
 
   void onTimer(const ros::TimerEvent& ev) {
     updater_.update();
-    if (!active_) return;
+    if (!runner_.active()) return;
     if (!server_.isActive()) {
-      active_ = false;
+      runner_.drop();
       return;
     }
     const ros::Time now = ros::Time::now();
-    if (!last_scan_.isZero() && (now - last_scan_).toSec() > s_.scan_max_age && !obstacles_.empty()) {
-      obstacles_.clear();  // the lidar went quiet: do not steer around ghosts, but say so
-      if (costmap_) costmap_->setObstacles(obstacles_);
-      ROS_WARN_THROTTLE(5.0, "headland_navigator: no recent scan: obstacle layer cleared");
-    }
+    forgetStaleObstacles(now);
+    GoalRunnerInput in;
+    in.now_s = now.toSec();
+    in.dt_s =
+        ev.last_real.isZero() ? 1.0 / s_.controller_frequency : std::min(0.5, (ev.current_real - ev.last_real).toSec());
     std::string error;
     thorvald_base::Pose2D pose;
-    if (!costmap_ || !frames_.lookup(s_.global_frame, s_.base_frame, ros::Time(0), 0.0, &pose, &error)) {
-      stopRobot();
-      if ((now - started_).toSec() > s_.planner_patience)
-        abort(costmap_ ? "no robot pose in " + s_.global_frame + ": " + error : "no map received on 'map'");
-      return;
-    }
-    const bool arriving = follower_.state() == FollowState::kArrived && !to_pre_goal_ && !arrived_at_.isZero();
-    if (!arriving) {
-      if (!localizationAllows(gate_.whileDriving(now.toSec(), started_.toSec()))) return;
-      if (holding_) {  // relocalised: the pose may have moved, plan again from it
-        holding_ = false;
-        need_plan_ = true;
-        ++relocalisation_waits_;
-        ROS_INFO("headland_navigator: localiser %s again: replanning", localizerStateName(gate_.state()));
-      }
-    }
-    if (need_plan_) {
-      bool obstacle = false;
-      if (!plan(pose, &error, &obstacle)) {
-        // A goal blocked by the map or keep-out is refused at once; one blocked by lidar obstacles waits.
-        if (!obstacle || blocked_since_.isZero()) blocked_since_ = now;
-        if (!obstacle || (now - blocked_since_).toSec() > s_.obstacle_wait) {
-          abort(error);
-          return;
-        }
-        stopRobot();
-        return;
-      }
-      need_plan_ = false;  // blocked_since_ stays: a new plan the obstacle still blocks does not restart the wait
-    }
-    if (obstacleAhead(pose)) {
-      stopRobot();
-      if (blocked_since_.isZero()) {
-        blocked_since_ = now;
-        ROS_WARN("headland_navigator: obstacle ahead: stopped, replanning");
-      }
-      ++obstacle_stops_;
-      need_plan_ = true;
-      if ((now - blocked_since_).toSec() > s_.obstacle_wait) abort("path blocked by an obstacle for too long");
-      return;
-    }
-    blocked_since_ = ros::Time();
-    const double dt =
-        ev.last_real.isZero() ? 1.0 / s_.controller_frequency : std::min(0.5, (ev.current_real - ev.last_real).toSec());
-    const thorvald_base::Twist2D t = follower_.step(pose, dt);
-    if (follower_.phase() != last_phase_) {
-      last_phase_ = follower_.phase();
-      ROS_INFO("headland_navigator: %.2f s into the goal: %s%s at (%.3f, %.3f, %.3f), %.3f m from the goal",
-               (now - started_).toSec(), followPhaseName(last_phase_), follower_.reversing() ? " (reversing)" : "",
-               pose.x, pose.y, pose.yaw, std::hypot(pose.x - goal_.x, pose.y - goal_.y));
-    }
-    if (follower_.state() == FollowState::kArrived) {
-      // The robot still moves a little after the last command (drive response, wheel slip while turning): judge
-      // the pose once it stands, and approach again while it is outside the tolerances.
-      if (to_pre_goal_) {  // at the start of the final approach: now straight to the goal
-        to_pre_goal_ = false;
-        path_ = {pre_goal_, Eigen::Vector2d(goal_.x, goal_.y)};
-        follower_.setPath(path_, goal_);
-        return;
-      }
-      stopRobot();
-      if (arrived_at_.isZero()) arrived_at_ = now;
-      if ((now - arrived_at_).toSec() < s_.settle_time) return;
-      // Judged only on a pose the localiser stands by: wait while it is uncertain or lost, abort when that lasts.
-      if (!localizationAllows(gate_.atGoal(now.toSec(), started_.toSec(), arrived_at_.toSec() + s_.settle_time)))
-        return;
-      if (holding_) {
-        holding_ = false;
-        ++relocalisation_waits_;
-        ROS_INFO("headland_navigator: localiser %s again at the goal", localizerStateName(gate_.state()));
-      }
-      arrived_at_ = ros::Time();
-      const ArrivalJudgement j = arrival_.judge(pose, goal_);
-      if (j.verdict == ArrivalVerdict::kApproachAgain && j.xy_err_m <= s_.follower.xy_tolerance_m) {
-        // Only the heading is off: turn again where the robot stands (backing off would cost the position).
-        ROS_INFO("headland_navigator: settled %.3f m, %.3f rad off the goal: turning again (%d of %d)", j.xy_err_m,
-                 j.yaw_err_rad, arrival_.corrections(), s_.goal_corrections);
-        follower_.turnTo(goal_);
-        to_pre_goal_ = false;
-        return;
-      }
-      if (j.verdict == ArrivalVerdict::kApproachAgain) {
-        const Approach a =
-            approachAgain(*costmap_, footprint_, pose, goal_, s_.final_approach, s_.follower.omnidirectional);
-        ROS_INFO("headland_navigator: settled %.3f m, %.3f rad off the goal: approaching again%s (%d of %d)",
-                 j.xy_err_m, j.yaw_err_rad, a.reverse ? ", backing off first" : "", arrival_.corrections(),
-                 s_.goal_corrections);
-        path_ = a.first_leg;
-        follower_.setPath(path_, a.first_target, a.reverse);
-        to_pre_goal_ = a.then_to_goal;
-        pre_goal_ = Eigen::Vector2d(a.first_target.x, a.first_target.y);
-        return;
-      }
-      active_ = false;
-      if (j.verdict == ArrivalVerdict::kFailed) {
-        abort(j.reason);
-        return;
-      }
-      ROS_INFO("headland_navigator: goal reached (%.3f m, %.3f rad off, %d corrections) after %.1f s", j.xy_err_m,
-               j.yaw_err_rad, arrival_.corrections(), (now - started_).toSec());
-      server_.setSucceeded(move_base_msgs::MoveBaseResult(), "goal reached");
-      ++reached_;
-      return;
-    }
-    geometry_msgs::Twist cmd;
-    cmd.linear.x = t.vx;
-    cmd.linear.y = t.vy;
-    cmd.angular.z = t.wz;
-    cmd_pub_.publish(cmd);
-    move_base_msgs::MoveBaseFeedback fb;
-    fb.base_position.header.stamp = now;
-    fb.base_position.header.frame_id = s_.global_frame;
-    fb.base_position.pose = thorvald_map::toPose(pose);
-    server_.publishFeedback(fb);
+    if (costmap_ && frames_.lookup(s_.global_frame, s_.base_frame, ros::Time(0), 0.0, &pose, &error))
+      in.pose = pose;
+    else
+      in.no_pose_reason = costmap_ ? "no robot pose in " + s_.global_frame + ": " + error : "no map received on 'map'";
+    apply(runner_.tick(in), in.pose ? &*in.pose : nullptr, now);
   }
 
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& st) {
     using D = diagnostic_msgs::DiagnosticStatus;
     if (!costmap_) {
       st.summary(D::WARN, "no map yet");
-    } else if (active_ && holding_) {
-      st.summary(D::WARN, hold_reason_);
-    } else if (active_ && !blocked_since_.isZero()) {
+    } else if (runner_.active() && runner_.holding()) {
+      st.summary(D::WARN, runner_.holdReason());
+    } else if (runner_.active() && runner_.blocked()) {
       st.summary(D::WARN, "blocked by an obstacle");
     } else {
-      st.summary(D::OK, active_ ? "navigating" : "idle");
+      st.summary(D::OK, runner_.active() ? "navigating" : "idle");
     }
     st.add("drive mode", s_.drive_mode);
     st.add("keep-out grid", keep_out_.width > 0 ? "received" : "none");
-    st.add("plans", plans_);
-    st.add("goals reached", reached_);
-    st.add("obstacle stops (cycles)", obstacle_stops_);
+    const GoalRunnerCounts& n = runner_.counts();
+    st.add("plans", n.plans);
+    st.add("goals reached", n.reached);
+    st.add("obstacle stops (cycles)", n.obstacle_stops);
     if (costmap_) {
       st.add("lidar points: obstacles", costmap_->obstaclePoints());
       st.add("lidar points: known walls / keep-out", costmap_->knownStructurePoints());
     }
-    st.add("localiser status", localizerStateName(gate_.state()));
-    st.add("waits for relocalisation", relocalisation_waits_);
+    st.add("localiser status", localizerStateName(runner_.localizerState()));
+    st.add("waits for relocalisation", n.relocalisation_waits);
     st.add("localiser statuses not understood", bad_statuses_);
-    st.add("last failure", last_failure_);
+    st.add("last failure", runner_.lastFailure());
   }
 
   Settings s_;
   Footprint footprint_;
-  PathFollower follower_;
-  ArrivalJudge arrival_;
-  LocalizationGate gate_;
+  GoalRunner runner_;
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
   FrameLookup frames_;
@@ -430,16 +287,9 @@ class HeadlandNavigatorNode {
   ros::Timer timer_;
   thorvald_map::OccupancyGrid map_, keep_out_;
   std::unique_ptr<Costmap> costmap_;
-  std::vector<Eigen::Vector2d> obstacles_, path_;
-  thorvald_base::Pose2D goal_;
-  bool active_ = false, need_plan_ = false;
-  ros::Time blocked_since_, started_, last_scan_, arrived_at_, last_obstacle_update_;
-  bool to_pre_goal_ = false;  // a correction is on its way to the start of the final approach
-  Eigen::Vector2d pre_goal_{0.0, 0.0};
-  FollowPhase last_phase_ = FollowPhase::kIdle;
-  long plans_ = 0, reached_ = 0, obstacle_stops_ = 0, relocalisation_waits_ = 0, bad_statuses_ = 0;
-  bool holding_ = false;  // stopped for the localiser
-  std::string last_failure_, hold_reason_;
+  std::vector<Eigen::Vector2d> obstacles_;
+  ros::Time last_scan_, last_obstacle_update_;
+  long bad_statuses_ = 0;
 };
 
 }  // namespace

@@ -34,19 +34,20 @@ void readNavigatorParams(thorvald_common::ParamReader& r, Settings* s) {
   s->base_frame = r.text("robot_base_frame", s->base_frame);
   s->keep_out_topic = r.text("keep_out_topic", s->keep_out_topic);
   s->localization_status_topic = r.text("localization_status_topic", s->localization_status_topic);
-  s->gate.lost_wait_s = r.number("localization_lost_wait", s->gate.lost_wait_s, R::aboveUpTo(0.0, 3600.0), "s");
-  s->gate.uncertain_wait_s =
-      r.number("localization_uncertain_wait", s->gate.uncertain_wait_s, R::aboveUpTo(0.0, 3600.0), "s");
+  s->goal.gate.lost_wait_s =
+      r.number("localization_lost_wait", s->goal.gate.lost_wait_s, R::aboveUpTo(0.0, 3600.0), "s");
+  s->goal.gate.uncertain_wait_s =
+      r.number("localization_uncertain_wait", s->goal.gate.uncertain_wait_s, R::aboveUpTo(0.0, 3600.0), "s");
   s->controller_frequency = r.number("controller_frequency", s->controller_frequency, R::aboveUpTo(0.0, 200.0), "Hz");
   s->footprint_padding = r.number("footprint_padding", s->footprint_padding, R::closed(0.0, 1.0), "m");
   s->footprint = r.numbers("footprint", s->footprint, R::closed(-20.0, 20.0), "m", 0, 200);
   s->drive_mode = r.choice("drive_mode", s->drive_mode, {"auto", "omnidirectional", "differential"});
   s->obstacle_range = r.number("obstacle_range", s->obstacle_range, R::above(0.0), "m");
   s->obstacle_check_ahead = r.number("obstacle_check_ahead", s->obstacle_check_ahead, R::above(0.0), "m");
-  s->obstacle_wait = r.number("obstacle_wait", s->obstacle_wait, R::above(0.0), "s");
-  s->planner_patience = r.number("planner_patience", s->planner_patience, R::above(0.0), "s");
-  s->settle_time = r.number("settle_time", s->settle_time, R::closed(0.0, 5.0), "s");
-  s->goal_corrections = r.integer("goal_corrections", s->goal_corrections, 0, 20);
+  s->goal.obstacle_wait_s = r.number("obstacle_wait", s->goal.obstacle_wait_s, R::above(0.0), "s");
+  s->goal.planner_patience_s = r.number("planner_patience", s->goal.planner_patience_s, R::above(0.0), "s");
+  s->goal.settle_time_s = r.number("settle_time", s->goal.settle_time_s, R::closed(0.0, 5.0), "s");
+  s->goal.goal_corrections = r.integer("goal_corrections", s->goal.goal_corrections, 0, 20);
   s->final_approach = r.number("final_approach", s->final_approach, R::closed(0.0, 2.0), "m");
   s->obstacle_update_rate = r.number("obstacle_update_rate", s->obstacle_update_rate, R::aboveUpTo(0.0, 100.0), "Hz");
   s->scan_max_age = r.number("scan_max_age", s->scan_max_age, R::above(0.0), "s");
@@ -121,7 +122,7 @@ bool loadSettings(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, Setting
   try {
     thorvald_common::ParamReader r(pnh, "headland_navigator");
     readNavigatorParams(r, s);
-    auto& f = s->follower;
+    auto& f = s->goal.follower;
     readFollowerParams(r, &f);
     r.finish();
     if (!s->footprint.empty() && (s->footprint.size() < 6 || s->footprint.size() % 2 != 0))
@@ -135,8 +136,7 @@ bool loadSettings(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, Setting
     s->costmap.inflation_radius_m = std::max(s->costmap.inflation_radius_m, s->costmap.planning_radius_m);
     check(s->costmap.validate());
     check(s->planner.validate());
-    check(f.validate());
-    check(s->gate.validate());
+    check(s->goal.validate());
   } catch (const thorvald_common::ParamError& e) {
     *error = e.what();
     return false;

@@ -7,9 +7,8 @@
 #include <ros/node_handle.h>
 
 #include "thorvald_navigation/costmap.h"
+#include "thorvald_navigation/goal_runner.h"
 #include "thorvald_navigation/grid_planner.h"
-#include "thorvald_navigation/localization_gate.h"
-#include "thorvald_navigation/path_follower.h"
 
 namespace thorvald_navigation {
 
@@ -23,17 +22,12 @@ struct Settings {
   std::string drive_mode = "auto";     // auto | omnidirectional | differential
   double obstacle_range = 3.0;         // lidar points farther than this are not obstacles [m]
   double obstacle_check_ahead = 1.5;   // path length checked for obstacles [m]
-  double obstacle_wait = 10.0;         // give up when blocked for this long [s]
-  double planner_patience = 5.0;       // give up when no pose/plan for this long [s]
-  double settle_time = 0.5;            // after arriving, stand still this long before checking the pose [s]
-  int goal_corrections = 3;            // re-approaches when the settled pose is outside the tolerances
   double final_approach = 0.3;         // differential: the last metres driven straight along the goal heading [m]
   double obstacle_update_rate = 10.0;  // lidar obstacles enter the costmap (and its inflation) at most this often [Hz]
   double scan_max_age = 0.5;           // obstacles older than this are forgotten [s]
   CostmapParams costmap;
   PlannerParams planner;
-  FollowerParams follower;
-  LocalizationGateParams gate;
+  GoalRunnerParams goal;  // the goal lifecycle: path follower, localisation gate, waits, settling, corrections
 };
 
 /// The footprint polygon from a flat list x0 y0 x1 y1 ..., padded outwards by `padding` [m].
