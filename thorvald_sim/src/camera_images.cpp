@@ -3,64 +3,16 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
+#include <string>
 
+#include "pixel_noise.h"
 #include "row_blocks.h"
 
 namespace thorvald_sim {
 
 namespace {
-
-/// The standard normal quantile function at 4097 equally spaced probabilities, the two ends moved in by half a
-/// step (so they are finite: +-3.67): inverse-CDF sampling with linear interpolation between them gives normal
-/// deviates without a logarithm per pixel (variance within 0.2 % of 1, tails cut at 3.67 sigma).
-const std::vector<double>& normalQuantiles() {
-  static const std::vector<double> table = [] {
-    constexpr int kSteps = 4096;
-    std::vector<double> q(kSteps + 1);
-    for (int i = 0; i <= kSteps; ++i) {
-      const double p = std::clamp(static_cast<double>(i), 0.5, kSteps - 0.5) / kSteps;
-      double lo = -10.0, hi = 10.0;  // Phi(x) = erfc(-x / sqrt 2) / 2 is increasing: bisect
-      for (int it = 0; it < 60; ++it) {
-        const double mid = 0.5 * (lo + hi);
-        (0.5 * std::erfc(-mid / std::sqrt(2.0)) < p ? lo : hi) = mid;
-      }
-      q[i] = 0.5 * (lo + hi);
-    }
-    return q;
-  }();
-  return table;
-}
-
-// A fast generator for the per-pixel noise of one frame, seeded from the caller's engine (so the frame stays
-// reproducible from the sensor's seed): one splitmix64 draw per pixel gives both its dropout (a 24-bit uniform) and
-// its normal deviate (the quantile table: 12 bits pick the step, 28 bits where in it).
-class PixelNoise {
- public:
-  static constexpr int kUniformBits = 24;
-  explicit PixelNoise(std::mt19937& rng) : quantiles_(normalQuantiles().data()) {
-    const uint64_t high = rng();  // two statements: the order of the draws is fixed
-    state_ = (high << 32) | rng();
-  }
-  /// A draw; uniform(draw) and normal(draw) use disjoint bits of it.
-  uint64_t next() {
-    uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  /// Uniform in [0, 2^24): compare with p 2^24 for an event of probability p.
-  static uint32_t uniform(uint64_t draw) { return static_cast<uint32_t>(draw & ((1u << kUniformBits) - 1)); }
-  double normal(uint64_t draw) const {
-    const size_t i = draw >> 52;                                               // 12 bits: the step
-    const double f = ((draw >> kUniformBits) & ((1u << 28) - 1)) * 0x1.0p-28;  // 28 bits: where in the step
-    return quantiles_[i] + f * (quantiles_[i + 1] - quantiles_[i]);
-  }
-
- private:
-  const double* quantiles_;
-  uint64_t state_ = 0;
-};
 
 // Each seen geom once per frame (a frame sees few geoms, many pixels each), in the optical frame: for planes and
 // boxes the rows of A = R_geom^T R_camera (the faces' normals) and, for boxes, the map from a point in the optical
@@ -204,8 +156,65 @@ class DepthRows {
 
 }  // namespace
 
+namespace {
+
+/// Geoms of shiny round steel: spheres, capsules, ellipsoids and cylinders whose name starts with `prefix`.
+std::vector<char> shinyGeoms(const mjModel* m, const std::string& prefix) {
+  std::vector<char> shiny(m->ngeom, 0);
+  if (prefix.empty()) return shiny;
+  for (int g = 0; g < m->ngeom; ++g) {
+    const int t = m->geom_type[g];
+    const char* name = mj_id2name(m, mjOBJ_GEOM, g);
+    shiny[g] = (t == mjGEOM_SPHERE || t == mjGEOM_CAPSULE || t == mjGEOM_ELLIPSOID || t == mjGEOM_CYLINDER) && name &&
+               std::strncmp(name, prefix.c_str(), prefix.size()) == 0;
+  }
+  return shiny;
+}
+
+/// The true view for the active-stereo model: `exact` (no noise, no dropout; range and grazing applied) as depth
+/// and, on shiny geoms, the cosine between the normal and the way back to the camera.
+DepthTruth depthTruth(const RenderedView& view, const RayCaster& caster, const SensorPose& pose,
+                      const DepthCameraSpec& s, const DepthImage& exact) {
+  DepthTruth t;
+  t.width = s.width, t.height = s.height;
+  const size_t n = exact.points.size();
+  t.z_m.resize(n);
+  t.shiny_cos.assign(n, std::numeric_limits<float>::quiet_NaN());
+  for (size_t i = 0; i < n; ++i) t.z_m[i] = exact.points[i].z();
+  const mjModel* m = caster.model();
+  const std::vector<char> shiny = shinyGeoms(m, s.stereo.shiny_prefix);
+  const Intrinsics k = intrinsics(s);
+  for (int v = 0; v < s.height; ++v)
+    for (int u = 0; u < s.width; ++u) {
+      const size_t i = static_cast<size_t>(v) * s.width + u;
+      const int g = view.geom[i];
+      if (g < 0 || !shiny[g] || !(t.z_m[i] > 0.0f)) continue;
+      const Eigen::Vector3d ray((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
+      const Eigen::Vector3d dir = pose.rotation * ray.normalized();
+      const Eigen::Vector3d nrm = caster.normal(g, pose.origin + pose.rotation * (ray * t.z_m[i]), dir);
+      t.shiny_cos[i] = static_cast<float>(-nrm.dot(dir));
+    }
+  return t;
+}
+
+}  // namespace
+
 void depthFromView(const RenderedView& view, const RayCaster& caster, const SensorPose& pose, const DepthCameraSpec& s,
                    std::mt19937& rng, DepthImage* img, int threads) {
+  if (s.realism == Realism::kDatasheet && view.width == s.width && view.height == s.height) {
+    DepthCameraSpec exact = s;
+    exact.realism = Realism::kIdeal, exact.noise_coeff = 0.0, exact.dropout = 0.0;
+    depthFromView(view, caster, pose, exact, rng, img, threads);
+    const std::vector<float> z =
+        applyActiveStereo(depthTruth(view, caster, pose, s, *img), intrinsics(s).fx, s.stereo, rng);
+    const Intrinsics k = intrinsics(s);
+    for (int v = 0; v < s.height; ++v)
+      for (int u = 0; u < s.width; ++u) {
+        const size_t i = static_cast<size_t>(v) * s.width + u;
+        img->points[i] = (Eigen::Vector3d((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0) * z[i]).cast<float>();
+      }
+    return;
+  }
   img->width = s.width;
   img->height = s.height;
   const float nan = std::numeric_limits<float>::quiet_NaN();

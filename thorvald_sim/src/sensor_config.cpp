@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -81,7 +82,102 @@ struct Reader {
   }
 };
 
-SensorConfig parseOne(const YAML::Node& n, const std::string& where) {
+/// The `realism` key of `r`'s node (a sensor's, or the file's), `def` when absent; an unknown profile is refused.
+Realism readRealism(Reader& r, Realism def) {
+  const std::string name = r.text("realism", realismName(def));
+  const auto realism = realismFromName(name);
+  if (!realism) r.fail("realism", "ideal or datasheet, got '" + name + "'");
+  return *realism;
+}
+
+/// A device's datasheet model keys under `model:`: each overrides one figure of the device's table.
+struct ModelKey {
+  std::string key;
+  double lo, hi;
+};
+
+/// Reads the keys of `table` from the `model` map of the sensor into `fields` (same order), strictly.
+void readModelKeys(const YAML::Node& n, const std::string& where, const std::vector<ModelKey>& table,
+                   const std::vector<double*>& fields, std::string* text_key = nullptr, const char* text_name = "") {
+  if (!n["model"]) return;
+  if (!n["model"].IsMap()) throw SensorConfigError(where + ".model: expected a map of model keys");
+  Reader m{n["model"], where + ".model", {}};
+  for (size_t i = 0; i < table.size(); ++i) *fields[i] = m.number(table[i].key, *fields[i], table[i].lo, table[i].hi);
+  if (text_key) *text_key = m.text(text_name, *text_key);
+  m.checkUnknown();
+}
+
+/// The datasheet model of the sensor's `device` (refused if it is not one of that type's), with `model:` overrides.
+void readDatasheet(const YAML::Node& n, Reader& r, SensorConfig& c) {
+  auto device = [&](const std::string& def, const std::vector<std::string>& known) {
+    const std::string d = r.text("device", def);
+    std::string list;
+    for (const auto& k : known) list += (list.empty() ? "" : " or ") + k;
+    if (std::find(known.begin(), known.end(), d) == known.end()) r.fail("device", list + ", got '" + d + "'");
+    return d;
+  };
+  r.used.insert("model");
+  switch (c.type) {
+    case SensorType::kLidar: {
+      device("utm_30lx", {"utm_30lx"});
+      auto& m = c.lidar.model;
+      readModelKeys(n, r.where,
+                    {{"sigma_near", 0, 1},
+                     {"sigma_far", 0, 1},
+                     {"near_limit", 0, 1000},
+                     {"max_incidence", 0, M_PI / 2},
+                     {"dropout", 0, 1},
+                     {"edge_jump", 0, 100},
+                     {"mixed_probability", 0, 1},
+                     {"sweep_time", 0, 1}},
+                    {&m.sigma_near_m, &m.sigma_far_m, &m.near_limit_m, &m.max_incidence_rad, &m.dropout, &m.edge_jump_m,
+                     &m.mixed_probability, &m.sweep_s});
+      break;
+    }
+    case SensorType::kUltrasonic: {
+      device("generic", {"generic"});
+      readModelKeys(n, r.where, {{"max_incidence", 0, M_PI / 2}}, {&c.ultrasonic.model.max_incidence_rad});
+      break;
+    }
+    case SensorType::kDepthCamera: {
+      device("d400", {"d400"});
+      auto& m = c.depth.stereo;
+      readModelKeys(n, r.where,
+                    {{"noise_coeff", 0, 1},
+                     {"baseline", 0, 1},
+                     {"range_min", 0, 100},
+                     {"dropout", 0, 1},
+                     {"edge_jump", 0, 10},
+                     {"flying_probability", 0, 1},
+                     {"shiny_max_angle", 0, M_PI / 2}},
+                    {&m.noise_coeff, &m.baseline_m, &m.range_min_m, &m.dropout, &m.edge_jump, &m.flying_probability,
+                     &m.shiny_max_angle_rad},
+                    &m.shiny_prefix, "shiny_prefix");
+      break;
+    }
+    case SensorType::kImu: {
+      const std::string d = device("um7", {"um7", "phidget_1044"});
+      auto& m = c.imu.model;
+      m = d == "um7" ? um7ImuModel() : phidget1044ImuModel();
+      std::vector<ModelKey> table;
+      std::vector<double*> fields;
+      for (auto* t : {&m.gyro, &m.accel}) {
+        const std::string p = t == &m.gyro ? "gyro_" : "accel_";
+        table.insert(table.end(), {{p + "white", 0, 10},
+                                   {p + "bias_instability", 0, 10},
+                                   {p + "bias_correlation", 1e-3, 1e7},
+                                   {p + "bias_random_walk", 0, 10},
+                                   {p + "scale_factor", 0, 1}});
+        fields.insert(fields.end(), {&t->white_sigma, &t->bias_instability, &t->bias_correlation_s,
+                                     &t->bias_random_walk, &t->scale_factor_sigma});
+      }
+      readModelKeys(n, r.where, table, fields);
+      break;
+    }
+  }
+}
+
+SensorConfig parseOne(const YAML::Node& n, const std::string& where, Realism file_realism) {
   if (!n.IsMap()) throw SensorConfigError(where + ": expected a map of sensor keys");
   Reader r{n, where, {}};
   SensorConfig c;
@@ -100,6 +196,7 @@ SensorConfig parseOne(const YAML::Node& n, const std::string& where) {
   c.rpy = r.vec3("rpy");
   c.rate_hz = r.number("rate", c.rate_hz, 0.1, 1000.0);
   c.seed = static_cast<unsigned>(r.integer("seed", 1, 0, 1 << 30));
+  c.realism = readRealism(r, file_realism);
   switch (c.type) {
     case SensorType::kLidar: {
       auto& s = c.lidar;
@@ -147,6 +244,8 @@ SensorConfig parseOne(const YAML::Node& n, const std::string& where) {
       break;
     }
   }
+  c.lidar.realism = c.ultrasonic.realism = c.depth.realism = c.imu.realism = c.realism;
+  readDatasheet(n, r, c);
   r.checkUnknown();
   return c;
 }
@@ -157,11 +256,16 @@ std::vector<SensorConfig> parseSensorConfig(const YAML::Node& root, const std::s
   std::vector<SensorConfig> out;
   if (!root || root.IsNull()) return out;
   const YAML::Node list = root.IsMap() ? root["sensors"] : root;
+  Realism realism = Realism::kIdeal;
+  if (root.IsMap()) {
+    Reader file{root, source, {}};
+    realism = readRealism(file, Realism::kIdeal);
+  }
   if (!list || list.IsNull()) return out;
   if (!list.IsSequence()) throw SensorConfigError(source + ": sensors: expected a list of sensors");
   std::set<std::string> names;
   for (size_t i = 0; i < list.size(); ++i) {
-    out.push_back(parseOne(list[i], source + ": sensors[" + std::to_string(i) + "]"));
+    out.push_back(parseOne(list[i], source + ": sensors[" + std::to_string(i) + "]", realism));
     if (!names.insert(out.back().name).second)
       throw SensorConfigError(source + ": sensors[" + std::to_string(i) + "].name: '" + out.back().name +
                               "' is used twice; expected unique names");

@@ -25,6 +25,7 @@ struct SensorConfig {
   double rate_hz = 10.0;
   std::string topic;  ///< relative topic; defaults per type (scan, ultrasonic/<name>, camera, imu)
   unsigned seed = 1;
+  Realism realism = Realism::kIdeal;  ///< the file's `realism`, or the sensor's own; copied into its spec
   LidarSpec lidar;
   UltrasonicSpec ultrasonic;
   DepthCameraSpec depth;
@@ -42,6 +43,12 @@ class SensorConfigError : public std::runtime_error {
 
 /// Parses `sensors: [ {type: lidar|ultrasonic|depth_camera|imu, name: ..., ...}, ... ]`. Unknown keys are errors
 /// (a typo must not silently drop a sensor). Throws SensorConfigError.
+///
+/// Realism: `realism: ideal|datasheet` next to `sensors` sets every sensor's profile (default ideal); a sensor's own
+/// `realism` overrides it. A sensor names its `device` (lidar: utm_30lx; ultrasonic: generic; depth_camera: d400;
+/// imu: um7 or phidget_1044; the first is the default) and may override the figures of its datasheet model in a
+/// `model:` map (keys in the README). An unknown profile, device or model key, or a value out of range, is refused
+/// naming it.
 std::vector<SensorConfig> parseSensorConfig(const YAML::Node& root, const std::string& source);
 std::vector<SensorConfig> loadSensorConfigFile(const std::string& path);
 

@@ -88,6 +88,8 @@ RobotIo::RobotIo(ros::NodeHandle nh, Simulation& sim, size_t index, const std::s
     if (s.parent_body < 0) throw ModelError("sensor " + c.name + ": no link " + frame(c.parent) + " in the model");
     s.mount = c.mountRotation();
     s.rng.seed(c.seed + 7919u * static_cast<unsigned>(index));
+    if (c.type == SensorType::kImu && c.imu.realism == Realism::kDatasheet)
+      s.imu_errors = std::make_unique<ImuErrors>(c.imu.model, s.rng);
     geometry_msgs::TransformStamped t;
     t.header.frame_id = frame(c.parent);
     t.child_frame_id = s.frame;
@@ -227,7 +229,9 @@ void RobotIo::publishSensor(Sensor& s, const ros::Time& now) {
       m.angle_increment = c.lidar.samples > 1 ? (m.angle_max - m.angle_min) / (c.lidar.samples - 1) : 0.0;
       m.scan_time = 1.0 / c.rate_hz;
       m.range_min = c.lidar.range_min_m, m.range_max = c.lidar.range_max_m;
-      m.ranges = simulateLidar(caster, pose, c.lidar, s.rng);
+      const SensorPose sweep_end = sweepEnd(sim_.model(), sim_.data(), s.parent_body, pose, c.lidar.model.sweep_s);
+      m.ranges =
+          simulateLidar(caster, pose, c.lidar, s.rng, c.lidar.realism == Realism::kDatasheet ? &sweep_end : nullptr);
       s.pub.publish(m);
       break;
     }
@@ -243,7 +247,8 @@ void RobotIo::publishSensor(Sensor& s, const ros::Time& now) {
       break;
     }
     case SensorType::kImu: {
-      const ImuReading r = simulateImu(sim_.model(), sim_.data(), s.parent_body, s.mount, c.imu, s.rng);
+      const ImuReading r =
+          simulateImu(sim_.model(), sim_.data(), s.parent_body, s.mount, c.imu, s.rng, s.imu_errors.get(), now.toSec());
       sensor_msgs::Imu m;
       m.header.stamp = now;
       m.header.frame_id = s.frame;
@@ -252,9 +257,12 @@ void RobotIo::publishSensor(Sensor& s, const ros::Time& now) {
       m.angular_velocity.z = r.angular_velocity.z();
       m.linear_acceleration.x = r.linear_acceleration.x(), m.linear_acceleration.y = r.linear_acceleration.y();
       m.linear_acceleration.z = r.linear_acceleration.z();
+      const bool datasheet = c.imu.realism == Realism::kDatasheet;
+      const double gyro_sd = datasheet ? c.imu.model.gyro.white_sigma : c.imu.gyro_noise_radps;
+      const double accel_sd = datasheet ? c.imu.model.accel.white_sigma : c.imu.accel_noise_mps2;
       for (int i = 0; i < 3; ++i) {
-        m.angular_velocity_covariance[4 * i] = c.imu.gyro_noise_radps * c.imu.gyro_noise_radps;
-        m.linear_acceleration_covariance[4 * i] = c.imu.accel_noise_mps2 * c.imu.accel_noise_mps2;
+        m.angular_velocity_covariance[4 * i] = gyro_sd * gyro_sd;
+        m.linear_acceleration_covariance[4 * i] = accel_sd * accel_sd;
         m.orientation_covariance[4 * i] = 1e-6;
       }
       s.pub.publish(m);

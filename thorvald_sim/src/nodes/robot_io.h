@@ -9,6 +9,7 @@
 
 #include <functional>
 #include <map>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -45,6 +46,7 @@ class RobotIo {
     Eigen::Matrix3d mount;
     double next_s = 0.0;
     std::mt19937 rng;
+    std::unique_ptr<ImuErrors> imu_errors;  ///< datasheet IMU: its drifting biases
     ros::Publisher pub, color_pub, info_pub, color_info_pub;
   };
 

@@ -1,0 +1,136 @@
+#include "thorvald_sim/stereo_models.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "pixel_noise.h"
+
+namespace thorvald_sim {
+
+namespace {
+
+constexpr float kNan = std::numeric_limits<float>::quiet_NaN();
+
+/// An event of probability p against PixelNoise::uniform.
+uint32_t below(double p) { return static_cast<uint32_t>(std::clamp(p, 0.0, 1.0) * (1u << PixelNoise::kUniformBits)); }
+
+/// The 4-neighbour of pixel (u, v) whose depth differs most from z, if it differs by more than jump * z; NaN if none.
+float edgeNeighbour(const std::vector<float>& z_m, int width, int height, int u, int v, float z, double jump) {
+  float best = kNan, best_gap = static_cast<float>(jump * z);
+  const int du[4] = {-1, 1, 0, 0}, dv[4] = {0, 0, -1, 1};
+  for (int k = 0; k < 4; ++k) {
+    const int nu = u + du[k], nv = v + dv[k];
+    if (nu < 0 || nv < 0 || nu >= width || nv >= height) continue;
+    const float zn = z_m[static_cast<size_t>(nv) * width + nu];
+    if (!(zn > 0.0f)) continue;
+    const float gap = std::fabs(zn - z);
+    if (gap > best_gap) best = zn, best_gap = gap;
+  }
+  return best;
+}
+
+}  // namespace
+
+std::vector<float> applyActiveStereo(const DepthTruth& t, double fx_px, const ActiveStereoModel& m, std::mt19937& rng) {
+  const size_t n = static_cast<size_t>(t.width) * t.height;
+  std::vector<float> out(n, kNan);
+  if (t.z_m.size() != n) return out;
+  PixelNoise noise(rng);
+  const double shiny_min_cos = std::cos(m.shiny_max_angle_rad);
+  const bool shiny = t.shiny_cos.size() == n;
+  const uint32_t drop_below = below(m.dropout), fly_below = below(m.flying_probability);
+  for (int v = 0; v < t.height; ++v)
+    for (int u = 0; u < t.width; ++u) {
+      const size_t i = static_cast<size_t>(v) * t.width + u;
+      const float z = t.z_m[i];
+      if (!(z > 0.0f)) continue;
+      const uint64_t draw = noise.next();
+      if (z < m.range_min_m || u < m.baseline_m * fx_px / z) continue;  // too near; the left invalid band
+      if (shiny && t.shiny_cos[i] < shiny_min_cos) continue;            // the pattern reflects away
+      if (PixelNoise::uniform(draw) < drop_below) continue;
+      double zz = z;
+      const float other = edgeNeighbour(t.z_m, t.width, t.height, u, v, z, m.edge_jump);
+      if (other > 0.0f) {
+        const uint64_t fly = noise.next();
+        if (PixelNoise::uniform(fly) < fly_below)
+          zz = z + ((fly >> PixelNoise::kUniformBits) & ((1u << 28) - 1)) * 0x1.0p-28 * (other - z);
+      }
+      out[i] = static_cast<float>(zz + m.noise_coeff * zz * zz * noise.normal(draw));
+    }
+  return out;
+}
+
+namespace {
+
+/// Pixels whose left-image point the right camera (at +baseline along x) sees: its column there u - fx B / z is in
+/// the image and no pixel further right in the row lands left of it (a nearer surface would cover it).
+std::vector<char> visibleInRight(const std::vector<float>& z_m, int width, int height, double fxb) {
+  std::vector<char> seen(z_m.size(), 0);
+  for (int v = 0; v < height; ++v) {
+    double min_right = std::numeric_limits<double>::infinity();
+    for (int u = width - 1; u >= 0; --u) {
+      const size_t i = static_cast<size_t>(v) * width + u;
+      const float z = z_m[i];
+      if (!(z > 0.0f)) continue;
+      const double xr = u - fxb / z;
+      seen[i] = xr >= 0.0 && !(min_right < xr - 1e-6);
+      min_right = std::min(min_right, xr);
+    }
+  }
+  return seen;
+}
+
+/// Pixels with texture to match: the grey level's std dev over the window at least min_sigma, no channel saturated.
+std::vector<char> textured(const std::vector<uint8_t>& rgb, int width, int height, const PassiveStereoModel& m) {
+  const size_t n = static_cast<size_t>(width) * height;
+  const int w1 = width + 1;
+  std::vector<double> sum(static_cast<size_t>(w1) * (height + 1), 0.0), sq(sum.size(), 0.0);  // integral images
+  for (int v = 0; v < height; ++v)
+    for (int u = 0; u < width; ++u) {
+      const uint8_t* px = &rgb[3 * (static_cast<size_t>(v) * width + u)];
+      const double g = (px[0] + px[1] + px[2]) / 3.0;
+      const size_t k = static_cast<size_t>(v + 1) * w1 + u + 1;
+      sum[k] = g + sum[k - 1] + sum[k - w1] - sum[k - w1 - 1];
+      sq[k] = g * g + sq[k - 1] + sq[k - w1] - sq[k - w1 - 1];
+    }
+  std::vector<char> ok(n, 0);
+  const int half = std::max(0, m.texture_window_px / 2);
+  const double min_var = m.min_texture_sigma * m.min_texture_sigma;
+  for (int v = 0; v < height; ++v)
+    for (int u = 0; u < width; ++u) {
+      const size_t i = static_cast<size_t>(v) * width + u;
+      const uint8_t* px = &rgb[3 * i];
+      if (std::max({px[0], px[1], px[2]}) >= m.saturation_level) continue;
+      const int u0 = std::max(0, u - half), u1 = std::min(width, u + half + 1);
+      const int v0 = std::max(0, v - half), v1 = std::min(height, v + half + 1);
+      auto box = [&](const std::vector<double>& s) {
+        return s[static_cast<size_t>(v1) * w1 + u1] - s[static_cast<size_t>(v0) * w1 + u1] -
+               s[static_cast<size_t>(v1) * w1 + u0] + s[static_cast<size_t>(v0) * w1 + u0];
+      };
+      const double cnt = static_cast<double>(u1 - u0) * (v1 - v0), mean = box(sum) / cnt;
+      ok[i] = box(sq) / cnt - mean * mean >= min_var;
+    }
+  return ok;
+}
+
+}  // namespace
+
+std::vector<float> passiveStereoDepth(const std::vector<float>& z_m, const std::vector<uint8_t>& rgb, int width,
+                                      int height, double fx_px, const PassiveStereoModel& m, std::mt19937& rng) {
+  const size_t n = static_cast<size_t>(width) * height;
+  std::vector<float> out(n, kNan);
+  if (z_m.size() != n || rgb.size() != 3 * n) return out;
+  const double fxb = fx_px * m.baseline_m;
+  const std::vector<char> seen = visibleInRight(z_m, width, height, fxb);
+  const std::vector<char> ok = textured(rgb, width, height, m);
+  PixelNoise noise(rng);
+  for (size_t i = 0; i < n; ++i) {
+    if (!seen[i] || !ok[i]) continue;
+    const double z = z_m[i];
+    out[i] = static_cast<float>(z + z * z * m.disparity_sigma_px / fxb * noise.normal(noise.next()));
+  }
+  return out;
+}
+
+}  // namespace thorvald_sim
