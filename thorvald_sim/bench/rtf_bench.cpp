@@ -1,6 +1,7 @@
 // Real-time factor (simulated seconds per wall second) of the MuJoCo simulation with in-process base_drivers:
 // 1, 2, 4, 8 four-wheel-steered robots driving circles on flat ground; the greenhouse robot with all its sensors
-// (lidar 1081 beams at 40 Hz, four ultrasonic cones at 20 Hz, a 640x480 depth camera at 30 Hz, IMU at 100 Hz);
+// (lidar 1081 beams at 40 Hz, four ultrasonic cones at 20 Hz, a 640x480 depth camera at 30 Hz, IMU at 100 Hz), in
+// the ideal profile and again in the datasheet profile (README, "Sensor models and realism");
 // a rover-sized robot in the cotton row with a 1280x720 colour + depth camera at 15 Hz (the cotton paper's ZED
 // intrinsics). Then the cost of one camera frame alone. Cameras render through CameraRenderer (OSMesa/llvmpipe)
 // with LP_NUM_THREADS=1 unless --render-threads or the environment says otherwise (LP_NUM_THREADS=0: llvmpipe
@@ -17,6 +18,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
+#include <optional>
 #include <random>
 #include <string>
 #include <thread>
@@ -138,6 +140,96 @@ struct Every {
   }
 };
 
+// The greenhouse robot's scene and its sensors' fixed parts.
+struct Greenhouse {
+  Run run;
+  CameraRenderer renderer;
+  RayCaster caster;
+  DepthCameraSpec depth;  // 640 x 480, range 0.3 - 6 m
+  Greenhouse()
+      : run(build(makeGreenhouseWorld(GreenhouseParams(), nullptr), 1, fourWheelSteered(), -3.0, 0.0, options())),
+        renderer(run.sim->model()),
+        caster(run.sim->model(), run.sim->data(), run.sim->robot(0).root_body) {
+    depth.range_max_m = 6.0;
+  }
+  // The offscreen buffer as the node sizes it: the largest camera image.
+  static SceneOptions options() {
+    SceneOptions o;
+    o.camera_max_width = 640, o.camera_max_height = 480;
+    return o;
+  }
+};
+
+// What the greenhouse sensors cost while the robot drives.
+struct SensorLoad {
+  Rate rate;
+  long beams = 0, depth_frames = 0, us_readings = 0;
+  double lidar_cpu = 0.0, cam_cpu = 0.0, us_cpu = 0.0;
+};
+
+// Lidar 1081 beams at 40 Hz, four ultrasonic cones at 20 Hz, the depth camera at 30 Hz and the IMU at 100 Hz in the
+// `realism` profile (datasheet: default devices, the lidar's sweep from the robot's motion, the IMU's drifting
+// state), for `seconds` of a circle.
+SensorLoad greenhouseSensors(Greenhouse& gh, Realism realism, double seconds, int image_threads, std::mt19937& rng) {
+  LidarSpec lidar;
+  lidar.samples = 1081;
+  UltrasonicSpec us;
+  DepthCameraSpec depth = gh.depth;
+  ImuSpec imu;
+  lidar.realism = us.realism = depth.realism = imu.realism = realism;
+  imu.model = um7ImuModel();
+  std::optional<ImuErrors> imu_errors;  // drawn only in the datasheet profile: the ideal run's draws stay as they were
+  if (realism == Realism::kDatasheet) imu_errors.emplace(imu.model, rng);
+  RenderedView view;
+  DepthImage depth_img;
+  Every lidar_due(40), us_due(20), cam_due(30), imu_due(100);
+  SensorLoad load;
+  Eigen::Matrix3d down;
+  down << 0, 0, 1, 0, 1, 0, -1, 0, 0;  // x axis pointing down
+  Run& run = gh.run;
+  const int body = run.sim->robot(0).root_body;
+  load.rate = drive(run, seconds, {0.8, 0.0, 0.3}, [&](double t) {
+    if (lidar_due.due(t)) {
+      const double w = cpuNow();
+      const SensorPose pose = mount(run, {0.45, 0, 0.62}, Eigen::Matrix3d::Identity());
+      const SensorPose end = sweepEnd(run.sim->model(), run.sim->data(), body, pose, lidar.model.sweep_s);
+      load.beams += static_cast<long>(
+          simulateLidar(gh.caster, pose, lidar, rng, realism == Realism::kDatasheet ? &end : nullptr).size());
+      load.lidar_cpu += cpuNow() - w;
+    }
+    if (us_due.due(t)) {
+      const double w = cpuNow();
+      for (double x : {0.52, 0.0})
+        for (double y : {-0.3, 0.3})
+          simulateUltrasonic(gh.caster, mount(run, {x, y, 0.35}, down), us, rng), ++load.us_readings;
+      load.us_cpu += cpuNow() - w;
+    }
+    if (cam_due.due(t)) {
+      const double w = cpuNow();
+      const SensorPose cam = mount(run, {0.5, 0, 0.75}, opticalPitched(0.6));
+      gh.renderer.render(run.sim->data(), cam, cameraView(depth, false), body, &view, image_threads);
+      depthFromView(view, gh.caster, cam, depth, rng, &depth_img, image_threads);
+      load.cam_cpu += cpuNow() - w;
+      ++load.depth_frames;
+    }
+    if (imu_due.due(t)) {
+      run.sim->updateAccelerations();
+      simulateImu(run.sim->model(), run.sim->data(), body, Eigen::Matrix3d::Identity(), imu, rng,
+                  imu_errors ? &*imu_errors : nullptr, t);
+    }
+  });
+  return load;
+}
+
+void printLoad(const char* scene, const SensorLoad& l) {
+  std::printf("%-52s %12.2f %12.2f\n", scene, l.rate.cpu, l.rate.wall);
+  std::printf("  (%ld depth frames, %.1f CPU ms each; %ld lidar beams, %.2f CPU ms per 1081-beam scan;\n",
+              l.depth_frames, 1e3 * l.cam_cpu / std::max(1L, l.depth_frames), l.beams,
+              1e3 * l.lidar_cpu / std::max(1.0, l.beams / 1081.0));
+  std::printf("   %ld ultrasonic readings, %.1f CPU us each)\n", l.us_readings,
+              1e6 * l.us_cpu / std::max(1L, l.us_readings));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -168,59 +260,25 @@ int main(int argc, char** argv) {
     std::printf("%-52s %12.1f %12.1f\n", ("flat, " + std::to_string(n) + " robot(s)").c_str(), rtf[n].cpu, rtf[n].wall);
   }
 
-  // The greenhouse robot (sensors_greenhouse.yaml) on the headland, driving a circle.
-  // The offscreen buffer as the node sizes it: the largest camera image.
-  SceneOptions gh_options;
-  gh_options.camera_max_width = 640, gh_options.camera_max_height = 480;
-  Run gh = build(makeGreenhouseWorld(GreenhouseParams(), nullptr), 1, fourWheelSteered(), -3.0, 0.0, gh_options);
-  CameraRenderer gh_renderer(gh.sim->model());
-  RayCaster caster(gh.sim->model(), gh.sim->data(), gh.sim->robot(0).root_body);
-  LidarSpec lidar;
-  lidar.samples = 1081;
-  UltrasonicSpec us;
-  DepthCameraSpec depth;  // 640 x 480, range 0.3 - 8 m
-  depth.range_max_m = 6.0;
-  ImuSpec imu;
+  // The greenhouse robot (sensors_greenhouse.yaml) on the headland, driving a circle, with the ideal sensors, then
+  // the same in a second scene with every sensor in the datasheet profile.
+  Greenhouse gh;
   std::mt19937 rng(1);
+  const SensorLoad ideal_load = greenhouseSensors(gh, Realism::kIdeal, sensor_seconds, image_threads, rng);
+  printLoad("greenhouse, lidar + 4 US + 640x480 depth@30Hz + IMU", ideal_load);
+  Greenhouse gh_datasheet;
+  std::mt19937 rng_datasheet(1);
+  const SensorLoad datasheet_load =
+      greenhouseSensors(gh_datasheet, Realism::kDatasheet, sensor_seconds, image_threads, rng_datasheet);
+  printLoad("greenhouse, the same sensors in the datasheet profile", datasheet_load);
+  const Rate rtf_gh = ideal_load.rate, rtf_gh_datasheet = datasheet_load.rate;
+  RayCaster& caster = gh.caster;
+  CameraRenderer& gh_renderer = gh.renderer;
+  DepthCameraSpec& depth = gh.depth;
   RenderedView view;
   DepthImage depth_img;
   ColorImage color_img;
-  Every lidar_due(40), us_due(20), cam_due(30), imu_due(100);
-  long beams = 0, depth_frames = 0, us_readings = 0;
-  double lidar_cpu = 0.0, cam_cpu = 0.0, us_cpu = 0.0;
-  Eigen::Matrix3d down;
-  down << 0, 0, 1, 0, 1, 0, -1, 0, 0;  // x axis pointing down
-  const Rate rtf_gh = drive(gh, sensor_seconds, {0.8, 0.0, 0.3}, [&](double t) {
-    if (lidar_due.due(t)) {
-      const double w = cpuNow();
-      beams += static_cast<long>(
-          simulateLidar(caster, mount(gh, {0.45, 0, 0.62}, Eigen::Matrix3d::Identity()), lidar, rng).size());
-      lidar_cpu += cpuNow() - w;
-    }
-    if (us_due.due(t)) {
-      const double w = cpuNow();
-      for (double x : {0.52, 0.0})
-        for (double y : {-0.3, 0.3}) simulateUltrasonic(caster, mount(gh, {x, y, 0.35}, down), us, rng), ++us_readings;
-      us_cpu += cpuNow() - w;
-    }
-    if (cam_due.due(t)) {
-      const double w = cpuNow();
-      const SensorPose cam = mount(gh, {0.5, 0, 0.75}, opticalPitched(0.6));
-      gh_renderer.render(gh.sim->data(), cam, cameraView(depth, false), gh.sim->robot(0).root_body, &view,
-                         image_threads);
-      depthFromView(view, caster, cam, depth, rng, &depth_img, image_threads);
-      cam_cpu += cpuNow() - w;
-      ++depth_frames;
-    }
-    if (imu_due.due(t)) {
-      gh.sim->updateAccelerations();
-      simulateImu(gh.sim->model(), gh.sim->data(), gh.sim->robot(0).root_body, Eigen::Matrix3d::Identity(), imu, rng);
-    }
-  });
-  std::printf("%-52s %12.2f %12.2f\n", "greenhouse, lidar + 4 US + 640x480 depth@30Hz + IMU", rtf_gh.cpu, rtf_gh.wall);
-  std::printf("  (%ld depth frames, %.1f CPU ms each; %ld lidar beams, %.2f CPU ms per 1081-beam scan;\n", depth_frames,
-              1e3 * cam_cpu / std::max(1L, depth_frames), beams, 1e3 * lidar_cpu / std::max(1.0, beams / 1081.0));
-  std::printf("   %ld ultrasonic readings, %.1f CPU us each)\n", us_readings, 1e6 * us_cpu / std::max(1L, us_readings));
+  ImuSpec imu;
 
   // The rover over the cotton row with the ZED at 720p, 2.2 m above the ground looking down, 15 Hz.
   CottonRowParams row;
@@ -275,9 +333,9 @@ int main(int argc, char** argv) {
   };
   double w = wallNow(), c = cpuNow();
   for (int i = 0; i < frames; ++i) {
-    const SensorPose cam = mount(gh, {0.5, 0, 0.75}, opticalPitched(0.6));
+    const SensorPose cam = mount(gh.run, {0.5, 0, 0.75}, opticalPitched(0.6));
     timed(&stage[0][0], [&] {
-      gh_renderer.render(gh.sim->data(), cam, cameraView(depth, false), gh.sim->robot(0).root_body, &view,
+      gh_renderer.render(gh.run.sim->data(), cam, cameraView(depth, false), gh.run.sim->robot(0).root_body, &view,
                          image_threads);
     });
     addStages(&render_stages[0], gh_renderer.lastStageTimes());
@@ -318,8 +376,9 @@ int main(int argc, char** argv) {
       "\"rtf_greenhouse_sensors\": %.3f, \"rtf_cotton_camera\": %.3f, \"ms_per_depth_frame_640x480\": %.2f, "
       "\"ms_per_rgbd_frame_1280x720\": %.2f, \"rtf_1_robot_wall\": %.2f, \"rtf_8_robots_wall\": %.2f, "
       "\"rtf_greenhouse_sensors_wall\": %.3f, \"rtf_cotton_camera_wall\": %.3f, \"load_avg_start\": %.2f, "
-      "\"load_avg_end\": %.2f}\n",
+      "\"load_avg_end\": %.2f, \"rtf_greenhouse_sensors_datasheet\": %.3f, "
+      "\"rtf_greenhouse_sensors_datasheet_wall\": %.3f}\n",
       rtf[1].cpu, rtf[2].cpu, rtf[4].cpu, rtf[8].cpu, rtf_gh.cpu, rtf_cotton.cpu, ms_depth, ms_rgbd, rtf[1].wall,
-      rtf[8].wall, rtf_gh.wall, rtf_cotton.wall, load_start, load_end);
+      rtf[8].wall, rtf_gh.wall, rtf_cotton.wall, load_start, load_end, rtf_gh_datasheet.cpu, rtf_gh_datasheet.wall);
   return 0;
 }
