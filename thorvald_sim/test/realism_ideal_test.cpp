@@ -40,15 +40,6 @@ sensors:
                                "ideal.yaml");
 }
 
-ts::SensorPose lookingAlong(const Eigen::Vector3d& origin, const Eigen::Vector3d& x_axis) {
-  ts::SensorPose p;
-  p.origin = origin;
-  p.rotation.col(0) = x_axis.normalized();
-  p.rotation.col(2) = Eigen::Vector3d::UnitZ();
-  p.rotation.col(1) = p.rotation.col(2).cross(p.rotation.col(0));
-  return p;
-}
-
 }  // namespace
 
 TEST(IdealProfile, LidarAndUltrasonicAreTheSameAsBefore) {
@@ -59,7 +50,7 @@ TEST(IdealProfile, LidarAndUltrasonicAreTheSameAsBefore) {
   uint64_t lidar = kFnvStart, us = kFnvStart;
   for (int k = 0; k < 4; ++k) {
     const auto scan =
-        ts::simulateLidar(caster, lookingAlong({-3.0 + k, 1.5, 0.6}, {1, 0.2 * k, 0}), sensors[0].lidar, rng);
+        ts::simulateLidar(caster, ts::test::lookingAlong({-3.0 + k, 1.5, 0.6}, {1, 0.2 * k, 0}), sensors[0].lidar, rng);
     hashInto(&lidar, scan.data(), scan.size());
     ts::SensorPose down;
     down.origin = Eigen::Vector3d(-1.0 + 0.5 * k, 1.6, 0.35);

@@ -38,15 +38,6 @@ ts::LidarModel noiseOnly() {
   return m;
 }
 
-ts::SensorPose facing(const Eigen::Vector3d& origin, const Eigen::Vector3d& x_axis) {
-  ts::SensorPose p;
-  p.origin = origin;
-  p.rotation.col(0) = x_axis.normalized();
-  p.rotation.col(2) = Eigen::Vector3d::UnitZ();
-  p.rotation.col(1) = p.rotation.col(2).cross(p.rotation.col(0));
-  return p;
-}
-
 }  // namespace
 
 TEST(LidarModel, RangeNoiseFollowsTheDatasheetAtThreeRanges) {
@@ -111,7 +102,7 @@ TEST(LidarModel, SweepTakesEachBeamFromItsOwnPose) {
   spec.realism = ts::Realism::kDatasheet;
   spec.model = noiseOnly();
   spec.model.sigma_near_m = spec.model.sigma_far_m = 0.0;
-  const ts::SensorPose start = facing({truth.rear_wall_x + 3.0, 2.0, 0.6}, {-1, 0, 0});
+  const ts::SensorPose start = ts::test::lookingAlong({truth.rear_wall_x + 3.0, 2.0, 0.6}, {-1, 0, 0});
   ts::SensorPose end = start;
   end.origin.x() -= 0.5;
   std::mt19937 rng(4);
@@ -135,7 +126,8 @@ TEST(LidarModel, GlancingWallIsLostInTheDatasheetProfileOnly) {
   ts::LidarSpec spec;
   spec.noise_m = 0.0;
   std::mt19937 rng(5);
-  const ts::SensorPose pose = facing({truth.rear_wall_x + 0.5, 2.0, 0.6}, {0, 1, 0});  // wall on the left (-x)
+  const ts::SensorPose pose =
+      ts::test::lookingAlong({truth.rear_wall_x + 0.5, 2.0, 0.6}, {0, 1, 0});  // wall on the left (-x)
   const auto ideal = ts::simulateLidar(caster, pose, spec, rng);
   spec.realism = ts::Realism::kDatasheet;
   spec.model = noiseOnly();

@@ -118,5 +118,15 @@ inline SensorPose optical(const Eigen::Vector3d& origin, const Eigen::Vector3d& 
   return p;
 }
 
+/// Sensor frame (x forward, z up) at `origin` looking along the horizontal `forward`.
+inline SensorPose lookingAlong(const Eigen::Vector3d& origin, const Eigen::Vector3d& forward) {
+  SensorPose p;
+  p.origin = origin;
+  p.rotation.col(0) = forward.normalized();
+  p.rotation.col(2) = Eigen::Vector3d::UnitZ();
+  p.rotation.col(1) = p.rotation.col(2).cross(p.rotation.col(0));
+  return p;
+}
+
 }  // namespace test
 }  // namespace thorvald_sim
