@@ -257,9 +257,13 @@ std::vector<SensorConfig> parseSensorConfig(const YAML::Node& root, const std::s
   if (!root || root.IsNull()) return out;
   const YAML::Node list = root.IsMap() ? root["sensors"] : root;
   Realism realism = Realism::kIdeal;
-  if (root.IsMap()) {
-    Reader file{root, source, {}};
-    realism = readRealism(file, Realism::kIdeal);
+  if (root.IsMap() && root["realism"]) {  // the file's profile, for every sensor without its own
+    const YAML::Node n = root["realism"];
+    const auto r = n.IsScalar() ? realismFromName(n.as<std::string>()) : std::nullopt;
+    if (!r)
+      throw SensorConfigError(source + ": realism: expected ideal or datasheet, got '" +
+                              (n.IsScalar() ? n.as<std::string>() : std::string("a non-string")) + "'");
+    realism = *r;
   }
   if (!list || list.IsNull()) return out;
   if (!list.IsSequence()) throw SensorConfigError(source + ": sensors: expected a list of sensors");
