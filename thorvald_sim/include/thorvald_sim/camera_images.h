@@ -21,7 +21,8 @@ struct RenderedView {
 
 /// Depth image of an active-stereo camera (noise growing with z^2, dropouts, no depth at grazing angles) from a
 /// rendered view of the same size and optics; `caster` gives the surface normals of the geoms seen (it needs no
-/// prepare). Same outputs as simulateDepth on the same geometry.
+/// prepare). Same outputs as simulateDepth on the same geometry. With spec.realism datasheet: the exact depth (range
+/// and grazing limits only) through applyActiveStereo, shiny geoms by spec.stereo.shiny_prefix.
 DepthImage depthFromView(const RenderedView& view, const RayCaster& caster, const SensorPose& pose,
                          const DepthCameraSpec& spec, std::mt19937& rng);
 /// The same into `out`, reusing its memory (a camera's frames are the same size every time), with the rows split

@@ -110,7 +110,7 @@ std::vector<float> simulateLidar(RayCaster& caster, const SensorPose& pose, cons
 /// Nearest echo in the cone [m]; +inf if none within range_max. Datasheet profile: rays that meet their surface
 /// beyond model.max_incidence_rad give no echo.
 double simulateUltrasonic(RayCaster& caster, const SensorPose& pose, const UltrasonicSpec& spec, std::mt19937& rng);
-/// `pose` is the optical frame (z forward).
+/// `pose` is the optical frame (z forward). The ideal profile only (the node's cameras go through depthFromView).
 DepthImage simulateDepth(RayCaster& caster, const SensorPose& pose, const DepthCameraSpec& spec, std::mt19937& rng);
 ColorImage simulateColor(RayCaster& caster, const mjModel* model, const SensorPose& pose, const ColorCameraSpec& spec);
 
