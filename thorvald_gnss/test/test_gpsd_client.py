@@ -1,0 +1,162 @@
+#!/usr/bin/python3
+"""gpsd between our two nodes, as on a robot: nmea_tcp_feeder replays a recorded RTK receiver log (test/data), a gpsd
+of the test's own (free ports, no system service) reads it as a TCP source, and gpsd_client publishes gps/fix. Checks
+the status per GGA quality, latitude and longitude within 1e-7 deg of the log, the covariance from the log's GST,
+then gpsd going away (diagnostics say "gpsd lost", the node stays up) and coming back (the node reconnects)."""
+import os
+import signal
+import socket
+import subprocess
+import tempfile
+import threading
+import unittest
+
+import rospy
+import rostest
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
+from roslib.packages import find_node
+from sensor_msgs.msg import NavSatFix, NavSatStatus
+
+from thorvald_testing import Recorder, restore_default_signals, wait_for
+
+LOG = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data", "rtk_drive.nmea")
+REPLAY_RATE_HZ = 25.0  # epochs per second: the 32 s log in 6.5 s
+STATUS_OF_QUALITY = {1: NavSatStatus.STATUS_FIX, 4: NavSatStatus.STATUS_GBAS_FIX, 5: NavSatStatus.STATUS_GBAS_FIX}
+
+
+def nmea_degrees(value, hemisphere, degree_digits):
+    degrees = float(value[:degree_digits]) + float(value[degree_digits:]) / 60.0
+    return -degrees if hemisphere in ("S", "W") else degrees
+
+
+def read_log():
+    """The log's fix epochs: [(latitude, longitude, quality, (lat, lon, alt) sigmas of its GST or None)]."""
+    epochs = []
+    for line in open(LOG):
+        fields = line.strip().split("*")[0].split(",")
+        if fields[0] == "$GNGGA" and fields[6] != "0":
+            epochs.append([nmea_degrees(fields[2], fields[3], 2), nmea_degrees(fields[4], fields[5], 3),
+                           int(fields[6]), None])
+        elif fields[0] == "$GNGST" and epochs:
+            epochs[-1][3] = (float(fields[6]), float(fields[7]), float(fields[8]))
+    return epochs
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def listening(port):
+    """Whether something listens on TCP `port` (read from /proc, so no connection disturbs the listener)."""
+    for table in ("/proc/net/tcp", "/proc/net/tcp6"):
+        with open(table) as f:
+            for row in f.readlines()[1:]:
+                cols = row.split()
+                if cols[3] == "0A" and int(cols[1].split(":")[1], 16) == port:
+                    return True
+    return False
+
+
+class GpsdClient(unittest.TestCase):
+    def setUp(self):
+        self.procs = []
+        self.tmp = tempfile.mkdtemp(prefix="thorvald_gnss_")
+        self.feed_port, self.gpsd_port = free_port(), free_port()
+        self.diag = None
+        self.diag_lock = threading.Lock()
+        rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diag)
+        self.fixes = Recorder("gps/fix", NavSatFix, queue_size=500)
+
+    def tearDown(self):
+        for proc in reversed(self.procs):
+            if proc.poll() is None:
+                proc.send_signal(signal.SIGINT)
+                try:
+                    proc.wait(timeout=5)
+                except subprocess.TimeoutExpired:
+                    proc.kill()
+                    proc.wait()
+
+    def on_diag(self, msg):
+        for s in msg.status:
+            if s.name == "gpsd_client: gpsd":
+                with self.diag_lock:
+                    self.diag = (s.level, s.message, {kv.key: kv.value for kv in s.values})
+
+    def diagnostics(self):
+        with self.diag_lock:
+            return self.diag
+
+    def start(self, argv):
+        proc = subprocess.Popen(argv, preexec_fn=restore_default_signals)
+        self.procs.append(proc)
+        return proc
+
+    def start_node(self, name, *params):
+        return self.start([find_node("thorvald_gnss", name)[0], "__name:=" + name] + list(params))
+
+    def start_gpsd(self, *sources):
+        gpsd = self.start(["gpsd", "-N", "-n", "-S", str(self.gpsd_port), "-F", os.path.join(self.tmp, "gpsd.sock")] +
+                          list(sources))
+        wait_for(lambda: listening(self.gpsd_port), 10.0, "gpsd listening on %d" % self.gpsd_port)
+        return gpsd
+
+    def test_fixes_through_gpsd_then_gpsd_lost_and_back(self):
+        log = read_log()
+        feeder = self.start_node("nmea_tcp_feeder", "_port:=%d" % self.feed_port, "_file:=" + LOG,
+                        "_rate:=%g" % REPLAY_RATE_HZ)
+        wait_for(lambda: listening(self.feed_port), 10.0, "the feeder listening on %d" % self.feed_port)
+        # gpsd opens a TCP source once, at start: the feeder is up first, and replays from the start once gpsd is in.
+        gpsd = self.start_gpsd("tcp://127.0.0.1:%d" % self.feed_port)
+        client = self.start_node("gpsd_client", "_port:=%d" % self.gpsd_port, "_timeout:=1.0", "_retry_interval:=0.2",
+                        "_diagnostic_period:=0.1")
+        last = log[-1]
+        wait_for(lambda: any(abs(m.longitude - last[1]) < 1e-7 and abs(m.latitude - last[0]) < 1e-7
+                             for m in self.fixes.since(0)), 20.0, "the log's last fix on gps/fix")
+        self.check_fixes(log, self.fixes.since(0))
+
+        gpsd.send_signal(signal.SIGTERM)
+        gpsd.wait(timeout=5)
+        wait_for(lambda: (self.diagnostics() or (0, ""))[1].startswith("gpsd lost"), 5.0, "'gpsd lost' on diagnostics")
+        self.assertEqual(self.diagnostics()[0], DiagnosticStatus.ERROR)
+        connections = int(self.diagnostics()[2]["connections"])
+        self.start_gpsd()  # no source: the client only has to come back
+        wait_for(lambda: int(self.diagnostics()[2]["connections"]) > connections, 5.0, "a new connection to gpsd")
+        self.assertIsNone(client.poll(), "gpsd_client keeps running")
+        self.assertIsNone(feeder.poll(), "nmea_tcp_feeder keeps running")
+
+    def check_fixes(self, log, msgs):
+        with_fix = [m for m in msgs if m.status.status != NavSatStatus.STATUS_NO_FIX]
+        self.assertGreaterEqual(len(with_fix), 0.9 * len(log), "most of the log's epochs with a fix published")
+        self.assertTrue(any(m.status.status == NavSatStatus.STATUS_NO_FIX for m in msgs), "the outage as NO_FIX")
+        index = 0
+        from_gst = {1: 0, 4: 0, 5: 0}
+        for m in with_fix:
+            self.assertEqual(m.header.frame_id, "gps_link")
+            while index < len(log) and not (abs(m.latitude - log[index][0]) < 1e-7 and
+                                            abs(m.longitude - log[index][1]) < 1e-7):
+                index += 1
+            self.assertLess(index, len(log), "fix %.9f %.9f is a position of the log, in its order" %
+                            (m.latitude, m.longitude))
+            quality = log[index][2]
+            self.assertEqual(m.status.status, STATUS_OF_QUALITY[quality])
+            if m.position_covariance_type == NavSatFix.COVARIANCE_TYPE_DIAGONAL_KNOWN:
+                # The receiver's GST of this fix state (constant per state in the log): east = lon, north = lat.
+                lat_s, lon_s, alt_s = next(e[3] for e in log if e[2] == quality and e[3])
+                self.assertAlmostEqual(m.position_covariance[0], lon_s ** 2, places=9)
+                self.assertAlmostEqual(m.position_covariance[4], lat_s ** 2, places=9)
+                self.assertAlmostEqual(m.position_covariance[8], alt_s ** 2, places=9)
+                from_gst[quality] += 1
+            else:
+                self.assertEqual(m.position_covariance_type, NavSatFix.COVARIANCE_TYPE_APPROXIMATED)
+        rospy.loginfo("gps/fix: %d messages, %d with a fix (log: %d fix epochs), covariance from GST by GGA quality: %s",
+                      len(msgs), len(with_fix), len(log), from_gst)
+        for quality, count in from_gst.items():
+            self.assertGreater(count, 5, "fixes of GGA quality %d with their covariance from GST" % quality)
+
+
+if __name__ == "__main__":
+    rospy.init_node("test_gpsd_client")
+    rostest.rosrun("thorvald_gnss", "gpsd_client", GpsdClient)
