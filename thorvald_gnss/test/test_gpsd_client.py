@@ -16,6 +16,7 @@ import rostest
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from roslib.packages import find_node
 from sensor_msgs.msg import NavSatFix, NavSatStatus
+from std_msgs.msg import String
 
 from thorvald_testing import Recorder, restore_default_signals, wait_for
 
@@ -65,6 +66,7 @@ class GpsdClient(unittest.TestCase):
         self.tmp = tempfile.mkdtemp(prefix="thorvald_gnss_")
         self.feed_port, self.gpsd_port = free_port(), free_port()
         self.diag = None
+        self.feeder_diag = {}
         self.diag_lock = threading.Lock()
         rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diag)
         self.fixes = Recorder("gps/fix", NavSatFix, queue_size=500)
@@ -81,9 +83,11 @@ class GpsdClient(unittest.TestCase):
 
     def on_diag(self, msg):
         for s in msg.status:
-            if s.name == "gpsd_client: gpsd":
-                with self.diag_lock:
+            with self.diag_lock:
+                if s.name == "gpsd_client: gpsd":
                     self.diag = (s.level, s.message, {kv.key: kv.value for kv in s.values})
+                elif s.name == "topic_feeder: NMEA server":
+                    self.feeder_diag = {kv.key: kv.value for kv in s.values}
 
     def diagnostics(self):
         with self.diag_lock:
@@ -94,8 +98,9 @@ class GpsdClient(unittest.TestCase):
         self.procs.append(proc)
         return proc
 
-    def start_node(self, name, *params):
-        return self.start([find_node("thorvald_gnss", name)[0], "__name:=" + name] + list(params))
+    def start_node(self, executable, name, *params):
+        """Each test names its nodes apart: private parameters stay on the master after a node ends."""
+        return self.start([find_node("thorvald_gnss", executable)[0], "__name:=" + name] + list(params))
 
     def start_gpsd(self, *sources):
         gpsd = self.start(["gpsd", "-N", "-n", "-S", str(self.gpsd_port), "-F", os.path.join(self.tmp, "gpsd.sock")] +
@@ -105,12 +110,12 @@ class GpsdClient(unittest.TestCase):
 
     def test_fixes_through_gpsd_then_gpsd_lost_and_back(self):
         log = read_log()
-        feeder = self.start_node("nmea_tcp_feeder", "_port:=%d" % self.feed_port, "_file:=" + LOG,
+        feeder = self.start_node("nmea_tcp_feeder", "nmea_tcp_feeder", "_port:=%d" % self.feed_port, "_file:=" + LOG,
                         "_rate:=%g" % REPLAY_RATE_HZ)
         wait_for(lambda: listening(self.feed_port), 10.0, "the feeder listening on %d" % self.feed_port)
         # gpsd opens a TCP source once, at start: the feeder is up first, and replays from the start once gpsd is in.
         gpsd = self.start_gpsd("tcp://127.0.0.1:%d" % self.feed_port)
-        client = self.start_node("gpsd_client", "_port:=%d" % self.gpsd_port, "_timeout:=1.0", "_retry_interval:=0.2",
+        client = self.start_node("gpsd_client", "gpsd_client", "_port:=%d" % self.gpsd_port, "_timeout:=1.0", "_retry_interval:=0.2",
                         "_diagnostic_period:=0.1")
         last = log[-1]
         wait_for(lambda: any(abs(m.longitude - last[1]) < 1e-7 and abs(m.latitude - last[0]) < 1e-7
@@ -126,6 +131,40 @@ class GpsdClient(unittest.TestCase):
         wait_for(lambda: int(self.diagnostics()[2]["connections"]) > connections, 5.0, "a new connection to gpsd")
         self.assertIsNone(client.poll(), "gpsd_client keeps running")
         self.assertIsNone(feeder.poll(), "nmea_tcp_feeder keeps running")
+
+    def test_sentences_from_the_topic(self):
+        """The simulated receiver's path: sentences on nmea_sentence (here the log's RTK fixed part), no file."""
+        lines = [l.strip() for l in open(LOG) if l.startswith("$")]
+        fixed_times = {l.split(",")[1] for l in lines if l.startswith("$GNGGA") and l.split(",")[6] == "4"}
+        fixed = [l for l in lines if l.split(",")[1] in fixed_times]
+        sentences = rospy.Publisher("nmea_sentence", String, queue_size=1000)
+        feeder = self.start_node("nmea_tcp_feeder", "topic_feeder", "_port:=%d" % self.feed_port,
+                                 "_diagnostic_period:=0.1")
+        wait_for(lambda: listening(self.feed_port), 10.0, "the feeder listening on %d" % self.feed_port)
+        self.start_gpsd("tcp://127.0.0.1:%d" % self.feed_port)
+        client = self.start_node("gpsd_client", "topic_gpsd_client", "_port:=%d" % self.gpsd_port)
+        wait_for(lambda: sentences.get_num_connections() > 0, 10.0, "the feeder subscribed to nmea_sentence")
+        wait_for(lambda: self.feeder_diagnostics().get("clients") == "1", 10.0, "gpsd connected to the feeder")
+        rate = rospy.Rate(150)  # three sentences an epoch: 50 epochs/s
+        for line in fixed:
+            sentences.publish(String(data=line))
+            rate.sleep()
+        last = [l.split(",") for l in fixed if l.startswith("$GNGGA")][-1]
+        lat, lon = nmea_degrees(last[2], last[3], 2), nmea_degrees(last[4], last[5], 3)
+        wait_for(lambda: any(abs(m.latitude - lat) < 1e-7 and abs(m.longitude - lon) < 1e-7
+                             for m in self.fixes.since(0)), 10.0, "the last sentence's fix on gps/fix")
+        msgs = [m for m in self.fixes.since(0) if m.status.status != NavSatStatus.STATUS_NO_FIX]
+        self.assertGreaterEqual(len(msgs), 0.9 * len(fixed) / 3)
+        self.assertTrue(all(m.status.status == NavSatStatus.STATUS_GBAS_FIX for m in msgs),
+                        [(m.status.status, m.latitude, m.position_covariance_type) for m in msgs][:5])
+        self.assertTrue(any(m.position_covariance_type == NavSatFix.COVARIANCE_TYPE_DIAGONAL_KNOWN and
+                            abs(m.position_covariance[0] - 0.01 ** 2) < 1e-9 for m in msgs), "covariance from GST")
+        self.assertIsNone(client.poll())
+        self.assertIsNone(feeder.poll())
+
+    def feeder_diagnostics(self):
+        with self.diag_lock:
+            return dict(self.feeder_diag)
 
     def check_fixes(self, log, msgs):
         with_fix = [m for m in msgs if m.status.status != NavSatStatus.STATUS_NO_FIX]
