@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 #include <nav_msgs/OccupancyGrid.h>
 #include <ros/ros.h>
-#include <thorvald_common/wait_for.h>
+#include <thorvald_common/ros/wait_for.h>
 #include <std_msgs/String.h>
 #include <visualization_msgs/MarkerArray.h>
 

@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
-#include <thorvald_common/wait_for.h>
+#include <thorvald_common/ros/wait_for.h>
 #include <sensor_msgs/BatteryState.h>
 #include <std_srvs/SetBool.h>
 #include <std_srvs/Trigger.h>

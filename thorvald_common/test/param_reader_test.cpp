@@ -4,7 +4,7 @@
 
 #include <map>
 
-#include "thorvald_common/param_reader.h"
+#include "thorvald_common/ros/param_reader.h"
 
 using testing::HasSubstr;
 using thorvald_common::ParamError;

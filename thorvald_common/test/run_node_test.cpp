@@ -13,8 +13,8 @@
 #include <thread>
 #include <vector>
 
-#include "thorvald_common/param_reader.h"
-#include "thorvald_common/run_node.h"
+#include "thorvald_common/ros/param_reader.h"
+#include "thorvald_common/ros/run_node.h"
 
 namespace {
 

@@ -9,7 +9,7 @@
 #include <move_base_msgs/MoveBaseAction.h>
 #include <nav_msgs/Path.h>
 #include <ros/ros.h>
-#include <thorvald_common/wait_for.h>
+#include <thorvald_common/ros/wait_for.h>
 #include <std_msgs/String.h>
 
 #include "fake_headland_robot.h"

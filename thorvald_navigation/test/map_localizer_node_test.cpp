@@ -7,7 +7,7 @@
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
-#include <thorvald_common/wait_for.h>
+#include <thorvald_common/ros/wait_for.h>
 #include <std_msgs/String.h>
 #include <std_srvs/Empty.h>
 #include <tf2_ros/buffer.h>

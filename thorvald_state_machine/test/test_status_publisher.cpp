@@ -3,7 +3,7 @@
 #include <mutex>
 
 #include <ros/ros.h>
-#include <thorvald_common/wait_for.h>
+#include <thorvald_common/ros/wait_for.h>
 #include <std_msgs/Empty.h>
 
 #include "thorvald_state_machine/MachineStatus.h"

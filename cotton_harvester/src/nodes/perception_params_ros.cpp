@@ -5,7 +5,7 @@
 #include <sstream>
 #include <vector>
 
-#include <thorvald_common/param_reader.h>
+#include <thorvald_common/ros/param_reader.h>
 
 namespace cotton_harvester {
 namespace {

@@ -7,7 +7,7 @@
 #include <string>
 
 #include <ros/ros.h>
-#include <thorvald_common/param_reader.h>
+#include <thorvald_common/ros/param_reader.h>
 
 namespace cotton_harvester {
 namespace control {

@@ -21,7 +21,7 @@
 #include <sensor_msgs/JointState.h>
 #include <std_msgs/Bool.h>
 #include <std_msgs/Float64.h>
-#include <thorvald_common/wait_for.h>
+#include <thorvald_common/ros/wait_for.h>
 
 #include "cotton_harvester/BollArray.h"
 #include "../../src/ros/topic_harvest_plant.h"

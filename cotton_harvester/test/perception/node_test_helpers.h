@@ -4,7 +4,7 @@
 #include <string>
 
 #include <ros/ros.h>
-#include <thorvald_common/wait_for.h>
+#include <thorvald_common/ros/wait_for.h>
 
 #include "../cloud_message.h"
 

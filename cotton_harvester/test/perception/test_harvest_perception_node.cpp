@@ -14,7 +14,7 @@
 #include <geometry_msgs/PointStamped.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
-#include <thorvald_common/wait_for.h>
+#include <thorvald_common/ros/wait_for.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
 

@@ -8,7 +8,7 @@
 
 #include <diagnostic_msgs/DiagnosticStatus.h>
 #include <ros/ros.h>
-#include <thorvald_common/param_reader.h>
+#include <thorvald_common/ros/param_reader.h>
 
 namespace {
 

@@ -20,7 +20,7 @@
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
-#include <thorvald_common/param_reader.h>
+#include <thorvald_common/ros/param_reader.h>
 #include <thorvald_state_machine/MachineStatus.h>
 
 #include "cotton_harvester/BollArray.h"

@@ -5,8 +5,8 @@
 #include <ros/ros.h>
 #include <std_msgs/Bool.h>
 #include <std_srvs/Trigger.h>
-#include <thorvald_common/param_reader.h>
-#include <thorvald_common/run_node.h>
+#include <thorvald_common/ros/param_reader.h>
+#include <thorvald_common/ros/run_node.h>
 
 #include <mutex>
 

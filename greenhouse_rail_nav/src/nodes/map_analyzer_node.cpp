@@ -9,7 +9,7 @@
 #include <geometry_msgs/PolygonStamped.h>
 #include <ros/ros.h>
 #include <std_msgs/String.h>
-#include <thorvald_common/param_reader.h>
+#include <thorvald_common/ros/param_reader.h>
 
 #include "greenhouse_rail_nav/keep_out_grid.h"
 #include "greenhouse_rail_nav/map_analyzer.h"

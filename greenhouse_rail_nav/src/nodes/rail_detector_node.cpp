@@ -7,8 +7,8 @@
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <ros/ros.h>
-#include <thorvald_common/param_reader.h>
-#include <thorvald_common/run_node.h>
+#include <thorvald_common/ros/param_reader.h>
+#include <thorvald_common/ros/run_node.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_geometry_msgs/tf2_geometry_msgs.h>
 #include <tf2_ros/buffer.h>

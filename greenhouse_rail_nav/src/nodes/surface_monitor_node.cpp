@@ -6,8 +6,8 @@
 #include <sensor_msgs/Range.h>
 #include <std_msgs/Bool.h>
 #include <thorvald_base/SetDriveParams.h>
-#include <thorvald_common/param_reader.h>
-#include <thorvald_common/run_node.h>
+#include <thorvald_common/ros/param_reader.h>
+#include <thorvald_common/ros/run_node.h>
 
 #include <algorithm>
 #include <atomic>

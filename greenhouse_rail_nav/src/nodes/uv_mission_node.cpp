@@ -15,7 +15,7 @@
 #include <std_srvs/Trigger.h>
 #include <tf2/utils.h>
 #include <tf2_ros/transform_listener.h>
-#include <thorvald_common/param_reader.h>
+#include <thorvald_common/ros/param_reader.h>
 #include <thorvald_state_machine/ros/status_publisher.h>
 
 #include <limits>

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <limits>
 
-#include "thorvald_common/param_reader.h"
+#include "thorvald_common/ros/param_reader.h"
 #include "thorvald_base/ros/base_calculator_loader.h"
 #include "thorvald_base/ros/robot_config_params.h"
 #include "thorvald_base/simulated_drive.h"

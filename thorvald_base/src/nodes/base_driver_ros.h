@@ -23,7 +23,7 @@
 #include "thorvald_base/relay_allow_list.h"
 #include "thorvald_base/ros/base_calculator_loader.h"
 #include "can_relay_ros.h"
-#include "thorvald_common/param_reader.h"
+#include "thorvald_common/ros/param_reader.h"
 
 namespace thorvald_base {
 

@@ -8,9 +8,16 @@
 #include <sstream>
 
 #include "thorvald_common/edit_distance.h"
-#include "thorvald_base/ros/bounded_param_read.h"
+#include "thorvald_common/ros/bounded_param_read.h"
 
 namespace thorvald_base {
+
+using thorvald_common::getParamBounded;
+using thorvald_common::getParamNamesBounded;
+using thorvald_common::ParamReadBounds;
+using thorvald_common::ParamReadInterrupted;
+using thorvald_common::ParamTooLarge;
+
 namespace {
 
 const char* const kGroups[] = {"base_calculator", "motor_drives", "batteries",      "pipes", "corners",

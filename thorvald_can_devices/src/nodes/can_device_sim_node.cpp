@@ -8,7 +8,7 @@
 #include <memory>
 #include <sstream>
 
-#include "thorvald_common/param_reader.h"
+#include "thorvald_common/ros/param_reader.h"
 #include "thorvald_base/ros/robot_config_params.h"
 #include "thorvald_can_devices/InjectFault.h"
 #include "thorvald_can_devices/candump_log.h"

@@ -3,7 +3,7 @@
 #include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
 
-#include "thorvald_common/param_reader.h"
+#include "thorvald_common/ros/param_reader.h"
 #include "thorvald_can_devices/can_base_hardware.h"
 
 namespace thorvald_can_devices {

@@ -12,8 +12,8 @@
 #include <ros/ros.h>
 #include <sensor_msgs/NavSatFix.h>
 
-#include "thorvald_common/param_reader.h"
-#include "thorvald_common/run_node.h"
+#include "thorvald_common/ros/param_reader.h"
+#include "thorvald_common/ros/run_node.h"
 #include "thorvald_gnss/fix_conversion.h"
 #include "thorvald_gnss/gpsd_link.h"
 #include "thorvald_gnss/gpsd_source.h"

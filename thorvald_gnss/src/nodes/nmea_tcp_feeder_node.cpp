@@ -10,8 +10,8 @@
 #include <ros/ros.h>
 #include <std_msgs/String.h>
 
-#include "thorvald_common/param_reader.h"
-#include "thorvald_common/run_node.h"
+#include "thorvald_common/ros/param_reader.h"
+#include "thorvald_common/ros/run_node.h"
 #include "thorvald_gnss/nmea_line_server.h"
 #include "thorvald_gnss/nmea_log.h"
 

@@ -8,7 +8,7 @@
 
 #include "thorvald_base/robot_config.h"
 #include "thorvald_model/model_builder.h"
-#include "thorvald_common/param_reader.h"
+#include "thorvald_common/ros/param_reader.h"
 #include "thorvald_base/ros/robot_config_params.h"
 
 int main(int argc, char** argv) {

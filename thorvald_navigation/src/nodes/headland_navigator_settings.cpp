@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <exception>
 
-#include <thorvald_common/param_reader.h>
+#include <thorvald_common/ros/param_reader.h>
 
 #include "thorvald_base/ros/robot_config_params.h"
 

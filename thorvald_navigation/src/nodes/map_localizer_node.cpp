@@ -16,7 +16,7 @@
 #include <std_srvs/Empty.h>
 #include <tf2_ros/transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
-#include <thorvald_common/param_reader.h>
+#include <thorvald_common/ros/param_reader.h>
 
 #include "ros_conversions.h"
 #include "scan_frames.h"

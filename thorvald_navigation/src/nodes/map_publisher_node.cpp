@@ -6,7 +6,7 @@
 #include <nav_msgs/MapMetaData.h>
 #include <nav_msgs/OccupancyGrid.h>
 #include <ros/ros.h>
-#include <thorvald_common/param_reader.h>
+#include <thorvald_common/ros/param_reader.h>
 
 #include "ros_conversions.h"
 #include "thorvald_map/map_file.h"

@@ -14,7 +14,7 @@
 #include <ros/ros.h>
 #include <sensor_msgs/Imu.h>
 #include <tf2_ros/transform_broadcaster.h>
-#include <thorvald_common/param_reader.h>
+#include <thorvald_common/ros/param_reader.h>
 
 #include "ros_conversions.h"
 #include "thorvald_navigation/planar_ekf.h"

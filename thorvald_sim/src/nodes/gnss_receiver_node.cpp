@@ -14,8 +14,8 @@
 #include <ros/ros.h>
 #include <std_msgs/String.h>
 
-#include "thorvald_common/param_reader.h"
-#include "thorvald_common/run_node.h"
+#include "thorvald_common/ros/param_reader.h"
+#include "thorvald_common/ros/run_node.h"
 #include "thorvald_sim/gnss_model.h"
 #include "thorvald_sim/nmea_sentences.h"
 

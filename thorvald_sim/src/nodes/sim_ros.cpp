@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "thorvald_common/param_reader.h"
+#include "thorvald_common/ros/param_reader.h"
 #include "thorvald_sim/mjcf_compiler.h"
 #include "thorvald_sim/world.h"
 

@@ -7,7 +7,7 @@
 #include <ros/ros.h>
 #include <sensor_msgs/JointState.h>
 #include <thorvald_base/base_hardware.h>
-#include <thorvald_common/param_reader.h>
+#include <thorvald_common/ros/param_reader.h>
 
 #include <map>
 #include <memory>

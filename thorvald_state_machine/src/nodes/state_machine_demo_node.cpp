@@ -5,7 +5,7 @@
 
 #include <ros/ros.h>
 #include <std_msgs/Empty.h>
-#include <thorvald_common/param_reader.h>
+#include <thorvald_common/ros/param_reader.h>
 
 #include "thorvald_state_machine/ros/status_publisher.h"
 #include "thorvald_state_machine/state_machine.h"

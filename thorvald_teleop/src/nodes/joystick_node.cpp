@@ -9,7 +9,7 @@
 
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <ros/ros.h>
-#include <thorvald_common/param_reader.h>
+#include <thorvald_common/ros/param_reader.h>
 #include <sensor_msgs/Joy.h>
 
 #include "thorvald_common/stop_signals.h"

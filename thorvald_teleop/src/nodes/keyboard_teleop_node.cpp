@@ -10,7 +10,7 @@
 
 #include <geometry_msgs/Twist.h>
 #include <ros/ros.h>
-#include <thorvald_common/param_reader.h>
+#include <thorvald_common/ros/param_reader.h>
 
 #include "thorvald_teleop/key_decoder.h"
 #include "thorvald_teleop/keyboard_command.h"

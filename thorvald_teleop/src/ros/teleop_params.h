@@ -3,7 +3,7 @@
 #include <functional>
 #include <string>
 
-#include <thorvald_common/param_reader.h>
+#include <thorvald_common/ros/param_reader.h>
 #include <xmlrpcpp/XmlRpcValue.h>
 
 #include "thorvald_teleop/joy_teleop.h"

@@ -9,7 +9,7 @@
 #include <geometry_msgs/TwistStamped.h>
 #include <ros/ros.h>
 #include <std_msgs/Bool.h>
-#include <thorvald_common/param_reader.h>
+#include <thorvald_common/ros/param_reader.h>
 
 #include "../ros/mux_params.h"
 #include "thorvald_twist_mux/twist_selector.h"

@@ -2,7 +2,7 @@
 #include <exception>
 
 #include <ros/ros.h>
-#include <thorvald_common/run_node.h>
+#include <thorvald_common/ros/run_node.h>
 
 #include "mux_node.h"
 

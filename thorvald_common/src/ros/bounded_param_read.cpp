@@ -1,4 +1,4 @@
-#include "thorvald_base/ros/bounded_param_read.h"
+#include "thorvald_common/ros/bounded_param_read.h"
 
 #include <fcntl.h>
 #include <netdb.h>
@@ -14,7 +14,7 @@
 #include <cstring>
 #include <memory>
 
-namespace thorvald_base {
+namespace thorvald_common {
 namespace {
 
 /// How long a read may wait for the master at most [s]; it is also stopped at once by a shutdown.
@@ -121,7 +121,7 @@ std::string callMaster(const std::string& method, const std::vector<std::string>
   std::string body = "<?xml version=\"1.0\"?><methodCall><methodName>" + method + "</methodName><params>";
   for (const auto& a : args) body += "<param><value><string>" + escapeXml(a) + "</string></value></param>";
   body += "</params></methodCall>";
-  const std::string request = "POST /RPC2 HTTP/1.0\r\nUser-Agent: thorvald_base\r\nHost: " + ros::master::getHost() +
+  const std::string request = "POST /RPC2 HTTP/1.0\r\nUser-Agent: thorvald_common\r\nHost: " + ros::master::getHost() +
                               "\r\nContent-Type: text/xml\r\nContent-length: " + std::to_string(body.size()) +
                               "\r\n\r\n" + body;
   Socket s(connectToMaster(deadline, what));
@@ -224,4 +224,4 @@ std::optional<std::vector<std::string>> getParamNamesBounded(size_t max_bytes) {
   return out;
 }
 
-}  // namespace thorvald_base
+}  // namespace thorvald_common

@@ -1,4 +1,4 @@
-#include "thorvald_common/run_node.h"
+#include "thorvald_common/ros/run_node.h"
 
 #include <ros/init.h>
 #include <ros/console.h>

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace thorvald_base {
+namespace thorvald_common {
 
 /// Bounds on one read from the parameter server, checked on the master's reply before anything is parsed or
 /// expanded: a few hundred bytes of YAML aliases loaded with `rosparam load` can expand to gigabytes there.
@@ -48,4 +48,4 @@ bool getParamBounded(const std::string& key, XmlRpc::XmlRpcValue& value, const P
 /// `max_bytes` encoded. Throws ParamReadInterrupted, or std::runtime_error when the master cannot be reached.
 std::optional<std::vector<std::string>> getParamNamesBounded(size_t max_bytes);
 
-}  // namespace thorvald_base
+}  // namespace thorvald_common

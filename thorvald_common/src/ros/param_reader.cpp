@@ -1,10 +1,10 @@
-#include "thorvald_common/param_reader.h"
+#include "thorvald_common/ros/param_reader.h"
 
 #include "thorvald_common/edit_distance.h"
+#include "thorvald_common/ros/bounded_param_read.h"
 
 #include <ros/console.h>
 #include <ros/master.h>
-#include <ros/param.h>
 #include <ros/this_node.h>
 
 #include <algorithm>
@@ -69,14 +69,26 @@ std::string describeParamValue(const XmlRpc::XmlRpcValue& value) {
 }
 
 bool NodeHandleParamSource::get(const std::string& name, XmlRpc::XmlRpcValue& value) const {
-  return nh_.getParam(name, value);
+  // Bounded like the robot file's groups: a value that expands past the bounds (YAML aliases loaded with
+  // `rosparam load`) is refused before it is parsed.
+  try {
+    return getParamBounded(nh_.resolveName(name), value, ParamReadBounds{});
+  } catch (const ParamTooLarge& e) {
+    throw ParamError(nh_.resolveName(name) + ": " + e.what());
+  }
 }
 
 std::vector<std::string> NodeHandleParamSource::names() const {
-  std::vector<std::string> all, out;
-  if (!ros::param::getParamNames(all)) return out;
+  constexpr size_t kMaxNameListBytes = 8u << 20;
+  std::vector<std::string> out;
+  const auto all = getParamNamesBounded(kMaxNameListBytes);
+  if (!all) {
+    ROS_WARN("%s: the parameter server's name list is larger than %zu bytes; unread parameters are not checked",
+             nh_.getNamespace().c_str(), kMaxNameListBytes);
+    return out;
+  }
   const std::string prefix = nh_.getNamespace() + "/";
-  for (const auto& n : all) {
+  for (const auto& n : *all) {
     if (n.size() > prefix.size() && n.compare(0, prefix.size(), prefix) == 0) out.push_back(n.substr(prefix.size()));
   }
   return out;

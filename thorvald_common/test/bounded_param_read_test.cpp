@@ -3,9 +3,9 @@
 
 #include <string>
 
-#include "thorvald_base/ros/bounded_param_read.h"
+#include "thorvald_common/ros/bounded_param_read.h"
 
-namespace thorvald_base {
+namespace thorvald_common {
 namespace {
 
 /// `n` scalars in an XML-RPC list, as the master encodes one.
@@ -54,4 +54,4 @@ TEST(BoundedParamRead, EscapedTextIsNoTag) {
 }
 
 }  // namespace
-}  // namespace thorvald_base
+}  // namespace thorvald_common
