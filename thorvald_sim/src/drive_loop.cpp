@@ -2,6 +2,8 @@
 
 #include <thorvald_base/standard_calculator.h>
 
+#include <cmath>
+
 namespace thorvald_sim {
 
 std::unique_ptr<thorvald_base::BaseCalculator> makeCalculator(const std::string& name) {
@@ -9,6 +11,20 @@ std::unique_ptr<thorvald_base::BaseCalculator> makeCalculator(const std::string&
     return std::make_unique<thorvald_base::DiffDriveCalculator>();
   if (name == "thorvald_base/OneWheelCalculator") return std::make_unique<thorvald_base::OneWheelCalculator>();
   return std::make_unique<thorvald_base::StandardCalculator>();
+}
+
+std::vector<double> suspensionOfDrives(const thorvald_base::RobotConfig& robot) {
+  std::vector<double> travel(robot.drives.size(), 0.0);
+  bool any = false;
+  for (size_t i = 0; i < robot.drives.size(); ++i) {
+    double best = 0.6;
+    for (const auto& c : robot.corners) {
+      const double d = std::hypot(c.x - robot.drives[i].x, c.y - robot.drives[i].y);
+      if (d <= best) best = d, travel[i] = std::fabs(c.susp_ang);
+    }
+    any = any || travel[i] > 0.0;
+  }
+  return any ? travel : std::vector<double>{};
 }
 
 DrivenRobot::DrivenRobot(Simulation& sim, const thorvald_base::RobotConfig& robot, const std::string& tf_prefix,

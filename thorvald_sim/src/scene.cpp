@@ -114,6 +114,67 @@ void tuneBody(tinyxml2::XMLElement* body, const SceneOptions& o, std::vector<Act
   for (auto* c = body->FirstChildElement("body"); c; c = c->NextSiblingElement("body")) tuneBody(c, o, actuators);
 }
 
+// Every wheel contact takes the surface's friction and softness (the wheel geom's priority makes its values the
+// contact's). Dry concrete leaves the geoms as they were.
+void applyGround(tinyxml2::XMLElement* body, const SceneOptions& o) {
+  if (o.ground == Ground::kDryConcrete) return;
+  const GroundContact c = groundContact(o.ground);
+  const char* bname = body->Attribute("name");
+  if (bname && isWheelBody(bname))
+    for (auto* g = body->FirstChildElement("geom"); g; g = g->NextSiblingElement("geom")) {
+      g->SetAttribute("priority", "1");
+      g->SetAttribute("friction", (num(c.friction) + " 0.005 0.0001").c_str());
+      g->SetAttribute("solref", (num(c.solref_timeconst_s) + " " + num(c.solref_dampratio)).c_str());
+      g->SetAttribute("solimp", (num(c.solimp_dmin) + " " + num(c.solimp_dmax) + " " + num(c.solimp_width_m)).c_str());
+    }
+  for (auto* b = body->FirstChildElement("body"); b; b = b->NextSiblingElement("body")) applyGround(b, o);
+}
+
+// The body below `body` that carries the joint named `joint`, or null.
+tinyxml2::XMLElement* bodyWithJoint(tinyxml2::XMLElement* body, const std::string& joint) {
+  for (auto* j = body->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint"))
+    if (j->Attribute("name") && joint == j->Attribute("name")) return body;
+  for (auto* b = body->FirstChildElement("body"); b; b = b->NextSiblingElement("body"))
+    if (auto* found = bodyWithJoint(b, joint)) return found;
+  return nullptr;
+}
+
+// A sprung passive hinge between the robot's frame and each drive module with suspension travel: the module's
+// body (its steering body, else its wheel body) turns about an axis along y through a pivot `arm` ahead of it.
+void addSuspension(tinyxml2::XMLElement* root, const RobotSpawn& r, double mass, int wheels, const SceneOptions& o) {
+  const std::string p = r.name.empty() ? "" : r.name + "/";
+  for (size_t i = 0; i < r.suspension_rad.size(); ++i) {
+    const double travel = r.suspension_rad[i];
+    if (!(travel > 0.0)) continue;
+    const std::string n = std::to_string(i);
+    auto* module = bodyWithJoint(root, p + "steering" + n);
+    if (!module) module = bodyWithJoint(root, p + "wheel" + n);
+    if (!module || module == root)
+      throw ModelError("robot " + r.name + ": drive " + n + " has suspension but no module body");
+    // Static load of one module on the arm, the spring sagging `suspension_sag` of the travel under it.
+    const double share = mass / std::max(wheels, 1), arm = o.suspension_arm_m;
+    const double stiffness = share * 9.81 * arm / (o.suspension_sag * travel);
+    const double damping = 2.0 * o.suspension_damping_ratio * std::sqrt(stiffness * share * arm * arm);
+    auto* j = module->GetDocument()->NewElement("joint");
+    j->SetAttribute("name", (p + "suspension" + n).c_str());
+    j->SetAttribute("type", "hinge");
+    j->SetAttribute("pos", (num(arm) + " 0 0").c_str());
+    j->SetAttribute("axis", "0 1 0");
+    j->SetAttribute("range", (num(-travel) + " " + num(travel)).c_str());
+    j->SetAttribute("limited", "true");
+    j->SetAttribute("stiffness", num(stiffness).c_str());
+    j->SetAttribute("damping", num(damping).c_str());
+    j->SetAttribute("armature", "0.05");
+    auto* first = module->FirstChildElement("joint");
+    if (first && first->PreviousSibling())
+      module->InsertAfterChild(first->PreviousSibling(), j);
+    else if (first)
+      module->InsertFirstChild(j);
+    else
+      module->InsertEndChild(j);
+  }
+}
+
 }  // namespace
 
 JointRole jointRole(const std::string& n) {
@@ -151,7 +212,11 @@ std::string composeScene(const WorldDescription& world, const std::vector<RobotS
       const Eigen::Quaterniond q(Eigen::AngleAxisd(r.yaw, Eigen::Vector3d::UnitZ()));
       b->SetAttribute("quat", (num(q.w()) + " " + num(q.x()) + " " + num(q.y()) + " " + num(q.z())).c_str());
       tuneBody(b, o, &actuators);
+      applyGround(b, o);
       mass += treeMass(b);
+      int driven = 0;
+      for (const auto& a : actuators) driven += a.position ? 0 : 1;
+      addSuspension(b, r, treeMass(b), driven, o);
       tinyxml2::XMLPrinter p(nullptr, true);
       b->Accept(&p);
       bodies << p.CStr() << "\n";

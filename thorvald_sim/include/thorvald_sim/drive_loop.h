@@ -17,6 +17,11 @@ namespace thorvald_sim {
 /// `thorvald_base/OneWheelCalculator`, the standard model otherwise.
 std::unique_ptr<thorvald_base::BaseCalculator> makeCalculator(const std::string& base_calculator);
 
+/// Suspension travel per drive index [rad] for RobotSpawn::suspension_rad: the |`susp_ang`| of the robot file's
+/// corner nearest the drive (within 0.6 m; the suspension module sits between the frame corner and the steering
+/// module); 0 for a drive without one. Empty when no corner has suspension (the robot stays rigid).
+std::vector<double> suspensionOfDrives(const thorvald_base::RobotConfig& robot);
+
 /// Where base_driver's joint states come from.
 enum class EncoderSource {
   kJointSimulator,  ///< base_driver's own joint simulator (the papers' design); MuJoCo follows it

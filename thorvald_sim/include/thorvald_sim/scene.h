@@ -3,6 +3,7 @@
 #include <string>
 #include <vector>
 
+#include "thorvald_sim/terrain.h"
 #include "thorvald_sim/world.h"
 
 namespace thorvald_sim {
@@ -13,6 +14,9 @@ struct RobotSpawn {
   std::string mjcf;                     ///< MJCF written by urdfToMjcf
   std::string root_link;                ///< its root body, e.g. "robot1/base_link"
   double x = 0, y = 0, z = 0, yaw = 0;  ///< start pose of base_link in the world [m], [rad]; z above the floor
+  /// Suspension module travel per drive index [rad] (the robot file's corner `susp_ang`, suspensionOfDrives):
+  /// a drive with travel > 0 gets a passive sprung hinge `suspension<i>` with range +-travel. Empty: rigid.
+  std::vector<double> suspension_rad;
 };
 
 /// Contact and actuator tuning shared by every robot. Defaults drive a 100-300 kg Thorvald without jitter.
@@ -38,6 +42,16 @@ struct SceneOptions {
   int camera_max_width = 1280;          ///< largest camera image CameraRenderer can render [px]
   int camera_max_height = 720;
   int render_slices = 32;  ///< tessellation of curved geoms for the cameras (MuJoCo's numslices)
+  /// The surface under the wheels (friction and softness of every wheel contact, terrain.h). Dry concrete
+  /// writes the scene as before surfaces existed.
+  Ground ground = Ground::kDryConcrete;
+  /// Suspension hinges (RobotSpawn::suspension_rad): the pivot sits `suspension_arm_m` ahead of the module's
+  /// steering axis across the robot (axis along base_link y), so the wheel travels vertically about arm * angle.
+  /// The spring lets the static load sag `suspension_sag` of the travel; damping at `suspension_damping_ratio`
+  /// of critical for the module's share of the robot's mass on the arm.
+  double suspension_arm_m = 0.3;
+  double suspension_sag = 0.4;
+  double suspension_damping_ratio = 0.5;
 };
 
 /// What a joint of a Thorvald URDF is, from its name without the robot's prefix.
