@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "thorvald_base/battery.h"
+#include "thorvald_base/io_board.h"
 #include "thorvald_base/motor_drive.h"
 #include "thorvald_base/robot_config.h"
 
@@ -43,6 +44,8 @@ class BaseHardware {
   virtual std::vector<std::unique_ptr<MotorDrive>> takeDrives() = 0;
   /// Hands over the battery devices. Called once after initialize.
   virtual std::vector<std::unique_ptr<Battery>> takeBatteries() = 0;
+  /// Hands over the relay boards (`io`). Called once after initialize. Optional: the default has none.
+  virtual std::vector<std::unique_ptr<IoBoard>> takeIoBoards() { return {}; }
   /// Reads the bus; called every cycle before the devices are updated.
   virtual void poll(double now_s) = 0;
   /// Frames whose ids no base device owns, received since the last call.

@@ -47,6 +47,7 @@ struct BaseDriverRos::Settings {
   std::string hardware_plugin, can_type, can_name;
   CanRelayOptions relay;
   RelayIdList relay_ids;
+  double io_hold_s = 0.0;  ///< ~io_command_hold: an output's 'on' lasts this long unless repeated; 0: holds [s]
 };
 
 BaseDriverRos::BaseDriverRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), pnh_(pnh), diagnostics_(nh, pnh) {
@@ -89,6 +90,7 @@ BaseDriverRos::Settings BaseDriverRos::readSettings(ParamReader& params, const R
   s.can_name = params.text("can_interface_name", "can0");
   readLimitsAndBatteryPolicy(params, options);
   s.relay_ids = readRelayIds(params, config);
+  s.io_hold_s = params.number("io_command_hold", 0.0, ParamRange::closed(0.0, 60.0), "s");
   params.alsoRead("diagnostic_period");  // read by diagnostic_updater
   return s;
 }
@@ -121,6 +123,8 @@ void BaseDriverRos::buildDriver(const RobotConfig& config, const Settings& s) {
     relay_ = std::make_unique<CanRelayRos>(nh_, pnh_, *hardware_, relayAllowList(s.relay_ids, *hardware_), s.relay);
     drives = hardware_->takeDrives();
     batteries = hardware_->takeBatteries();
+    auto boards = hardware_->takeIoBoards();
+    if (!boards.empty()) io_ = std::make_unique<IoBoardsRos>(nh_, std::move(boards), s.io_hold_s);
   }
   driver_ =
       std::make_unique<BaseDriver>(config, std::move(calculator), std::move(drives), std::move(batteries), s.options);
@@ -150,6 +154,8 @@ void BaseDriverRos::connect(double rate_hz) {
   diagnostics_.add("base", this, &BaseDriverRos::diagnoseBase);
   diagnostics_.add("drives", this, &BaseDriverRos::diagnoseDrives);
   if (!driver_->batteryDevices().empty()) diagnostics_.add("batteries", this, &BaseDriverRos::diagnoseBatteries);
+  if (io_)
+    diagnostics_.add("io boards", [this](diagnostic_updater::DiagnosticStatusWrapper& stat) { io_->diagnose(stat); });
   period_s_ = 1.0 / rate_hz;
   timer_ = nh_.createTimer(ros::Duration(1.0 / rate_hz), &BaseDriverRos::onTimer, this);
 }
@@ -219,6 +225,7 @@ void BaseDriverRos::onTimer(const ros::TimerEvent&) {
                                                          << "; call ~clear_drive_stop once the drive is back");
   }
   if (relay_) relay_->cycle();
+  if (io_) io_->cycle(now);
   publish(now);
   diagnostics_.update();
   const double work = (ros::WallTime::now() - wall).toSec();

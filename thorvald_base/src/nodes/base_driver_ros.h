@@ -23,6 +23,7 @@
 #include "thorvald_base/relay_allow_list.h"
 #include "thorvald_base/ros/base_calculator_loader.h"
 #include "can_relay_ros.h"
+#include "io_boards_ros.h"
 #include "thorvald_common/ros/param_reader.h"
 
 namespace thorvald_base {
@@ -78,6 +79,7 @@ class BaseDriverRos {
   std::shared_ptr<BaseHardware> hardware_;
   std::unique_ptr<BaseDriver> driver_;
   std::unique_ptr<CanRelayRos> relay_;  ///< in hardware mode: the CAN relay for implements
+  std::unique_ptr<IoBoardsRos> io_;     ///< in hardware mode, when the robot file has `io`: the relay boards
 
   ros::Subscriber cmd_sub_;
   ros::Publisher odom_pub_, joint_pub_, state_pub_;
