@@ -6,6 +6,7 @@
 
 #include "thorvald_can_devices/candump_log.h"
 #include "thorvald_can_devices/canopen_protocol.h"
+#include "thorvald_can_devices/cia401_board.h"
 #include "thorvald_can_devices/cia402_drive.h"
 #include "thorvald_can_devices/thorvald_battery.h"
 #include "thorvald_can_devices/thorvald_drive.h"
@@ -120,6 +121,7 @@ void CanBaseHardware::initializeOnBus(const thorvald_base::RobotConfig& config, 
     handle->b = battery;
     batteries_.push_back(std::move(handle));
   }
+  addIoBoards(config);
 
   // Start-up: bring every device to operation, then say which did not answer.
   const double t0 = now();
@@ -140,6 +142,29 @@ void CanBaseHardware::initializeOnBus(const thorvald_base::RobotConfig& config, 
 
 std::vector<std::unique_ptr<thorvald_base::MotorDrive>> CanBaseHardware::takeDrives() { return std::move(drives_); }
 std::vector<std::unique_ptr<thorvald_base::Battery>> CanBaseHardware::takeBatteries() { return std::move(batteries_); }
+std::vector<std::unique_ptr<thorvald_base::IoBoard>> CanBaseHardware::takeIoBoards() { return std::move(io_boards_); }
+
+void CanBaseHardware::addIoBoards(const thorvald_base::RobotConfig& config) {
+  for (const auto& io : config.io) {
+    if (io.id < 1 || io.id > 127) {
+      throw thorvald_base::ConfigError(config.source, "io." + io.name + ".id", "must be a CANopen node id 1..127");
+    }
+    auto board = std::make_shared<Cia401Board>(bus_.get(), io);
+    addDevice(board, config.source);
+    // base_driver owns the IoBoard; the device list keeps the same object for routing.
+    struct Handle : thorvald_base::IoBoard {
+      std::shared_ptr<Cia401Board> b;
+      const std::string& name() const override { return b->name(); }
+      int outputCount() const override { return b->outputCount(); }
+      void command(int output, bool on) override { b->command(output, on); }
+      void update(double now_s) override { b->update(now_s); }
+      thorvald_base::IoBoardStatus status() const override { return b->status(); }
+    };
+    auto handle = std::make_unique<Handle>();
+    handle->b = board;
+    io_boards_.push_back(std::move(handle));
+  }
+}
 
 void CanBaseHardware::readBus(double now_s) {
   CanFrame f;

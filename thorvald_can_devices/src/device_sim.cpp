@@ -31,6 +31,7 @@ DeviceSim::DeviceSim(const thorvald_base::RobotConfig& config) {
     battery_index_[b.name] = batteries_.size();
     batteries_.emplace_back(b);
   }
+  for (const auto& io : config.io) io_.emplace_back(io);
 }
 
 void DeviceSim::spinOnce(double now_s, CanBus& bus) {
@@ -40,10 +41,12 @@ void DeviceSim::spinOnce(double now_s, CanBus& bus) {
     ++frames_handled_;
     for (auto& d : thorvald_) d.handle(f, bus);
     for (auto& a : cia402_) a.handle(f, bus, now_s);
+    for (auto& io : io_) io.handle(f, bus, now_s);
   }
   for (auto& d : thorvald_) d.step(now_s, bus);
   for (auto& a : cia402_) a.step(now_s, bus);
   for (auto& b : batteries_) b.step(now_s, bus);
+  for (auto& io : io_) io.step(now_s, bus);
 }
 
 bool DeviceSim::inject(const std::string& target, const std::string& fault, bool active, CanBus& bus,
@@ -85,8 +88,13 @@ bool DeviceSim::inject(const std::string& target, const std::string& fault, bool
     }
     return done(true, what);
   }
+  for (auto& io : io_) {
+    if (io.name() != target) continue;
+    if (!io.setFault(fault, active)) return done(false, "relay board faults are silent and stuck, not '" + fault + "'");
+    return done(true, what);
+  }
   auto b = battery_index_.find(target);
-  if (b == battery_index_.end()) return done(false, "no drive, battery or 'bus' named '" + target + "'");
+  if (b == battery_index_.end()) return done(false, "no drive, battery, relay board or 'bus' named '" + target + "'");
   if (fault != "silent" && fault != "alarm")
     return done(false, "battery faults are silent and alarm, not '" + fault + "'");
   batteries_[b->second].setFault(fault, active);

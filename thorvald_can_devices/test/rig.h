@@ -27,6 +27,7 @@ class Rig {
     hw.initializeOnBus(config, std::make_unique<VirtualCanBus>(bus_name));
     drives = hw.takeDrives();
     batteries = hw.takeBatteries();
+    io_boards = hw.takeIoBoards();
     commands.resize(drives.size());
   }
 
@@ -72,6 +73,7 @@ class Rig {
   CanBaseHardware hw;
   std::vector<std::unique_ptr<thorvald_base::MotorDrive>> drives;
   std::vector<std::unique_ptr<thorvald_base::Battery>> batteries;
+  std::vector<std::unique_ptr<thorvald_base::IoBoard>> io_boards;
   std::vector<thorvald_base::DriveCommand> commands;
 
  private:

@@ -33,9 +33,9 @@ struct CanBaseOptions {
 constexpr double kMinSyncPeriodS = 0.005;
 
 /// The base's CAN hardware (paper §3.1 `base_handle`): one bus, one device per drive controller (Thorvald or
-/// CiA 402, by the drive's `protocol` key) and per battery; routes received frames to their device and all
-/// others to the relay; refuses relay frames aimed at base devices, NMT and SYNC. Its devices run on its own
-/// monotonic clock (the `now_s` of poll() is not used), so start-up waiting and later cycles share one time base.
+/// CiA 402, by the drive's `protocol` key), per battery and per relay board (CiA 401); routes received frames to their
+/// device and all others to the relay; refuses relay frames aimed at base devices, NMT and SYNC. Its devices run on its
+/// own monotonic clock (the `now_s` of poll() is not used), so start-up waiting and later cycles share one time base.
 /// A bus-off (or a down interface) makes every drive report a fault, which stops the base.
 class CanBaseHardware : public thorvald_base::BaseHardware {
  public:
@@ -50,6 +50,8 @@ class CanBaseHardware : public thorvald_base::BaseHardware {
   void initializeOnBus(const thorvald_base::RobotConfig& config, std::unique_ptr<CanBus> bus);
   std::vector<std::unique_ptr<thorvald_base::MotorDrive>> takeDrives() override;
   std::vector<std::unique_ptr<thorvald_base::Battery>> takeBatteries() override;
+  /// One CiA 401 relay board per `io.ioN` (node = its id).
+  std::vector<std::unique_ptr<thorvald_base::IoBoard>> takeIoBoards() override;
   void poll(double now_s) override;
   std::vector<thorvald_base::CanFrameData> takeRelayFrames() override;
   bool sendRelayFrame(const thorvald_base::CanFrameData& frame, std::string* why) override;
@@ -74,6 +76,7 @@ class CanBaseHardware : public thorvald_base::BaseHardware {
  private:
   void addDevice(std::shared_ptr<CanDevice> device, const std::string& source);
   void own(uint32_t id, const std::string& user);
+  void addIoBoards(const thorvald_base::RobotConfig& config);
   void readBus(double now_s);
   double now() const { return clock_(); }
 
@@ -86,6 +89,7 @@ class CanBaseHardware : public thorvald_base::BaseHardware {
   std::map<uint32_t, std::string> id_users_;  ///< who uses each owned id, for messages
   std::vector<std::unique_ptr<thorvald_base::MotorDrive>> drives_;
   std::vector<std::unique_ptr<thorvald_base::Battery>> batteries_;
+  std::vector<std::unique_ptr<thorvald_base::IoBoard>> io_boards_;
   std::deque<thorvald_base::CanFrameData> relay_;
   unsigned long relay_overflow_ = 0;
   bool has_cia402_ = false;
