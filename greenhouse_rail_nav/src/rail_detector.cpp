@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "greenhouse_rail_nav/cloud_projection.h"
+#include "greenhouse_rail_nav/depth_median.h"
 #include "greenhouse_rail_nav/rail_band.h"
 #include "greenhouse_rail_nav/rail_line_candidates.h"
 #include "greenhouse_rail_nav/rail_pair_selection.h"
@@ -82,15 +83,19 @@ std::vector<Eigen::Vector3f> RailDetector::cropToRailBand(const OrganisedCloud& 
   return thinToVoxels(band, p.voxel_size_m);
 }
 
-RailDetection RailDetector::detect(const OrganisedCloud& cloud, const Eigen::Isometry3d& camera_in_base,
+RailDetection RailDetector::detect(const OrganisedCloud& raw_cloud, const Eigen::Isometry3d& camera_in_base,
                                    const thorvald_base::Pose2D& mount_correction, RailFitMethod method) const {
   RailDetection out;
   const auto& p = params_;
-  out.reason = cloudProblem(cloud);
+  out.reason = cloudProblem(raw_cloud);
   if (!out.reason.empty()) {
     out.status = RailDetection::Status::kBadInput;
     return out;
   }
+  // 0. The depth image's range noise, smoothed along the rays (edges kept), when configured.
+  OrganisedCloud smoothed;
+  if (p.depth_median_px > 1) smoothed = medianAlongRays(raw_cloud, p.depth_median_px);
+  const OrganisedCloud& cloud = p.depth_median_px > 1 ? smoothed : raw_cloud;
   // 1. The rails' height band, and where the floor was seen.
   RailBand band;
   std::vector<float> floor_cells;

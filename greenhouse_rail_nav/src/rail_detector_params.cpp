@@ -9,6 +9,7 @@ std::string RailDetectorParams::validate() const {
   if (!positive(rail_gauge_m)) return "rail_gauge_m must be > 0 [m]";
   if (!positive(gauge_tolerance_m) || gauge_tolerance_m >= 0.5 * rail_gauge_m)
     return "gauge_tolerance_m must be > 0 and < rail_gauge_m / 2 [m]";
+  if (depth_median_px > 1 && depth_median_px % 2 == 0) return "depth_median_px must be odd (or 0: off)";
   if (!(std::isfinite(crop_z_min_m) && std::isfinite(crop_z_max_m) && crop_z_min_m < crop_z_max_m))
     return "crop_z_min_m must be < crop_z_max_m [m]";
   if (!(std::isfinite(crop_x_min_m) && std::isfinite(crop_x_max_m) && crop_x_min_m < crop_x_max_m))

@@ -9,7 +9,11 @@ namespace greenhouse_rail_nav {
 struct RailDetectorParams {
   double rail_gauge_m = 0.55;       ///< centre distance of the two pipes [m]
   double gauge_tolerance_m = 0.05;  ///< the partner rail is searched at gauge +- this [m]
-  double crop_z_min_m = 0.015;      ///< rails' height band in base_link [m]
+  /// Each depth point is moved along its ray to the median range of this many x this many pixels around it
+  /// before the search (medianAlongRays; odd; 0 or 1: off): the active-stereo range noise (about 2 % at 2 m)
+  /// would otherwise fill the rails' height band with floor points.
+  int depth_median_px = 0;
+  double crop_z_min_m = 0.015;  ///< rails' height band in base_link [m]
   double crop_z_max_m = 0.10;
   double crop_x_min_m = 0.0;  ///< region ahead of the robot that is searched [m]
   double crop_x_max_m = 3.0;
