@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "thorvald_sim/greenhouse_variation.h"
 #include "thorvald_sim/world_description.h"
 
 namespace thorvald_sim {
@@ -29,7 +30,11 @@ struct GreenhouseParams {
   double vent_diameter_m = 0.3;
   double wall_margin_m = 1.2;  ///< from the outer rail sets' centres to the side walls [m]
   double wall_height_m = 3.0;
+  GreenhouseVariation variation;  ///< all off by default: the ideal greenhouse
 };
+
+/// Colour of rusty pipe pieces (named `rusty_rail...`, so the depth camera's `rail` shiny prefix skips them).
+constexpr const char* kRustyPipeColour = "0.42 0.2 0.09 1";
 
 /// Where a rail set starts: its frame (between the pipes, at their start, x along the rails).
 struct RailSetTruth {
@@ -37,6 +42,18 @@ struct RailSetTruth {
   double start_x = 0, start_y = 0;  ///< [m]
   double yaw = 0;                   ///< [rad]
   double pipe_y[2] = {0, 0};        ///< centre lines of the two pipes [m]
+  double length_m = 0;              ///< of its pipes [m]
+  /// Sideways offset of each pipe's start end from its line [m]; the pipe bends back onto the line at
+  /// start_x + bend_length_m (0: straight).
+  double pipe_start_offset_m[2] = {0, 0};
+  double bend_length_m = 0;
+};
+
+/// Something left in the greenhouse (a crate, a parked trolley, a hose): a box or a lying capsule.
+struct GreenhouseObstacle {
+  std::string name, kind;                              ///< geom name, "crate" | "trolley" | "hose"
+  double x = 0, y = 0, yaw = 0;                        ///< centre on the floor [m], heading [rad]
+  double half_length = 0, half_width = 0, height = 0;  ///< [m]
 };
 
 /// What the greenhouse generator knows for sure, for tests and for the missions' ground truth.
@@ -49,6 +66,12 @@ struct GreenhouseTruth {
   std::vector<double> vent_line_y;  ///< y of the ventilation lines [m]
   std::vector<double> plant_row_y;  ///< y of the plant rows [m]
   double rear_wall_x = 0.0, end_wall_x = 0.0, side_wall_y[2] = {0, 0};
+  double headland_slope_rad = 0.0;  ///< the headland floor rises towards -x: z = -x tan(slope) for x < edge_x
+  std::vector<GreenhouseObstacle> obstacles;
+  std::vector<Eigen::Vector3d> bumps;  ///< top of each headland bump (x, y, z) [m]
+
+  /// Height of the floor at (x, y) without the bumps [m]: the rows' ground past the edge, the headland before it.
+  double floorHeightAt(double x, double y) const;
 };
 
 /// Builds the greenhouse. Throws std::invalid_argument naming a bad parameter.

@@ -65,6 +65,8 @@ class Simulation {
   unsigned long divergences() const { return divergences_; }
   const mjModel* model() const { return model_.get(); }
   const mjData* data() const { return data_.get(); }
+  /// For the actors' mocap poses, set between steps (see actors.h).
+  mjData* mutableData() { return data_.get(); }
 
  private:
   ModelPtr model_;

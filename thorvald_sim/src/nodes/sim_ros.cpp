@@ -1,5 +1,6 @@
 #include "sim_ros.h"
 
+#include <XmlRpcException.h>
 #include <rosgraph_msgs/Clock.h>
 
 #include <algorithm>
@@ -8,6 +9,7 @@
 #include "thorvald_common/ros/param_reader.h"
 #include "thorvald_sim/mjcf_compiler.h"
 #include "thorvald_sim/world.h"
+#include "world_params.h"
 
 namespace thorvald_sim {
 
@@ -75,28 +77,7 @@ bool SimRos::loadParams() {
       p.flat_half_size_m =
           params.number("flat/half_size", p.flat_half_size_m, ParamRange::aboveUpTo(0.5, 10000.0), "m");
     } else if (p.world == "greenhouse") {
-      auto& g = p.greenhouse;
-      g.rail_sets = params.integer("greenhouse/rail_sets", g.rail_sets, 1, 200);
-      g.set_spacing_m = params.number("greenhouse/set_spacing", g.set_spacing_m, ParamRange::aboveUpTo(0.2, 10.0), "m");
-      g.rail_gauge_m = params.number("greenhouse/rail_gauge", g.rail_gauge_m, ParamRange::aboveUpTo(0.1, 2.0), "m");
-      g.pipe_diameter_m =
-          params.number("greenhouse/pipe_diameter", g.pipe_diameter_m, ParamRange::aboveUpTo(0.005, 0.3), "m");
-      g.rail_top_m = params.number("greenhouse/rail_top", g.rail_top_m, ParamRange::aboveUpTo(0.0, 1.0), "m");
-      g.rail_length_m =
-          params.number("greenhouse/rail_length", g.rail_length_m, ParamRange::aboveUpTo(0.5, 500.0), "m");
-      g.rail_start_gap_m =
-          params.number("greenhouse/rail_start_gap", g.rail_start_gap_m, ParamRange::closed(0.0, 2.0), "m");
-      g.headland_depth_m =
-          params.number("greenhouse/headland_depth", g.headland_depth_m, ParamRange::aboveUpTo(1.0, 100.0), "m");
-      g.row_ground_drop_m =
-          params.number("greenhouse/row_ground_drop", g.row_ground_drop_m, ParamRange::closed(0.0, 2.0), "m");
-      g.vent_every = params.integer("greenhouse/vent_every", g.vent_every, 0, 1000);
-      g.vent_height_m = params.number("greenhouse/vent_height", g.vent_height_m, ParamRange::aboveUpTo(0.0, 5.0), "m");
-      g.vent_diameter_m =
-          params.number("greenhouse/vent_diameter", g.vent_diameter_m, ParamRange::aboveUpTo(0.01, 2.0), "m");
-      g.wall_margin_m = params.number("greenhouse/wall_margin", g.wall_margin_m, ParamRange::aboveUpTo(0.2, 20.0), "m");
-      g.plant_bottom_m =
-          params.number("greenhouse/plant_bottom", g.plant_bottom_m, ParamRange::aboveUpTo(0.0, 10.0), "m");
+      readGreenhouseParams(params, &p.greenhouse);
     } else {
       auto& c = p.cotton_row;
       c.plants = params.integer("cotton_row/plants", c.plants, 0, 10000);
@@ -113,6 +94,7 @@ bool SimRos::loadParams() {
       c.leaf_over_boll_fraction =
           params.number("cotton_row/leaf_over_boll_fraction", c.leaf_over_boll_fraction, ParamRange::closed(0.0, 1.0));
     }
+    params.raw("actors", &p.actors);
     params.alsoRead("diagnostic_period");
     params.finish();
   } catch (const thorvald_common::ParamError& e) {
@@ -127,12 +109,15 @@ bool SimRos::buildWorld(WorldDescription* world) {
     if (params_.world == "flat") {
       *world = makeFlatWorld(params_.flat_half_size_m);
     } else if (params_.world == "greenhouse") {
-      GreenhouseTruth truth;
-      *world = makeGreenhouseWorld(params_.greenhouse, &truth);
-      if (!params_.truth_file.empty() && !writeGreenhouseTruth(truth, params_.truth_file)) {
+      auto truth = std::make_shared<GreenhouseTruth>();
+      *world = makeGreenhouseWorld(params_.greenhouse, truth.get());
+      if (!params_.truth_file.empty() && !writeGreenhouseTruth(*truth, params_.truth_file)) {
         ROS_FATAL("thorvald_sim: cannot write ~truth_file %s", params_.truth_file.c_str());
         return false;
       }
+      floor_z_ = [truth](double x, double y) { return truth->floorHeightAt(x, y); };
+      spawn_lift_ = [truth](double x, double y) { return x < truth->edge_x ? truth->floorHeightAt(x, y) : 0.0; };
+      return addActors(world, truth.get());
     } else {
       CottonRowTruth truth;
       *world = makeCottonRowWorld(params_.cotton_row, &truth);
@@ -145,6 +130,22 @@ bool SimRos::buildWorld(WorldDescription* world) {
     ROS_FATAL("thorvald_sim: world %s: parameter %s", params_.world.c_str(), e.what());
     return false;
   }
+  return addActors(world, nullptr);
+}
+
+bool SimRos::addActors(WorldDescription* world, const GreenhouseTruth* truth) {
+  if (!params_.actors.valid()) return true;
+  try {
+    actors_ = std::make_unique<ActorScripts>(parseActors(params_.actors, truth));
+  } catch (const std::invalid_argument& e) {
+    ROS_FATAL("thorvald_sim: %s", e.what());
+    return false;
+  } catch (const XmlRpc::XmlRpcException& e) {
+    ROS_FATAL("thorvald_sim: ~actors: %s", e.getMessage().c_str());
+    return false;
+  }
+  world->worldbody += actorBodies(*actors_, floor_z_);
+  ROS_INFO("thorvald_sim: %zu actors", actors_->size());
   return true;
 }
 
@@ -176,6 +177,7 @@ bool SimRos::loadRobots(const WorldDescription& world) {
       s.name = xmlText(r, "namespace", "");
       s.x = xmlNumber(r, "x", 0), s.y = xmlNumber(r, "y", 0), s.z = xmlNumber(r, "z", 0.02);
       s.yaw = xmlNumber(r, "yaw", 0);
+      s.z += spawn_lift_(s.x, s.y);  // a sloped headland lifts the robot
       ros::NodeHandle rn(nh_, s.name);
       std::string urdf;
       const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(params_.wait_for_description_s);
@@ -218,6 +220,10 @@ bool SimRos::loadRobots(const WorldDescription& world) {
         }
     if (camera_width > 0) options.camera_max_width = camera_width, options.camera_max_height = camera_height;
     sim_ = std::make_unique<Simulation>(composeScene(world, spawns, options), spawns);
+    world_truth_ =
+        std::make_unique<WorldTruth>(nh_, *sim_, actors_ ? std::move(*actors_) : ActorScripts(std::vector<ActorSpec>{}),
+                                     floor_z_, params_.world_frame);
+    actors_.reset();
     for (size_t i = 0; i < spawns.size(); ++i)
       robots_.push_back(std::make_unique<RobotIo>(
           ros::NodeHandle(nh_, spawns[i].name), *sim_, i, prefixes[i], sensors[i], params_.world_frame,
@@ -242,6 +248,7 @@ bool SimRos::start() {
   step_srv_ = pnh_.advertiseService("step", &SimRos::onStep, this);
   updater_.setHardwareID("thorvald_sim");
   updater_.add("simulation", this, &SimRos::diagnose);
+  updater_.add("contacts", [this](diagnostic_updater::DiagnosticStatusWrapper& stat) { world_truth_->diagnose(stat); });
   rosgraph_msgs::Clock c;
   clock_pub_.publish(c);
   ROS_INFO("thorvald_sim: world %s, %zu robots, timestep %.4f s, real-time factor %g", params_.world.c_str(),
@@ -259,11 +266,13 @@ CameraRenderer& SimRos::renderer() {
 }
 
 void SimRos::advance() {
+  world_truth_->moveActors(sim_->time());
   sim_->step(steps_per_period_);
   rosgraph_msgs::Clock c;
   c.clock = ros::Time(sim_->time());
   clock_pub_.publish(c);
   for (auto& r : robots_) r->publish(c.clock, 1.0 / params_.ground_truth_rate_hz);
+  world_truth_->publish(c.clock, 1.0 / params_.ground_truth_rate_hz);
 }
 
 void SimRos::run() {
@@ -322,11 +331,15 @@ bool SimRos::onStep(Step::Request& req, Step::Response& res) {
     res.success = false;
     res.message = "not paused: call ~pause first";
   } else {
-    for (uint32_t i = 0; i < req.steps; ++i) sim_->step(1);
+    for (uint32_t i = 0; i < req.steps; ++i) {
+      world_truth_->moveActors(sim_->time());
+      sim_->step(1);
+    }
     rosgraph_msgs::Clock c;
     c.clock = ros::Time(sim_->time());
     clock_pub_.publish(c);
     for (auto& r : robots_) r->publish(c.clock, 1.0 / params_.ground_truth_rate_hz);
+    world_truth_->publish(c.clock, 1.0 / params_.ground_truth_rate_hz);
     res.success = true;
   }
   res.time = sim_->time();

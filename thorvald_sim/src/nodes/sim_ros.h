@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "robot_io.h"
+#include "world_truth.h"
 #include "thorvald_sim/Step.h"
 #include "thorvald_sim/simulation.h"
 #include "thorvald_sim/world.h"
@@ -32,6 +33,7 @@ struct SimNodeParams {
   double flat_half_size_m = 100.0;
   GreenhouseParams greenhouse;
   CottonRowParams cotton_row;
+  XmlRpc::XmlRpcValue actors;  ///< ~actors (see world_params.h); none if unset
 };
 
 /// The simulator node: one MuJoCo world with every robot, stepped on one thread that also serves callbacks.
@@ -53,6 +55,8 @@ class SimRos {
   bool onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
   bool onStep(Step::Request& req, Step::Response& res);
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
+  /// Adds the actors' bodies to the world; false (logged) on a bad ~actors.
+  bool addActors(WorldDescription* world, const GreenhouseTruth* truth);
 
   ros::NodeHandle nh_, pnh_;
   SimNodeParams params_;
@@ -61,6 +65,10 @@ class SimRos {
   std::unique_ptr<Simulation> sim_;
   std::unique_ptr<CameraRenderer> renderer_;  ///< created when a camera is first watched
   std::vector<std::unique_ptr<RobotIo>> robots_;
+  std::function<double(double, double)> floor_z_ = [](double, double) { return 0.0; };     ///< under actors, robots
+  std::function<double(double, double)> spawn_lift_ = [](double, double) { return 0.0; };  ///< headland slope [m]
+  std::unique_ptr<ActorScripts> actors_;     ///< until world_truth_ takes them
+  std::unique_ptr<WorldTruth> world_truth_;  ///< actors and contacts
   ros::Publisher clock_pub_;
   ros::ServiceServer pause_srv_, unpause_srv_, reset_srv_, step_srv_;
   diagnostic_updater::Updater updater_;

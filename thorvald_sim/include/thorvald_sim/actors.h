@@ -1,0 +1,64 @@
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace thorvald_sim {
+
+/// What an actor is: a person (upright capsule) or a trolley (box on the floor).
+enum class ActorKind { kPerson, kTrolley };
+
+/// A point of an actor's path: where it is [m] at simulated time t [s]. Two waypoints at the same place with
+/// different times make it stand there.
+struct ActorWaypoint {
+  double x = 0, y = 0, t = 0;
+};
+
+/// One actor: a kinematic body moved by the simulator along a scripted path or a seeded random walk. Its pose is
+/// truth for scorers only; the robots' sensors see its body like any other.
+struct ActorSpec {
+  std::string name;
+  ActorKind kind = ActorKind::kPerson;
+  std::vector<ActorWaypoint> path;  ///< times increasing; before the first it stands at the first, after the last
+                                    ///< at the last (or starts over if `loop`: the path should end where it begins)
+  bool loop = false;
+  /// Random walk instead of a path (path empty): from a random point of the region it walks at `speed_mps` to
+  /// random points of the region and stands `pause_s` at each; the same seed gives the same walk.
+  bool random_walk = false;
+  double region[4] = {0, 0, 0, 0};  ///< x_min, x_max, y_min, y_max [m]
+  double speed_mps = 1.0;
+  double pause_s = 2.0;
+  unsigned seed = 1;
+  double radius_m = 0.25;  ///< person: capsule radius [m]; trolley: half width
+  double height_m = 1.75;  ///< [m]
+  double length_m = 1.0;   ///< trolley: length along its heading [m]
+};
+
+/// An actor's pose at one time: position on the floor [m], heading [rad] (along its motion, kept while standing).
+struct ActorPose {
+  double x = 0, y = 0, z = 0, yaw = 0;
+};
+
+/// Moves the actors: pose of each at a simulated time. A random walk is drawn once, up to `walk_horizon_s`, then
+/// repeats. Throws std::invalid_argument naming the actor and what is wrong.
+class ActorScripts {
+ public:
+  explicit ActorScripts(std::vector<ActorSpec> specs, double walk_horizon_s = 3600.0);
+  size_t size() const { return specs_.size(); }
+  const ActorSpec& spec(size_t i) const { return specs_[i]; }
+  /// Pose of actor `i` at time `t` [s]; z stays 0 (the caller puts it on its floor).
+  ActorPose poseAt(size_t i, double t) const;
+
+ private:
+  std::vector<ActorSpec> specs_;
+};
+
+/// Body name of an actor in the MuJoCo model ("actor_<name>"); its one geom has the same name.
+std::string actorBodyName(const std::string& actor_name);
+
+/// The actors as MJCF mocap bodies (children of <worldbody>) at their poses at t = 0; `floor_z(x, y)` gives the
+/// floor under them [m].
+std::string actorBodies(const ActorScripts& actors, const std::function<double(double, double)>& floor_z);
+
+}  // namespace thorvald_sim

@@ -1,0 +1,115 @@
+#include "thorvald_sim/actors.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+
+namespace thorvald_sim {
+
+namespace {
+
+double unitDraw(std::mt19937& rng) { return rng() / 4294967296.0; }
+
+/// The random walk as a looping path: waypoints with their pauses, back to the start at the end.
+std::vector<ActorWaypoint> drawWalk(const ActorSpec& s, double horizon_s) {
+  std::mt19937 rng(s.seed);
+  auto point = [&]() {
+    const double x = s.region[0] + unitDraw(rng) * (s.region[1] - s.region[0]);
+    return ActorWaypoint{x, s.region[2] + unitDraw(rng) * (s.region[3] - s.region[2]), 0.0};
+  };
+  std::vector<ActorWaypoint> path{point()};
+  while (path.back().t < horizon_s) {
+    ActorWaypoint stand = path.back();
+    stand.t += s.pause_s;
+    ActorWaypoint next = point();
+    next.t = stand.t + std::hypot(next.x - stand.x, next.y - stand.y) / s.speed_mps;
+    path.push_back(stand);
+    path.push_back(next);
+  }
+  ActorWaypoint home = path.front();
+  home.t = path.back().t + std::hypot(home.x - path.back().x, home.y - path.back().y) / s.speed_mps;
+  path.push_back(home);
+  return path;
+}
+
+void check(const ActorSpec& s) {
+  const std::string who = "actor '" + s.name + "': ";
+  if (s.name.empty()) throw std::invalid_argument("actor without a name");
+  if (s.random_walk) {
+    if (!(s.region[1] > s.region[0] && s.region[3] > s.region[2]))
+      throw std::invalid_argument(who + "region must be [x_min, x_max, y_min, y_max] with min < max");
+    if (!(s.speed_mps > 0.0 && s.speed_mps < 10.0)) throw std::invalid_argument(who + "speed must lie in (0, 10) m/s");
+    if (!(s.pause_s >= 0.0)) throw std::invalid_argument(who + "pause must be at least 0 s");
+  } else {
+    if (s.path.empty()) throw std::invalid_argument(who + "needs a path [[x, y, t], ...] or a random_walk region");
+    for (size_t k = 1; k < s.path.size(); ++k)
+      if (!(s.path[k].t > s.path[k - 1].t))
+        throw std::invalid_argument(who + "path times must increase (waypoint " + std::to_string(k) + ")");
+  }
+  if (!(s.radius_m > 0.0 && s.height_m > 2.0 * s.radius_m && s.length_m > 0.0))
+    throw std::invalid_argument(who + "needs radius > 0, height > 2 radius, length > 0");
+}
+
+}  // namespace
+
+ActorScripts::ActorScripts(std::vector<ActorSpec> specs, double walk_horizon_s) : specs_(std::move(specs)) {
+  for (size_t i = 0; i < specs_.size(); ++i) {
+    check(specs_[i]);
+    for (size_t j = 0; j < i; ++j)
+      if (specs_[j].name == specs_[i].name) throw std::invalid_argument("actor '" + specs_[i].name + "' twice");
+    if (specs_[i].random_walk) {
+      specs_[i].path = drawWalk(specs_[i], walk_horizon_s);
+      specs_[i].loop = true;
+    }
+  }
+}
+
+ActorPose ActorScripts::poseAt(size_t i, double t) const {
+  const std::vector<ActorWaypoint>& p = specs_.at(i).path;
+  const double t0 = p.front().t, t1 = p.back().t;
+  if (specs_[i].loop && t1 > t0 && t > t1) t = t0 + std::fmod(t - t0, t1 - t0);
+  // The segment holding t: p[k] .. p[k + 1] (k = 0 before the start, the last one after the end).
+  const auto after = std::upper_bound(p.begin(), p.end(), t, [](double v, const ActorWaypoint& w) { return v < w.t; });
+  const size_t k1 = std::min<size_t>(std::max<long>(1, after - p.begin()), p.size() - 1);
+  const size_t k0 = p.size() > 1 ? k1 - 1 : 0;
+  const ActorWaypoint &a = p[k0], &b = p[std::min(k1, p.size() - 1)];
+  const double s = b.t > a.t ? std::clamp((t - a.t) / (b.t - a.t), 0.0, 1.0) : 0.0;
+  ActorPose pose;
+  pose.x = a.x + s * (b.x - a.x);
+  pose.y = a.y + s * (b.y - a.y);
+  // Heading: along the latest segment that moved, up to this one.
+  for (size_t k = k1; k >= 1 && k < p.size(); --k) {
+    const double dx = p[k].x - p[k - 1].x, dy = p[k].y - p[k - 1].y;
+    if (std::hypot(dx, dy) > 1e-9) {
+      pose.yaw = std::atan2(dy, dx);
+      break;
+    }
+  }
+  return pose;
+}
+
+std::string actorBodyName(const std::string& actor_name) { return "actor_" + actor_name; }
+
+std::string actorBodies(const ActorScripts& actors, const std::function<double(double, double)>& floor_z) {
+  std::ostringstream out;
+  out.precision(9);
+  for (size_t i = 0; i < actors.size(); ++i) {
+    const ActorSpec& s = actors.spec(i);
+    const ActorPose p = actors.poseAt(i, 0.0);
+    const std::string name = actorBodyName(s.name);
+    out << "<body name=\"" << name << "\" mocap=\"true\" pos=\"" << p.x << " " << p.y << " " << floor_z(p.x, p.y)
+        << "\" euler=\"0 0 " << p.yaw << "\">";
+    if (s.kind == ActorKind::kPerson)
+      out << "<geom name=\"" << name << "\" type=\"capsule\" size=\"" << s.radius_m << " "
+          << 0.5 * s.height_m - s.radius_m << "\" pos=\"0 0 " << 0.5 * s.height_m << "\" rgba=\"0.8 0.45 0.2 1\"/>";
+    else
+      out << "<geom name=\"" << name << "\" type=\"box\" size=\"" << 0.5 * s.length_m << " " << s.radius_m << " "
+          << 0.5 * s.height_m << "\" pos=\"0 0 " << 0.5 * s.height_m << "\" rgba=\"0.5 0.5 0.55 1\"/>";
+    out << "</body>\n";
+  }
+  return out.str();
+}
+
+}  // namespace thorvald_sim

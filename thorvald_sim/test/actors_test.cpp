@@ -1,0 +1,161 @@
+// Actors follow their scripts, the sensors see them, and robot body contacts are reported (wheels on the floor not).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "test_scene.h"
+#include "thorvald_sim/actors.h"
+#include "thorvald_sim/contacts.h"
+#include "thorvald_sim/ray_caster.h"
+
+namespace ts = thorvald_sim;
+
+namespace {
+
+ts::ActorSpec walker() {
+  ts::ActorSpec s;
+  s.name = "worker1";
+  // Walks 4 m along x in 4 s, stands 2 s, walks 2 m along y in 2 s.
+  s.path = {{0, 0, 1}, {4, 0, 5}, {4, 0, 7}, {4, 2, 9}};
+  return s;
+}
+
+ts::ActorSpec wanderer(unsigned seed) {
+  ts::ActorSpec s;
+  s.name = "wanderer";
+  s.random_walk = true;
+  s.region[0] = -5, s.region[1] = -1, s.region[2] = 0, s.region[3] = 10;
+  s.speed_mps = 1.2;
+  s.seed = seed;
+  return s;
+}
+
+/// The flat floor with a crate 2 m ahead of the origin, plus `extra` bodies.
+ts::WorldDescription floorWithCrate(const std::string& extra = "") {
+  ts::WorldDescription w = ts::makeFlatWorld(20.0);
+  w.worldbody += "<geom name=\"crate0\" type=\"box\" pos=\"2.2 0 0.3\" size=\"0.2 0.8 0.3\"/>\n" + extra;
+  return w;
+}
+
+}  // namespace
+
+TEST(Actors, ScriptedPathPositionAtTime) {
+  ts::ActorScripts a({walker()});
+  auto at = [&](double t) { return a.poseAt(0, t); };
+  EXPECT_NEAR(at(0.0).x, 0.0, 1e-12);  // stands at the first waypoint before its time
+  EXPECT_NEAR(at(3.0).x, 2.0, 1e-12);  // halfway along the first leg
+  EXPECT_NEAR(at(3.0).yaw, 0.0, 1e-12);
+  EXPECT_NEAR(at(6.0).x, 4.0, 1e-12);  // standing, still facing +x
+  EXPECT_NEAR(at(6.0).yaw, 0.0, 1e-12);
+  EXPECT_NEAR(at(8.0).y, 1.0, 1e-12);
+  EXPECT_NEAR(at(8.0).yaw, M_PI / 2, 1e-12);
+  EXPECT_NEAR(at(100.0).y, 2.0, 1e-12);  // stays at the last point
+  ts::ActorSpec loop = walker();
+  loop.loop = true;
+  ts::ActorScripts l({loop});
+  EXPECT_NEAR(l.poseAt(0, 3.0 + 8.0).x, 2.0, 1e-9);  // period 8 s (first to last waypoint)
+}
+
+TEST(Actors, RandomWalkStaysInItsRegionAndRepeatsWithItsSeed) {
+  ts::ActorScripts a({wanderer(5)}), b({wanderer(5)}), c({wanderer(6)});
+  double travelled = 0.0, differs = 0.0;
+  ts::ActorPose last = a.poseAt(0, 0.0);
+  for (double t = 0.0; t < 600.0; t += 0.5) {
+    const ts::ActorPose p = a.poseAt(0, t), q = b.poseAt(0, t), r = c.poseAt(0, t);
+    EXPECT_GE(p.x, -5.0);
+    EXPECT_LE(p.x, -1.0);
+    EXPECT_GE(p.y, 0.0);
+    EXPECT_LE(p.y, 10.0);
+    EXPECT_EQ(p.x, q.x);
+    EXPECT_EQ(p.y, q.y);
+    differs = std::max(differs, std::hypot(p.x - r.x, p.y - r.y));
+    travelled += std::hypot(p.x - last.x, p.y - last.y);
+    last = p;
+  }
+  EXPECT_GT(travelled, 200.0);  // it walks (1.2 m/s with 2 s pauses)
+  EXPECT_LE(travelled, 1.2 * 600.0 + 1e-6);
+  EXPECT_GT(differs, 1.0);
+}
+
+TEST(Actors, BadScriptsAreRefusedNamingTheActor) {
+  ts::ActorSpec s = walker();
+  s.path[2].t = 4.0;  // back in time
+  try {
+    ts::ActorScripts a({s});
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("worker1"), std::string::npos);
+  }
+  ts::ActorSpec w = wanderer(1);
+  w.region[1] = -6;  // x_max below x_min
+  EXPECT_THROW(ts::ActorScripts({w}), std::invalid_argument);
+  EXPECT_THROW(ts::ActorScripts({walker(), walker()}), std::invalid_argument);  // one name twice
+}
+
+TEST(Actors, MocapBodiesMoveAndTheLidarSeesThem) {
+  ts::ActorScripts actors({walker()});
+  ts::WorldDescription w = ts::makeFlatWorld(20.0);
+  w.worldbody += ts::actorBodies(actors, [](double, double) { return 0.0; });
+  ts::test::StaticWorld world(w);
+  const int body = mj_name2id(world.model.get(), mjOBJ_BODY, ts::actorBodyName("worker1").c_str());
+  ASSERT_GE(body, 0);
+  const int mocap = world.model->body_mocapid[body];
+  ASSERT_GE(mocap, 0);
+  const ts::ActorPose p = actors.poseAt(0, 3.0);  // (2, 0)
+  world.data->mocap_pos[3 * mocap] = p.x, world.data->mocap_pos[3 * mocap + 1] = p.y;
+  mj_forward(world.model.get(), world.data.get());
+  ts::RayCaster caster(world.model.get(), world.data.get(), -1);
+  const Eigen::Vector3d origin(-3.0, 0.0, 1.0), dir(1.0, 0.0, 0.0);
+  caster.prepare(origin, 30.0, dir, M_PI);
+  int geom = -1;
+  EXPECT_NEAR(caster.cast(origin, dir, &geom), 5.0 - 0.25, 1e-6);  // the person's front at x = 1.75
+  EXPECT_EQ(mj_id2name(world.model.get(), mjOBJ_GEOM, geom), ts::actorBodyName("worker1"));
+}
+
+TEST(Contacts, CrateContactIsReportedWheelsOnTheFloorAreNot) {
+  ts::test::TestScene s(floorWithCrate(), {ts::test::fourWheelSteered()});
+  ts::ContactMonitor monitor(s.sim->model(), {{s.sim->robot(0).root_body, "r1"}});
+  s.run(0.5);  // settle on the wheels
+  EXPECT_TRUE(monitor.update(s.sim->data()).empty());
+  std::vector<ts::ContactEvent> events;
+  for (int i = 0; i < 250 && events.empty(); ++i) {  // up to 5 s at 0.5 m/s: the frame reaches the crate
+    s.command(0, 0.5, 0, 0);
+    s.run(0.02);
+    for (const auto& e : monitor.update(s.sim->data())) events.push_back(e);
+  }
+  ASSERT_FALSE(events.empty()) << "never touched the crate";
+  EXPECT_TRUE(events[0].start);
+  EXPECT_EQ(events[0].other, "crate0");
+  EXPECT_EQ(events[0].robot, "r1");
+  EXPECT_NEAR(events[0].position.x(), 2.0, 0.05);             // on the crate's face
+  for (const auto& e : events) EXPECT_EQ(e.other, "crate0");  // the frame and perhaps a wheel: all on the crate
+  for (int i = 0; i < 100; ++i) {                             // back off: the contact ends
+    s.command(0, -0.5, 0, 0);
+    s.run(0.02);
+    for (const auto& e : monitor.update(s.sim->data())) events.push_back(e);
+  }
+  ASSERT_GE(events.size(), 2u);
+  EXPECT_FALSE(events.back().start);
+  EXPECT_EQ(monitor.active(), 0u);
+}
+
+TEST(Contacts, AnActorWalkingIntoARobotIsReported) {
+  ts::ActorSpec s;
+  s.name = "worker2";
+  s.path = {{3.0, 0.0, 0.0}, {0.0, 0.0, 3.0}};  // walks through where the robot stands
+  ts::ActorScripts actors({s});
+  ts::WorldDescription w = ts::makeFlatWorld(20.0);
+  w.worldbody += ts::actorBodies(actors, [](double, double) { return 0.0; });
+  ts::test::TestScene scene(w, {ts::test::fourWheelSteered()});
+  ts::ContactMonitor monitor(scene.sim->model(), {{scene.sim->robot(0).root_body, "r1"}});
+  const int mocap = scene.sim->model()->body_mocapid[mj_name2id(scene.sim->model(), mjOBJ_BODY, "actor_worker2")];
+  std::vector<ts::ContactEvent> events;
+  for (int i = 0; i < 150; ++i) {
+    const ts::ActorPose p = actors.poseAt(0, scene.t);
+    scene.sim->mutableData()->mocap_pos[3 * mocap] = p.x;
+    scene.run(0.02);
+    for (const auto& e : monitor.update(scene.sim->data())) events.push_back(e);
+  }
+  ASSERT_FALSE(events.empty());
+  EXPECT_EQ(events[0].other, "actor_worker2");
+}
