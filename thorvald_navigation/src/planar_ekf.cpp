@@ -1,8 +1,9 @@
 #include "thorvald_navigation/planar_ekf.h"
 
 #include <cmath>
+#include <vector>
 
-#include <Eigen/Cholesky>
+#include "thorvald_navigation/ekf_update.h"
 
 namespace thorvald_navigation {
 
@@ -51,35 +52,17 @@ bool PlanarEkf::predict(double t) {
 }
 
 std::string PlanarEkf::update(const State6& z, const State6& variance, const std::array<bool, 6>& mask) {
-  int m = 0;
-  for (int i = 0; i < 6; ++i) {
-    if (!mask[i]) continue;
-    if (!std::isfinite(z(i))) return "measurement " + std::to_string(i) + " is not finite";
-    if (!(variance(i) > 0.0) || !std::isfinite(variance(i)))
-      return "variance " + std::to_string(i) + " must be finite and > 0";
-    ++m;
-  }
-  if (m == 0) return "no state entry selected";
-  if (!initialized_) reset(thorvald_base::Pose2D{}, t_);
-  Eigen::MatrixXd h = Eigen::MatrixXd::Zero(m, 6);
-  Eigen::VectorXd innovation(m);
-  Eigen::MatrixXd r = Eigen::MatrixXd::Zero(m, m);
-  int row = 0;
-  for (int i = 0; i < 6; ++i) {
-    if (!mask[i]) continue;
-    h(row, i) = 1.0;
-    innovation(row) = i == kYaw ? thorvald_base::normalizeAngle(z(i) - x_(i)) : z(i) - x_(i);
-    r(row, row) = variance(i);
-    ++row;
-  }
-  const Eigen::MatrixXd s = h * p_ * h.transpose() + r;
-  const Eigen::MatrixXd k = p_ * h.transpose() * s.ldlt().solve(Eigen::MatrixXd::Identity(m, m));
-  x_ += k * innovation;
-  x_(kYaw) = thorvald_base::normalizeAngle(x_(kYaw));
-  // Joseph form keeps the covariance symmetric positive semi-definite.
-  const Cov6 ikh = Cov6::Identity() - k * h;
-  p_ = ikh * p_ * ikh.transpose() + k * r * k.transpose();
-  p_ = 0.5 * (p_ + p_.transpose());
+  std::vector<MeasuredEntry> entries;
+  for (int i = 0; i < 6; ++i)
+    if (mask[i]) entries.push_back({i, z(i), variance(i)});
+  // A first measurement starts the filter at the origin; a refused one leaves it as it was.
+  State6 x = initialized_ ? x_ : State6::Zero();
+  Cov6 p = initialized_ ? p_ : Cov6(p0_.asDiagonal());
+  const UpdateResult result = kalmanUpdate(x, p, entries, {kYaw});
+  if (!result.fused()) return result.error;
+  initialized_ = true;
+  x_ = x;
+  p_ = p;
   return {};
 }
 
