@@ -6,8 +6,9 @@
 // the averages, why each missed boll was missed (from the simulation's truth), the time per state and the
 // end-effector frames, and ends with
 //   RESULT {"potted_ct_s": .., "potted_asr_pct": .., "field_ct_s": .., "field_asr_pct": .., "rtf": ..,
-//           "ee_fallback_frames": .., "frames": .., "failed_runs": ..}
+//           "ee_fallback_frames": .., "frames": .., "failed_runs": .., "realism": "ideal|datasheet"}
 //   rosrun cotton_harvester harvest_bench [--potted-runs 5] [--field-runs 2] [--seed 1] [--png FILE]
+//                                          [--realism ideal|datasheet] [--realism-frames FILE]
 //                                          [--debug-image FILE] [--verbose] [--no-leaf-clearing] [--ee-whole-image]
 //                                          [--no-leaf-push] [--no-partial-bolls]
 #include <algorithm>
@@ -54,6 +55,7 @@ struct Totals {
   std::map<std::string, double> state_time_s;
   std::map<std::string, int> state_entries;
   int frames = 0, ee_found = 0, ee_rejected = 0, ee_fallback = 0;
+  int knocked_off = 0;
   int picks_cleared = 0, picks_redetected = 0, leaves_pushed = 0, leaf_searches = 0, leaf_sweeps = 0;
   void add(const sim::HarvestRunReport& r) {
     ++runs;
@@ -73,6 +75,7 @@ struct Totals {
     picks_cleared += r.picks_cleared;
     picks_redetected += r.picks_redetected;
     leaves_pushed += r.leaves_pushed;
+    knocked_off += r.bolls_knocked_off;
     leaf_searches += r.leaf_searches;
     leaf_sweeps += r.leaf_sweeps;
     counts.bolls_present += r.bolls_present;
@@ -113,8 +116,8 @@ void printTimes(const Totals& t) {
               t.ee_rejected, t.ee_fallback);
   std::printf(
       "leaves: picks that swept leaves aside first %d, of them re-located by a new frame %d; places searched under "
-      "the leaves %d, sweeps there %d; leaves pushed %d\n",
-      t.picks_cleared, t.picks_redetected, t.leaf_searches, t.leaf_sweeps, t.leaves_pushed);
+      "the leaves %d, sweeps there %d; leaves pushed %d; bolls knocked off %d\n",
+      t.picks_cleared, t.picks_redetected, t.leaf_searches, t.leaf_sweeps, t.leaves_pushed, t.knocked_off);
   std::fflush(stdout);
 }
 
@@ -127,6 +130,7 @@ bool ee_near_arm = true;
 bool leaf_push = true;
 bool partial_bolls = true;
 bool search_leaves = true;
+thorvald_sim::Realism realism = thorvald_sim::Realism::kIdeal;
 
 control::HarvestMetrics experiment(const char* title, bool field, int runs, unsigned seed, Totals* totals,
                                    const std::string& png, const std::string& debug_image) {
@@ -138,6 +142,7 @@ control::HarvestMetrics experiment(const char* title, bool field, int runs, unsi
       config.sim.row.plants = potted_plants;
       config.machine.row_length_m = 1.6 + 0.3 * potted_plants - 0.3;
     }
+    config.sim.realism = realism;
     if (i == 0) config.debug_image_path = debug_image;
     config.verbose = verbose;
     config.machine.actions.clear_leaves_before_pick = clear_leaves;
@@ -200,6 +205,12 @@ int main(int argc, char** argv) {
   app.add_option("--debug-image", debug_image, "camera frame of the first potted run with its detections");
   app.add_option("--potted-plants", potted_plants, "plants of the potted row (the paper: 6)")->check(CLI::Range(1, 60));
   app.add_option("--frames-dir", frames_dir, "write every frame of the first potted run with its detections here");
+  std::string realism_name = "ideal", realism_frames;
+  app.add_option("--realism", realism_name, "the cotton world and camera: ideal (today's) or datasheet")
+      ->check(CLI::IsMember({"ideal", "datasheet"}));
+  app.add_option("--realism-frames", realism_frames,
+                 "write the potted row's camera frame in ideal and datasheet side by side (colour over depth) as PNG "
+                 "and end");
   app.add_flag("--verbose", verbose, "print the state machine's transitions");
   bool no_clear = false, ee_whole = false, no_push = false, no_partial = false, no_search = false;
   app.add_flag("--no-leaf-search", no_search, "pass on without looking under the leaves (field-like runs)");
@@ -213,6 +224,12 @@ int main(int argc, char** argv) {
   leaf_push = !no_push;
   partial_bolls = !no_partial;
   search_leaves = !no_search;
+  realism = *thorvald_sim::realismFromName(realism_name);
+  if (!realism_frames.empty()) {
+    const bool ok = sim::writeRealismFrames(sim::pottedConfig(seed).sim, realism_frames);
+    std::printf(ok ? "wrote %s\n" : "could not write %s\n", realism_frames.c_str());
+    return ok ? 0 : 1;
+  }
 
   Totals totals;
   control::HarvestMetrics potted, field;
@@ -225,9 +242,9 @@ int main(int argc, char** argv) {
   std::printf("\npaper: potted CT 17.3 s, ASR 88.9 %%, DP 96.7 %%, MRR 94.4 %%; field CT 38.4 s, ASR 78.6 %%\n");
   std::printf(
       "RESULT {\"potted_ct_s\": %.2f, \"potted_asr_pct\": %.1f, \"field_ct_s\": %.2f, \"field_asr_pct\": %.1f, "
-      "\"rtf\": %.2f, \"ee_fallback_frames\": %d, \"frames\": %d, \"failed_runs\": %d}\n",
+      "\"rtf\": %.2f, \"ee_fallback_frames\": %d, \"frames\": %d, \"failed_runs\": %d, \"realism\": \"%s\"}\n",
       value(potted.cycle_time_s), value(potted.action_success_pct), value(field.cycle_time_s),
       value(field.action_success_pct), totals.wall_s > 0 ? totals.sim_s / totals.wall_s : 0.0, totals.ee_fallback,
-      totals.frames, totals.failed);
+      totals.frames, totals.failed, thorvald_sim::realismName(realism));
   return totals.failed == 0 ? 0 : 1;
 }

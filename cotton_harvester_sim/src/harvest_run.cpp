@@ -193,6 +193,7 @@ void fillReport(const RoverSim& sim, const SimHarvestPlant& plant, const control
   report->picks_cleared = machine.actions().picksCleared();
   report->picks_redetected = machine.actions().picksRedetected();
   report->leaves_pushed = sim.leavesPushed();
+  report->bolls_knocked_off = sim.bollsKnockedOff();
   report->leaf_searches = machine.actions().leafSearches();
   report->leaf_sweeps = machine.actions().leafSweeps();
   report->rover_track = plant.track();

@@ -124,7 +124,8 @@ class SceneWriter {
        << "     <joint name=\"horizontal\" type=\"slide\" axis=\"0 1 0\" range=\"0 " << g_.horizontal_travel_m
        << "\" damping=\"3000\" armature=\"5\"/>\n"
        << "     <geom name=\"end_effector_housing\" type=\"box\" pos=\"" << vec3(0, 0, -0.5 * h) << "\" size=\""
-       << vec3(e, e, 0.5 * h) << "\" mass=\"3\" contype=\"0\" conaffinity=\"0\" rgba=\"" << kEffectorColour << "\"/>\n"
+       << vec3(e, e, 0.5 * h) << "\" mass=\"3\" contype=\"0\" conaffinity=\"" << housingContact() << "\" rgba=\""
+       << kEffectorColour << "\"/>\n"
        << "     <geom name=\"horizontal_arm\" type=\"capsule\" fromto=\""
        << vec3(0, -e - 0.015, -0.03) + " " + vec3(0, -g_.horizontal_travel_m - 0.05, -0.03)
        << "\" size=\"0.015\" mass=\"2\" contype=\"0\" conaffinity=\"0\" rgba=\"" << kArmColour << "\"/>\n"
@@ -134,10 +135,25 @@ class SceneWriter {
   void actuators() {
     x_ << "<actuator>\n";
     for (const char* w : kRoverWheelNames) x_ << " <motor name=\"" << w << "\" joint=\"" << w << "\" gear=\"1\"/>\n";
+    // Datasheet: the steppers push the arm no harder than their force limit (a stem stops them, they lose steps).
+    std::string limit;
+    if (p_.realism == thorvald_sim::Realism::kDatasheet) {
+      std::ostringstream f;
+      f << " forcelimited=\"true\" forcerange=\"" << -p_.stepper_force_n << " " << p_.stepper_force_n << "\"";
+      limit = f.str();
+    }
     x_ << " <position name=\"articulation\" joint=\"articulation\" kp=\"200000\"/>\n"
-       << " <position name=\"vertical\" joint=\"vertical\" kp=\"100000\"/>\n"
-       << " <position name=\"horizontal\" joint=\"horizontal\" kp=\"100000\"/>\n"
+       << " <position name=\"vertical\" joint=\"vertical\" kp=\"100000\"" << limit << "/>\n"
+       << " <position name=\"horizontal\" joint=\"horizontal\" kp=\"100000\"" << limit << "/>\n"
        << "</actuator>\n</mujoco>\n";
+  }
+
+  /// The housing meets the datasheet plants (stems, leaves, bolls); in ideal nothing.
+  /// (its conaffinity and, in datasheet, stiff contacts: a stem does not let it sink in).
+  std::string housingContact() const {
+    if (p_.realism != thorvald_sim::Realism::kDatasheet) return "0";
+    return std::to_string(thorvald_sim::kPlantContype | thorvald_sim::kStemContype | thorvald_sim::kBollContype) +
+           "\" solref=\"0.004 1\" solimp=\"0.95 0.99 0.001";
   }
 
   const RoverSimParams& p_;

@@ -20,6 +20,7 @@ constexpr double kDegToRad = M_PI / 180.0;
 
 RoverSim::RoverSim(const RoverSimParams& params) : params_(params), drive_(params.drive), rng_(params.seed) {
   if (auto bad = params_.check(); !bad.empty()) throw std::invalid_argument("rover simulation: " + bad);
+  params_.row.datasheet = params_.realism == thorvald_sim::Realism::kDatasheet;
   const thorvald_sim::WorldDescription world = thorvald_sim::makeCottonRowWorld(params_.row, &row_truth_);
   xml_ = roverSceneXml(params_, world.worldbody);
   model_ = thorvald_sim::compileXml(xml_, "cotton rover scene");
@@ -51,6 +52,9 @@ RoverSim::RoverSim(const RoverSimParams& params) : params_(params), drive_(param
     b.centre = row_truth_.bolls[i];
     bolls_.push_back(b);
   }
+  geom_boll_.assign(m->ngeom, -1);
+  for (size_t i = 0; i < bolls_.size(); ++i) geom_boll_[bolls_[i].geom] = static_cast<int>(i);
+  if (params_.row.datasheet) setupDatasheet();
   // The arm starts at its rest: half way out, above the plants.
   const RoverGeometry& g = params_.geometry;
   horizontal_target_ = horizontal_now_ = std::min(0.35, g.horizontal_travel_m);
@@ -142,6 +146,7 @@ void RoverSim::stepOnce() {
       throw std::runtime_error("rover simulation diverged (NaN in the state) at t = " + std::to_string(d->time));
     }
   }
+  if (params_.row.datasheet) updateBollBodies();
   // The vacuum: a boll that stays close enough to the nozzle is sucked in and leaves the world.
   const Eigen::Vector3d nozzle = nozzlePosition();
   if (!leaves_.empty()) pushLeaves(nozzle - last_housing_);
@@ -155,7 +160,7 @@ void RoverSim::stepOnce() {
       if (b.near_nozzle_s >= params_.capture_time_s) {
         b.captured = true;
         b.captured_at_s = d->time;
-        model_->geom_rgba[4 * b.geom + 3] = 0.0f;  // the renderer leaves invisible geoms out
+        hideBoll(b);
       }
     } else {
       b.near_nozzle_s = 0.0;
@@ -205,10 +210,26 @@ void RoverSim::renderCamera(cv::Mat* bgr, cv::Mat* cloud) {
   thorvald_sim::CameraView view = thorvald_sim::cameraView(depth, true);
   thorvald_sim::RenderedView rendered;
   renderer_->render(data_.get(), pose, view, -1, &rendered);
-  const thorvald_sim::RayCaster caster(m, data_.get(), -1);
   thorvald_sim::DepthImage points;
-  thorvald_sim::depthFromView(rendered, caster, pose, depth, rng_, &points, 1);
-  const thorvald_sim::ColorImage rgb = thorvald_sim::colorFromView(rendered, m, colour);
+  thorvald_sim::ColorImage rgb = thorvald_sim::colorFromView(rendered, m, colour);
+  if (params_.row.datasheet) {
+    std::vector<float> z;
+    datasheetCamera(rendered, pose, thorvald_sim::intrinsics(depth), &rgb, &z);
+    points.width = depth.width;
+    points.height = depth.height;
+    points.points.resize(z.size());
+    const thorvald_sim::Intrinsics k = thorvald_sim::intrinsics(depth);
+    for (int v = 0; v < depth.height; ++v)
+      for (int u = 0; u < depth.width; ++u) {
+        const size_t i = static_cast<size_t>(v) * depth.width + u;
+        const float zi = z[i];
+        points.points[i] =
+            Eigen::Vector3f(static_cast<float>(zi * (u - k.cx) / k.fx), static_cast<float>(zi * (v - k.cy) / k.fy), zi);
+      }
+  } else {
+    const thorvald_sim::RayCaster caster(m, data_.get(), -1);
+    thorvald_sim::depthFromView(rendered, caster, pose, depth, rng_, &points, 1);
+  }
   cv::Mat rgb_mat(rgb.height, rgb.width, CV_8UC3, const_cast<uint8_t*>(rgb.rgb.data()));
   bgr->create(rgb.height, rgb.width, CV_8UC3);
   for (int v = 0; v < rgb.height; ++v) {
@@ -273,6 +294,7 @@ void RoverSim::pushLeaves(const Eigen::Vector3d& motion) {
 
 int RoverSim::leavesPushed() const {
   int n = 0;
+  for (int j : leaf_joints_) n += std::abs(data_->qpos[model_->jnt_qposadr[j]]) > 0.1 ? 1 : 0;
   for (const Leaf& leaf : leaves_) {
     const double* pos = model_->geom_pos + 3 * leaf.geom;
     n += (Eigen::Vector3d(pos[0], pos[1], pos[2]) - leaf.grown_at).norm() > 1e-4 ? 1 : 0;
@@ -334,7 +356,7 @@ double RoverSim::visibleFractionFrom(size_t index, const Eigen::Vector3d& origin
     const mjtNum pnt[3] = {origin.x(), origin.y(), origin.z()}, vec[3] = {dir.x(), dir.y(), dir.z()};
     mj_ray(model_.get(), data_.get(), pnt, vec, nullptr, 1, -1, &geom);
     ++rays;
-    visible += geom == b.geom ? 1 : 0;
+    visible += bollOfGeom(geom) == static_cast<int>(index) ? 1 : 0;
   }
   return static_cast<double>(visible) / rays;
 }

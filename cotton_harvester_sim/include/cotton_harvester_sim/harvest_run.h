@@ -43,6 +43,7 @@ struct HarvestRunReport {
   int effector_rejected = 0, effector_from_calibration = 0;
   int picks_cleared = 0, picks_redetected = 0;  ///< picks that swept leaves first; of them, corrected by a new frame
   int leaves_pushed = 0;                        ///< leaves the housing pushed away from where they grew
+  int bolls_knocked_off = 0;                    ///< datasheet: bolls the housing broke off their branch
   int leaf_searches = 0, leaf_sweeps = 0;       ///< places the arm looked under the leaves; its sweeps there
   double sim_time_s = 0.0, wall_time_s = 0.0;
   std::set<std::string> states_visited;
@@ -92,6 +93,10 @@ std::vector<bool> reachableBolls(const RoverSim& sim, double row_length_m);
 /// (Table 3). `seed` varies the plants.
 HarvestRunConfig pottedConfig(unsigned seed);
 HarvestRunConfig fieldConfig(unsigned seed);
+
+/// Writes the camera's frame of the rover over the row of `base` in ideal and in datasheet side by side (colour
+/// above, depth below) as PNG. False when it cannot be written.
+bool writeRealismFrames(const RoverSimParams& base, const std::string& path);
 
 /// Writes a top view of the run (rover path along the row, picked bolls green, missed red) as PNG.
 bool writePathPng(const HarvestRunReport& report, const std::string& path);

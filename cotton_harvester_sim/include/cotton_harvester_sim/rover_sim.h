@@ -9,7 +9,10 @@
 
 #include <opencv2/core.hpp>
 #include <thorvald_sim/camera_renderer.h>
+#include <thorvald_sim/daylight.h>
 #include <thorvald_sim/mjcf_compiler.h>
+#include <thorvald_sim/realism.h>
+#include <thorvald_sim/stereo_models.h>
 #include <thorvald_sim/world.h>
 
 #include "cotton_harvester/control/hydrostatic_drive_model.h"
@@ -61,13 +64,23 @@ struct RoverSimParams {
   double depth_noise_coeff = 0.001;                 ///< active-stereo noise coefficient [1/m]
   double depth_dropout = 0.005;
   unsigned seed = 1;
-  std::string check() const;  ///< empty when sound
+  /// kIdeal: today's row (flat-coloured plants fixed to the world, leaves pushed by leaf_push_max_m) and camera
+  /// (flat colours, active-stereo noise depth_noise_coeff). kDatasheet: the row's datasheet plants (row.datasheet:
+  /// lobed bolls on breaking springs, springy leaves, rigid stems the housing cannot pass, soil clods and weeds),
+  /// the housing colliding with them through the steppers' force limit, daylight drawn from the seed (sun, hard
+  /// shadows or overcast, texture, exposure) and the ZED's passive-stereo depth (`stereo`).
+  thorvald_sim::Realism realism = thorvald_sim::Realism::kIdeal;
+  thorvald_sim::PassiveStereoModel stereo;  ///< datasheet: the ZED (120 mm baseline)
+  double stepper_force_n = 1500.0;          ///< datasheet: the arm's axes push no harder than this [N]
+  std::string check() const;                ///< empty when sound
 };
 
 /// A boll the simulation knows (truth, for scoring only).
 struct BollTruth {
   int geom = -1;
+  int body = -1;  ///< datasheet: the boll's own body (-1: a geom of the world body)
   int plant = 0;
+  bool knocked_off = false;  ///< datasheet: broke off its branch (its springs' force exceeded the break force)
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();  ///< world [m]
   bool captured = false;
   double captured_at_s = 0.0;
@@ -106,7 +119,9 @@ class RoverSim {
   double horizontalPosition() const { return horizontal_now_; }
   double verticalPosition() const { return vertical_now_; }
   bool armMoving() const { return horizontal_now_ != horizontal_target_ || vertical_now_ != vertical_target_; }
-  void setVacuum(bool on) { vacuum_ = on; }
+  /// Datasheet: while the vacuum runs, bolls are drawn into the nozzle (the housing does not push them); with it
+  /// off the housing pushes bolls and can knock them off.
+  void setVacuum(bool on);
   bool vacuum() const { return vacuum_; }
 
   /// Advances the physics by `seconds` (whole time steps).
@@ -135,8 +150,17 @@ class RoverSim {
   Eigen::Vector3d toCamera(const Eigen::Vector3d& world) const;
   const thorvald_sim::CottonRowTruth& row() const { return row_truth_; }
   const RoverSimParams& params() const { return params_; }
-  /// Leaves the housing has pushed away from where they grew.
+  /// Leaves the housing has pushed away from where they grew (datasheet: leaves bent over 0.1 rad now).
   int leavesPushed() const;
+  /// Bolls knocked off their branch (datasheet).
+  int bollsKnockedOff() const;
+  /// The day drawn for this run (datasheet; ideal draws none and shades nothing).
+  const thorvald_sim::Daylight& daylight() const { return daylight_; }
+  void setDaylight(const thorvald_sim::Daylight& d) { daylight_ = d; }
+  /// The last frame's true depth along the optical axis [m] (NaN: nothing) and what the camera reported.
+  const std::vector<float>& lastTrueDepth() const { return true_depth_; }
+  /// Which boll a geom belongs to (its lobes and core; -1: none).
+  int bollOfGeom(int geom) const;
   /// Physics divergences (NaN) seen; the run is then not trusted.
   int divergences() const { return divergences_; }
   /// The compiled scene as MJCF (for viewing it in MuJoCo's simulate).
@@ -148,6 +172,13 @@ class RoverSim {
   double visibleFractionFrom(size_t index, const Eigen::Vector3d& origin) const;
   /// Pushes the leaves the housing meets as it moves by `motion` (world [m]) this step.
   void pushLeaves(const Eigen::Vector3d& motion);
+  /// Datasheet: bolls follow their bodies; one whose springs pull harder than the break force comes off.
+  void updateBollBodies();
+  void setupDatasheet();
+  void hideBoll(const BollTruth& b);
+  /// Datasheet: daylight and texture on `rgb`, passive-stereo depth from the true depth into `depth_z`.
+  void datasheetCamera(const thorvald_sim::RenderedView& view, const thorvald_sim::SensorPose& pose,
+                       const thorvald_sim::Intrinsics& k, thorvald_sim::ColorImage* rgb, std::vector<float>* depth_z);
 
   /// A leaf of the row: a flat ellipsoid geom of the world body that the housing can push aside.
   struct Leaf {
@@ -174,6 +205,12 @@ class RoverSim {
   bool vacuum_ = false;
   int divergences_ = 0;
   std::vector<BollTruth> bolls_;
+  std::vector<int> geom_boll_;       ///< geom -> boll index (lobes and core), -1
+  std::vector<float> texture_;       ///< datasheet: texture amplitude per geom
+  std::vector<int> leaf_joints_;     ///< datasheet: the leaves' hinges
+  int housing_geom_ = -1;            ///< datasheet: the end-effector housing
+  thorvald_sim::Daylight daylight_;  ///< datasheet
+  std::vector<float> true_depth_;
   // MuJoCo ids
   int front_body_ = -1, effector_body_ = -1, rear_body_ = -1;
   int wheel_joint_[4] = {-1, -1, -1, -1};

@@ -27,6 +27,7 @@ HarvestRunConfig readConfig(thorvald_common::ParamReader& r) {
   const int seed = r.integer("seed", 1, 0, 1000000);
   HarvestRunConfig c = experiment == "field" ? cotton_harvester::sim::fieldConfig(static_cast<unsigned>(seed))
                                              : cotton_harvester::sim::pottedConfig(static_cast<unsigned>(seed));
+  c.sim.realism = *thorvald_sim::realismFromName(r.choice("realism", "ideal", {"ideal", "datasheet"}));
   c.sim.row.plants = r.integer("plants", c.sim.row.plants, 1, 60);
   c.sim.row.bolls_per_plant = r.integer("bolls_per_plant", c.sim.row.bolls_per_plant, 0, 10);
   c.sim.row.slope_deg = r.number("slope_deg", c.sim.row.slope_deg, ParamRange::closed(-15.0, 15.0), "deg");

@@ -61,6 +61,7 @@ SimNodeConfig readConfig(thorvald_common::ParamReader& r) {
   const std::string experiment = r.choice("experiment", "potted", {"potted", "field"});
   const int seed = r.integer("seed", 1, 0, 1000000);
   c.run = experiment == "field" ? fieldConfig(static_cast<unsigned>(seed)) : pottedConfig(static_cast<unsigned>(seed));
+  c.run.sim.realism = *thorvald_sim::realismFromName(r.choice("realism", "ideal", {"ideal", "datasheet"}));
   c.run.sim.row.plants = r.integer("plants", c.run.sim.row.plants, 1, 60);
   c.run.sim.row.bolls_per_plant = r.integer("bolls_per_plant", c.run.sim.row.bolls_per_plant, 0, 10);
   c.run.sim.row.slope_deg = r.number("slope_deg", c.run.sim.row.slope_deg, ParamRange::closed(-15.0, 15.0), "deg");

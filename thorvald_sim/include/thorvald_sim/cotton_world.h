@@ -8,6 +8,22 @@
 
 namespace thorvald_sim {
 
+/// The `datasheet` plants of the cotton row (CottonRowParams::datasheet): what a real plant has and the flat one
+/// of `ideal` lacks. Forces [N], stiffnesses [N/m or N m/rad], lengths [m].
+struct CottonPlantRealism {
+  int lobes = 5;                     ///< locks of an open boll: spheres around its centre (4 or 5)
+  double half_open_fraction = 0.25;  ///< share of bolls half open: smaller white lobes inside larger bracts
+  double height_spread = 0.15;       ///< plants' heights vary uniformly by +- this share
+  int dry_leaves_per_plant = 2;      ///< brown dry leaves on the stem
+  int burrs_per_plant = 1;           ///< empty brown burrs (picked or shed bolls' husks)
+  int clods = 120;                   ///< soil clods along the row (visual: the wheels roll over the plane)
+  int weeds = 24;                    ///< small weeds between the plants
+  double leaf_stiffness = 0.04;      ///< a leaf's hinge springs [N m/rad] ...
+  double leaf_damping = 0.002;       ///< ... and their damping [N m s/rad]
+  double boll_stiffness = 300.0;     ///< a boll held on its branch by springs in x, y, z [N/m] ...
+  double boll_break_force = 4.0;     ///< ... breaks off when their force exceeds this [N]
+};
+
 /// The cotton paper's potted test row: plants `plant_spacing_m` apart along x from `first_plant_x_m`, on a
 /// ground that rises along +x by `slope_deg` (0.25 and 2.77 in its two tests).
 struct CottonRowParams {
@@ -22,13 +38,26 @@ struct CottonRowParams {
   unsigned seed = 1;                   ///< places the bolls and leaves
   int leaves_per_plant = 4;            ///< leaves spread over the stem (potted tests: defoliated, few)
   double leaf_over_boll_fraction = 0;  ///< share of bolls with a leaf just above them, partly hiding them from above
+  /// false (`ideal`): flat-coloured spheres, ellipsoids and capsules fixed to the world, as ever. true
+  /// (`datasheet`): lobed bolls with bracts on spring joints that break, springy leaves on hinges, rigid stems and
+  /// branches, dry leaves, burrs, clods, weeds and plants of different heights (writeDatasheetPlant). Collision
+  /// classes: stems and branches contype kStemContype; leaves kPlantContype; bolls kBollContype (they also meet
+  /// the ground); give a body that should push plants conaffinity kStemContype | kPlantContype | kBollContype.
+  bool datasheet = false;
+  CottonPlantRealism realism;
 };
+
+/// Collision bits of the datasheet plants (CottonRowParams::datasheet): leaves, stems and branches, bolls.
+constexpr int kPlantContype = 8;
+constexpr int kStemContype = 16;
+constexpr int kBollContype = 32;
 
 struct CottonRowTruth {
   CottonRowParams params;
   std::vector<Eigen::Vector3d> plant_bases;  ///< world position of each plant's stem foot [m]
   std::vector<Eigen::Vector3d> bolls;        ///< world centre of each boll [m]
   std::vector<int> boll_plant;               ///< which plant each boll grows on
+  std::vector<char> boll_half_open;          ///< datasheet: the boll is half open (empty in ideal)
 };
 
 /// Builds the cotton row. Throws std::invalid_argument naming a bad parameter.
