@@ -6,6 +6,7 @@
 #include "greenhouse_rail_nav/cloud_projection.h"
 #include "greenhouse_rail_nav/depth_median.h"
 #include "greenhouse_rail_nav/rail_band.h"
+#include "greenhouse_rail_nav/rail_holes.h"
 #include "greenhouse_rail_nav/rail_line_candidates.h"
 #include "greenhouse_rail_nav/rail_pair_selection.h"
 #include "greenhouse_rail_nav/rail_set_layout.h"
@@ -96,14 +97,38 @@ RailDetection RailDetector::detect(const OrganisedCloud& raw_cloud, const Eigen:
   OrganisedCloud smoothed;
   if (p.depth_median_px > 1) smoothed = medianAlongRays(raw_cloud, p.depth_median_px);
   const OrganisedCloud& cloud = p.depth_median_px > 1 ? smoothed : raw_cloud;
-  // 1. The rails' height band, and where the floor was seen.
-  RailBand band;
+  const auto projection = CloudProjection::fromCloud(cloud);
   std::vector<float> floor_cells;
-  band.points = cropToRailBand(cloud, camera_in_base, &out.finite_points, &floor_cells, &band.raw);
+  out = search(cloud, cloud, projection, camera_in_base, mount_correction, method, &floor_cells);
+  if (out.found() || out.status == RailDetection::Status::kBadInput || !(p.pipe_hole_height_m > 0.0) || !projection)
+    return out;
+  // Shiny pipes without depth: the same search on the holes laid on the pipes' height (the floor seen as before).
+  const OrganisedCloud holes = holesOnPlane(raw_cloud, *projection, camera_in_base, p.pipe_hole_height_m);
+  RailDetection from_holes = search(holes, cloud, projection, camera_in_base, mount_correction, method, &floor_cells);
+  if (!from_holes.found()) {
+    out.reason += "; in the pipes' depth holes: " + from_holes.reason;
+    return out;
+  }
+  from_holes.reason += " (from the pipes' depth holes)";
+  from_holes.finite_points = out.finite_points;
+  return from_holes;
+}
+
+RailDetection RailDetector::search(const OrganisedCloud& searched, const OrganisedCloud& depth,
+                                   const std::optional<CloudProjection>& projection,
+                                   const Eigen::Isometry3d& camera_in_base,
+                                   const thorvald_base::Pose2D& mount_correction, RailFitMethod method,
+                                   std::vector<float>* floor_cells) const {
+  RailDetection out;
+  const auto& p = params_;
+  // 1. The rails' height band, and where the floor was seen (in the depth points, on the first search).
+  RailBand band;
+  const bool first = &searched == &depth;
+  band.points = cropToRailBand(searched, camera_in_base, &out.finite_points, first ? floor_cells : nullptr, &band.raw);
   out.points_in_band = band.points.size();
-  if (out.finite_points == 0) {
+  if (out.finite_points == 0 && first) {
     out.status = RailDetection::Status::kBadInput;
-    out.reason = "no finite point in " + std::to_string(cloud.points.size()) + " points";
+    out.reason = "no finite point in " + std::to_string(searched.points.size()) + " points";
     return out;
   }
   if (static_cast<int>(band.points.size()) < p.min_cluster_points) {
@@ -128,8 +153,8 @@ RailDetection RailDetector::detect(const OrganisedCloud& raw_cloud, const Eigen:
       selectRailPair(candidates.lines, band, paper, camera_in_base.translation(), p, &out.reason);
   if (!choice) return out;
   // 4. Whether their start was in view; 5. the pose.
-  const RailStartView view = railStartView({choice->pair.first, choice->pair.second}, floor_cells,
-                                           CloudProjection::fromCloud(cloud), camera_in_base, p);
+  const RailStartView view =
+      railStartView({choice->pair.first, choice->pair.second}, *floor_cells, projection, camera_in_base, p);
   reportRails(*choice, view, mount_correction, p, &out);
   return out;
 }

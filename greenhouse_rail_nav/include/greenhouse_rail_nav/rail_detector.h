@@ -1,11 +1,13 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <Eigen/Geometry>
 
+#include "greenhouse_rail_nav/cloud_projection.h"
 #include "greenhouse_rail_nav/depth_camera.h"
 #include "greenhouse_rail_nav/rail_detector_params.h"
 #include "greenhouse_rail_nav/rail_pair.h"
@@ -60,6 +62,13 @@ class RailDetector {
   const RailDetectorParams& params() const { return params_; }
 
  private:
+  /// Steps 1-5 on `searched` (the depth points, or the holes laid on the pipes' height); the floor grid is filled
+  /// from the depth points when `searched` is `depth` and reused otherwise.
+  RailDetection search(const OrganisedCloud& searched, const OrganisedCloud& depth,
+                       const std::optional<CloudProjection>& projection, const Eigen::Isometry3d& camera_in_base,
+                       const thorvald_base::Pose2D& mount_correction, RailFitMethod method,
+                       std::vector<float>* floor_cells) const;
+
   RailDetectorParams params_;
 };
 

@@ -13,6 +13,9 @@ struct RailDetectorParams {
   /// before the search (medianAlongRays; odd; 0 or 1: off): the active-stereo range noise (about 2 % at 2 m)
   /// would otherwise fill the rails' height band with floor points.
   int depth_median_px = 0;
+  /// When the depth points show no rails, the pixels without depth are laid on the plane this high above the floor
+  /// and searched the same way (holesOnPlane: shiny pipes reflect an active-stereo pattern away) [m]; 0: off.
+  double pipe_hole_height_m = 0.0;
   double crop_z_min_m = 0.015;  ///< rails' height band in base_link [m]
   double crop_z_max_m = 0.10;
   double crop_x_min_m = 0.0;  ///< region ahead of the robot that is searched [m]

@@ -54,6 +54,7 @@ NodeSettings loadSettings(const ros::NodeHandle& pnh) {
   d.rail_gauge_m = r.number("rail_gauge_m", d.rail_gauge_m, ParamRange::aboveUpTo(0.0, 3.0), "m");
   d.gauge_tolerance_m = r.number("gauge_tolerance_m", d.gauge_tolerance_m, positive, "m");
   d.depth_median_px = r.integer("depth_median_px", d.depth_median_px, 0, 15);
+  d.pipe_hole_height_m = r.number("pipe_hole_height_m", d.pipe_hole_height_m, ParamRange::closed(0.0, 1.0), "m");
   d.crop_z_min_m = r.number("crop_z_min_m", d.crop_z_min_m, ParamRange::closed(-1.0, 1.0), "m");
   d.crop_z_max_m = r.number("crop_z_max_m", d.crop_z_max_m, ParamRange::closed(-1.0, 1.0), "m");
   d.crop_x_min_m = r.number("crop_x_min_m", d.crop_x_min_m, ParamRange::closed(-10.0, 20.0), "m");
