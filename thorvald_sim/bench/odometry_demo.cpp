@@ -26,6 +26,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <sstream>
 #include <string>
 
@@ -83,8 +84,15 @@ void runPlot(const std::string& script, const std::string& csv, const std::strin
     std::printf("plot: failed (%s)\n", cmd.c_str());
 }
 
-int runDemo(const DemoOptions& opt) {
-  const thorvald_base::RobotConfig robot = thorvald_base::figure7Robot();
+/// The CSV's velocity columns: commanded, true, least squares, random pairs (vx, vy, wz each), ending the row.
+void writeTwists(std::ostream& out, const thorvald_base::Twist2D& cmd, const thorvald_base::Twist2D& truth,
+                 const thorvald_base::Twist2D& ls, const thorvald_base::Twist2D& paper) {
+  for (const auto* v : {&cmd, &truth, &ls, &paper}) out << "," << v->vx << "," << v->vy << "," << v->wz;
+  out << "\n";
+}
+
+/// The flat world (with bumps if asked) on the ground asked, the robot spawned with its suspension if asked.
+std::unique_ptr<Simulation> makeSimulation(const DemoOptions& opt, const thorvald_base::RobotConfig& robot) {
   RobotSpawn spawn;
   spawn.z = 0.01;
   const std::string urdf = opt.urdf_file.empty() ? referenceUrdf(robot, "") : readFile(opt.urdf_file);
@@ -99,7 +107,52 @@ int runDemo(const DemoOptions& opt) {
   }
   SceneOptions scene;
   scene.ground = opt.ground;
-  Simulation sim(composeScene(world, {spawn}, scene), {spawn});
+  return std::make_unique<Simulation>(composeScene(world, {spawn}, scene), std::vector<RobotSpawn>{spawn});
+}
+
+/// What a run measured.
+struct DemoResult {
+  double duration_s = 0, truth_dist = 0, ls_dist = 0, paper_dist = 0, err_ls = 0, err_paper = 0, truth_end = 0;
+  VelocityErrors v_ls, v_paper;
+};
+
+void report(const DemoOptions& opt, const DemoResult& r) {
+  const auto& ls = r.v_ls;
+  const auto& rp = r.v_paper;
+  std::printf("Figure 7 robot (6WD6WS), %.0f s loop of commands + 3 s to stop, in MuJoCo (%s: %s%s%s)\n",
+              r.duration_s - 3.0, realismName(opt.realism), groundName(opt.ground),
+              opt.bumps_m > 0 ? (", bumps " + std::to_string(opt.bumps_m) + " m").c_str() : ", flat",
+              opt.suspension_rad > 0 ? ", suspension" : "");
+  std::printf("%-28s %12s %18s %14s %10s %10s %10s\n", "path", "distance [m]", "end error [m]", "error [%]", "vx rms",
+              "vy rms", "wz rms");
+  std::printf("%-28s %12.2f %18s %14s\n", "ground truth (MuJoCo)", r.truth_dist, "-", "-");
+  std::printf("%-28s %12.2f %18.3f %14.2f %10.4f %10.4f %10.4f\n", "least squares (default)", r.ls_dist, r.err_ls,
+              100 * r.err_ls / r.truth_dist, ls.rms(ls.vx), ls.rms(ls.vy), ls.rms(ls.wz));
+  std::printf("%-28s %12.2f %18.3f %14.2f %10.4f %10.4f %10.4f\n", "random pairs (paper)", r.paper_dist, r.err_paper,
+              100 * r.err_paper / r.truth_dist, rp.rms(rp.vx), rp.rms(rp.vy), rp.rms(rp.wz));
+  std::printf("truth ends %.3f m from its start (the commands would close the loop exactly)\n", r.truth_end);
+  std::printf("model: %s\n",
+              opt.urdf_file.empty() ? "thorvald_sim's reference URDF of the robot" : opt.urdf_file.c_str());
+  std::printf("paths and velocities: %s\n", opt.csv.c_str());
+  std::printf(
+      "RESULT {\"distance_truth_m\": %.3f, \"distance_ls_m\": %.3f, \"distance_paper_m\": %.3f, "
+      "\"end_error_ls_m\": %.4f, \"end_error_paper_m\": %.4f, \"realism\": \"%s\", \"ground\": \"%s\", "
+      "\"bumps_m\": %.3f, \"suspension_rad\": %.3f, \"vx_rms_ls_mps\": %.4f, \"vy_rms_ls_mps\": %.4f, "
+      "\"wz_rms_ls_radps\": %.4f, \"vx_rms_paper_mps\": %.4f, \"vy_rms_paper_mps\": %.4f, "
+      "\"wz_rms_paper_radps\": %.4f}\n",
+      r.truth_dist, r.ls_dist, r.paper_dist, r.err_ls, r.err_paper, realismName(opt.realism), groundName(opt.ground),
+      opt.bumps_m, opt.suspension_rad, ls.rms(ls.vx), ls.rms(ls.vy), ls.rms(ls.wz), rp.rms(rp.vx), rp.rms(rp.vy),
+      rp.rms(rp.wz));
+  const std::string title = std::string("Figure 7 robot, 77 s loop in MuJoCo (") + realismName(opt.realism) + ", " +
+                            groundName(opt.ground) + (opt.bumps_m > 0 ? ", bumps" : "") + ")";
+  runPlot("plot_demo_paths.py", opt.csv, opt.png, title);
+  runPlot("plot_demo_velocities.py", opt.csv, opt.png_velocities, title);
+}
+
+int runDemo(const DemoOptions& opt) {
+  const thorvald_base::RobotConfig robot = thorvald_base::figure7Robot();
+  const auto simulation = makeSimulation(opt, robot);
+  Simulation& sim = *simulation;
   thorvald_base::BaseDriverOptions options;
   options.calculator.estimator = "least_squares";
   const bool datasheet = opt.realism == Realism::kDatasheet;
@@ -156,10 +209,8 @@ int runDemo(const DemoOptions& opt) {
         const auto& lp = driven.driver().odometry().pose();
         const auto& pp = paper_odom.pose();
         out << t - t0 << "," << c0 * wx + s0 * wy << "," << -s0 * wx + c0 * wy << "," << lp.x << "," << lp.y << ","
-            << pp.x << "," << pp.y << "," << seg.twist.vx << "," << seg.twist.vy << "," << seg.twist.wz << ","
-            << b.linear_body.x() << "," << b.linear_body.y() << "," << b.angular_body.z() << "," << ls_twist.vx << ","
-            << ls_twist.vy << "," << ls_twist.wz << "," << paper_twist.vx << "," << paper_twist.vy << ","
-            << paper_twist.wz << "\n";
+            << pp.x << "," << pp.y;
+        writeTwists(out, seg.twist, {b.linear_body.x(), b.linear_body.y(), b.angular_body.z()}, ls_twist, paper_twist);
       }
     }
   }
@@ -168,39 +219,14 @@ int runDemo(const DemoOptions& opt) {
   const double wx = end.position.x() - start.position.x(), wy = end.position.y() - start.position.y();
   const double tx = c0 * wx + s0 * wy, ty = -s0 * wx + c0 * wy;
   const auto& lso = driven.driver().odometry();
-  const double err_ls = std::hypot(lso.pose().x - tx, lso.pose().y - ty);
-  const double err_paper = std::hypot(paper_odom.pose().x - tx, paper_odom.pose().y - ty);
-  std::printf("Figure 7 robot (6WD6WS), %.0f s loop of commands + 3 s to stop, in MuJoCo (%s: %s%s%s)\n", t - t0 - 3.0,
-              realismName(opt.realism), groundName(opt.ground),
-              opt.bumps_m > 0 ? (", bumps " + std::to_string(opt.bumps_m) + " m").c_str() : ", flat",
-              opt.suspension_rad > 0 ? ", suspension" : "");
-  std::printf("%-28s %12s %18s %14s %10s %10s %10s\n", "path", "distance [m]", "end error [m]", "error [%]", "vx rms",
-              "vy rms", "wz rms");
-  std::printf("%-28s %12.2f %18s %14s\n", "ground truth (MuJoCo)", truth_dist, "-", "-");
-  std::printf("%-28s %12.2f %18.3f %14.2f %10.4f %10.4f %10.4f\n", "least squares (default)", lso.distance(), err_ls,
-              100 * err_ls / truth_dist, err_v_ls.rms(err_v_ls.vx), err_v_ls.rms(err_v_ls.vy),
-              err_v_ls.rms(err_v_ls.wz));
-  std::printf("%-28s %12.2f %18.3f %14.2f %10.4f %10.4f %10.4f\n", "random pairs (paper)", paper_odom.distance(),
-              err_paper, 100 * err_paper / truth_dist, err_v_paper.rms(err_v_paper.vx), err_v_paper.rms(err_v_paper.vy),
-              err_v_paper.rms(err_v_paper.wz));
-  std::printf("truth ends %.3f m from its start (the commands would close the loop exactly)\n", std::hypot(tx, ty));
-  std::printf("model: %s\n",
-              opt.urdf_file.empty() ? "thorvald_sim's reference URDF of the robot" : opt.urdf_file.c_str());
-  std::printf("paths and velocities: %s\n", opt.csv.c_str());
-  std::printf(
-      "RESULT {\"distance_truth_m\": %.3f, \"distance_ls_m\": %.3f, \"distance_paper_m\": %.3f, "
-      "\"end_error_ls_m\": %.4f, \"end_error_paper_m\": %.4f, \"realism\": \"%s\", \"ground\": \"%s\", "
-      "\"bumps_m\": %.3f, \"suspension_rad\": %.3f, \"vx_rms_ls_mps\": %.4f, \"vy_rms_ls_mps\": %.4f, "
-      "\"wz_rms_ls_radps\": %.4f, \"vx_rms_paper_mps\": %.4f, \"vy_rms_paper_mps\": %.4f, "
-      "\"wz_rms_paper_radps\": %.4f}\n",
-      truth_dist, lso.distance(), paper_odom.distance(), err_ls, err_paper, realismName(opt.realism),
-      groundName(opt.ground), opt.bumps_m, opt.suspension_rad, err_v_ls.rms(err_v_ls.vx), err_v_ls.rms(err_v_ls.vy),
-      err_v_ls.rms(err_v_ls.wz), err_v_paper.rms(err_v_paper.vx), err_v_paper.rms(err_v_paper.vy),
-      err_v_paper.rms(err_v_paper.wz));
-  const std::string title = std::string("Figure 7 robot, 77 s loop in MuJoCo (") + realismName(opt.realism) + ", " +
-                            groundName(opt.ground) + (opt.bumps_m > 0 ? ", bumps" : "") + ")";
-  runPlot("plot_demo_paths.py", opt.csv, opt.png, title);
-  runPlot("plot_demo_velocities.py", opt.csv, opt.png_velocities, title);
+  DemoResult r;
+  r.duration_s = t - t0, r.truth_dist = truth_dist;
+  r.ls_dist = lso.distance(), r.paper_dist = paper_odom.distance();
+  r.err_ls = std::hypot(lso.pose().x - tx, lso.pose().y - ty);
+  r.err_paper = std::hypot(paper_odom.pose().x - tx, paper_odom.pose().y - ty);
+  r.truth_end = std::hypot(tx, ty);
+  r.v_ls = err_v_ls, r.v_paper = err_v_paper;
+  report(opt, r);
   return 0;
 }
 
