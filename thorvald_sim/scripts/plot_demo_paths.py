@@ -9,15 +9,21 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 
+def read_columns(path):
+    """The CSV's columns by name, as floats."""
+    cols = {}
+    with open(path) as f:
+        for row in csv.DictReader(f):
+            for k, v in row.items():
+                cols.setdefault(k, []).append(float(v))
+    return cols
+
+
 def main():
     if len(sys.argv) not in (3, 4):
         sys.stderr.write("usage: plot_demo_paths.py PATHS.csv OUT.png [TITLE]\n")
         return 2
-    cols = {}
-    with open(sys.argv[1]) as f:
-        for row in csv.DictReader(f):
-            for k, v in row.items():
-                cols.setdefault(k, []).append(float(v))
+    cols = read_columns(sys.argv[1])
     fig, ax = plt.subplots(figsize=(8, 6))
     ax.plot(cols["truth_x"], cols["truth_y"], "k-", label="ground truth")
     ax.plot(cols["ls_x"], cols["ls_y"], "b--", label="least squares odometry")

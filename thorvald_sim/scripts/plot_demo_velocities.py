@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Plots the velocities odometry_demo wrote, as the paper's Figure 9: commanded and estimated vx, vy and wz over
 time, per estimator, with the ground truth."""
-import csv
+import os
 import sys
 
 import matplotlib
@@ -9,16 +9,15 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from plot_demo_paths import read_columns  # noqa: E402
+
 
 def main():
     if len(sys.argv) not in (3, 4):
         sys.stderr.write("usage: plot_demo_velocities.py PATHS.csv OUT.png [TITLE]\n")
         return 2
-    cols = {}
-    with open(sys.argv[1]) as f:
-        for row in csv.DictReader(f):
-            for k, v in row.items():
-                cols.setdefault(k, []).append(float(v))
+    cols = read_columns(sys.argv[1])
     fig, axes = plt.subplots(3, 1, figsize=(9, 8), sharex=True)
     for ax, (key, label) in zip(axes, (("vx", "vx [m/s]"), ("vy", "vy [m/s]"), ("wz", "wz [rad/s]"))):
         ax.plot(cols["t"], cols["cmd_" + key], "g-", linewidth=2, label="commanded")
