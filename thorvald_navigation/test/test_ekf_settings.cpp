@@ -22,6 +22,8 @@ XmlRpc::XmlRpcValue toXmlRpc(const YAML::Node& n) {
   }
   const std::string s = n.as<std::string>();
   if (s == "true" || s == "false") return XmlRpc::XmlRpcValue(s == "true");
+  // rosparam reads YAML 1.1, where an exponent without a decimal point (1e-9) is a string: keep it one here too.
+  if (s.find_first_of("eE") != std::string::npos && s.find('.') == std::string::npos) return XmlRpc::XmlRpcValue(s);
   try {
     std::size_t used = 0;
     const int i = std::stoi(s, &used);
@@ -99,7 +101,8 @@ TEST(EkfSettings, TypicalRobotLocalizationFileLoadsUnchanged) {
   EXPECT_TRUE(input(s, "pose0").config.differential);
   EXPECT_EQ(input(s, "twist0").kind, tn::EkfInput::kTwist);
   EXPECT_DOUBLE_EQ(s.process_noise(tn::kFyaw, tn::kFyaw), 0.06);
-  EXPECT_DOUBLE_EQ(s.initial_covariance(tn::kFx, tn::kFx), 1e-9);
+  EXPECT_DOUBLE_EQ(s.initial_covariance(tn::kFx, tn::kFx), 1e-9);  // written 1e-09: a string for rosparam
+  EXPECT_DOUBLE_EQ(s.initial_covariance(tn::kFx, tn::kFy), 0.0);
   // The control input and the lagged-data smoothing are named in the one warning.
   const std::string w = tn::unsupportedWarning(s);
   for (const char* key : {"use_control", "control_config", "acceleration_limits", "smooth_lagged_data",
@@ -131,6 +134,12 @@ TEST(EkfSettings, WrongValuesAreRefused) {
   EXPECT_THROW(load(v), thorvald_common::ParamError);
   v = typical;
   v["odom1_pose_rejection_threshold"] = XmlRpc::XmlRpcValue(-1.0);
+  EXPECT_THROW(load(v), thorvald_common::ParamError);
+  v = typical;
+  XmlRpc::XmlRpcValue words;
+  words.setSize(15);
+  for (int i = 0; i < 15; ++i) words[i] = std::string(i == 3 ? "big" : "1e-9");
+  v["initial_estimate_covariance"] = words;
   EXPECT_THROW(load(v), thorvald_common::ParamError);
   v = typical;
   v["world_frame"] = XmlRpc::XmlRpcValue(std::string("earth"));

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 
 namespace thorvald_navigation {
 
@@ -35,8 +36,36 @@ const char* const kUnsupportedGlobal[] = {"use_control",
 // Per-input keys accepted without effect (this node fuses each message when it arrives).
 const char* const kUnsupportedPerInput[] = {"_nodelay", "_pose_use_child_frame"};
 
+/// A list of numbers where an entry may also be a string holding a number: rosparam (YAML 1.1) loads `1e-9`, as
+/// robot_localization's own template writes it, as a string, and robot_localization reads it as a number.
+std::vector<double> lenientNumbers(thorvald_common::ParamReader& r, const std::string& name, std::size_t max_size) {
+  XmlRpc::XmlRpcValue v;
+  if (!r.raw(name, &v)) return {};
+  if (v.getType() != XmlRpc::XmlRpcValue::TypeArray || static_cast<std::size_t>(v.size()) > max_size)
+    throw ParamError(r.node() + ": ~" + name + ": found " + thorvald_common::describeParamValue(v) +
+                     ", expected a list of at most " + std::to_string(max_size) + " numbers");
+  std::vector<double> out;
+  for (int i = 0; i < v.size(); ++i) {
+    XmlRpc::XmlRpcValue& e = v[i];
+    double d = std::nan("");
+    if (e.getType() == XmlRpc::XmlRpcValue::TypeDouble) d = static_cast<double>(e);
+    if (e.getType() == XmlRpc::XmlRpcValue::TypeInt) d = static_cast<int>(e);
+    if (e.getType() == XmlRpc::XmlRpcValue::TypeString) {
+      const std::string text = static_cast<std::string>(e);
+      char* end = nullptr;
+      d = std::strtod(text.c_str(), &end);
+      if (text.empty() || *end != '\0') d = std::nan("");
+    }
+    if (!std::isfinite(d))
+      throw ParamError(r.node() + ": ~" + name + "[" + std::to_string(i) + "]: found " +
+                       thorvald_common::describeParamValue(e) + ", expected a number");
+    out.push_back(d);
+  }
+  return out;
+}
+
 std::vector<double> matrix(thorvald_common::ParamReader& r, const std::string& name) {
-  const std::vector<double> m = r.numbers(name, {}, R::any(), "", 0, 225);
+  const std::vector<double> m = lenientNumbers(r, name, 225);
   if (!m.empty() && m.size() != 225 && m.size() != 15)
     throw ParamError(r.node() + ": ~" + name +
                      ": expected a 15x15 matrix (225 numbers) or its 15-entry diagonal, got " +
@@ -134,8 +163,9 @@ EkfSettings readEkfSettings(thorvald_common::ParamReader& r) {
                      "') or ~map_frame ('" + s.map_frame + "')");
   readMatrix(r, "process_noise_covariance", &s.process_noise);
   readMatrix(r, "initial_estimate_covariance", &s.initial_covariance);
-  const std::vector<double> x0 = r.numbers("initial_state", std::vector<double>(15, 0.0), R::any(), "", 15, 15);
-  for (int i = 0; i < 15; ++i) s.initial_state(i) = x0[static_cast<std::size_t>(i)];
+  const std::vector<double> x0 = lenientNumbers(r, "initial_state", 15);
+  if (!x0.empty() && x0.size() != 15) throw ParamError(r.node() + ": ~initial_state: expected 15 numbers");
+  for (std::size_t i = 0; i < x0.size(); ++i) s.initial_state(static_cast<int>(i)) = x0[i];
   const double g = r.number("gravitational_acceleration", 9.80665, R::above(0.0), "m/s^2");
   s.gps_timeout = r.number("gps_timeout", s.gps_timeout, R::above(0.0), "s");
   s.input_timeout = r.number("input_timeout", s.input_timeout, R::above(0.0), "s");
