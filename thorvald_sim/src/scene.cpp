@@ -60,7 +60,27 @@ double treeMass(tinyxml2::XMLElement* body) {
 }
 
 // Tunes one robot's bodies in place and collects its actuated joints.
-void tuneBody(tinyxml2::XMLElement* body, const SceneOptions& o, std::vector<Actuator>* actuators) {
+/// Collision bits of one robot's geoms: bit 1 (type 2) meets the world (conaffinity 3), bit 0 (affinity 1) takes the
+/// world's and actors' type 1; robot i also has type bit 2 + i and the affinity bits of every other robot, so robots
+/// collide with each other but not with themselves. Robots past the 29th get no bit of their own (no robot contact).
+struct CollisionBits {
+  int contype = 2, conaffinity = 1;
+};
+
+CollisionBits robotBits(size_t index, size_t robots) {
+  constexpr size_t kMaxBits = 29;
+  CollisionBits b;
+  for (size_t j = 0; j < std::min(robots, kMaxBits); ++j) {
+    if (j == index)
+      b.contype |= 4 << j;
+    else
+      b.conaffinity |= 4 << j;
+  }
+  return b;
+}
+
+void tuneBody(tinyxml2::XMLElement* body, const SceneOptions& o, const CollisionBits& bits,
+              std::vector<Actuator>* actuators) {
   const char* bname = body->Attribute("name");
   const bool wheel = bname && isWheelBody(bname);
   for (auto* j = body->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint")) {
@@ -90,8 +110,8 @@ void tuneBody(tinyxml2::XMLElement* body, const SceneOptions& o, std::vector<Act
     }
   }
   for (auto* g = body->FirstChildElement("geom"); g; g = g->NextSiblingElement("geom")) {
-    g->SetAttribute("contype", "2");
-    g->SetAttribute("conaffinity", "1");
+    g->SetAttribute("contype", bits.contype);
+    g->SetAttribute("conaffinity", bits.conaffinity);
     g->SetAttribute("group", "1");
     if (wheel) {
       g->SetAttribute("friction", (num(o.wheel_friction) + " 0.005 0.0001").c_str());
@@ -111,7 +131,7 @@ void tuneBody(tinyxml2::XMLElement* body, const SceneOptions& o, std::vector<Act
       if (!a.position && a.wheel_radius_m == 0.0 && body->FirstChildElement("joint") &&
           a.joint == body->FirstChildElement("joint")->Attribute("name"))
         a.wheel_radius_m = wheelRadius(body);
-  for (auto* c = body->FirstChildElement("body"); c; c = c->NextSiblingElement("body")) tuneBody(c, o, actuators);
+  for (auto* c = body->FirstChildElement("body"); c; c = c->NextSiblingElement("body")) tuneBody(c, o, bits, actuators);
 }
 
 // Every wheel contact takes the surface's friction and softness (the wheel geom's priority makes its values the
@@ -211,7 +231,7 @@ std::string composeScene(const WorldDescription& world, const std::vector<RobotS
       b->SetAttribute("pos", (num(r.x) + " " + num(r.y) + " " + num(world.spawn_z + r.z)).c_str());
       const Eigen::Quaterniond q(Eigen::AngleAxisd(r.yaw, Eigen::Vector3d::UnitZ()));
       b->SetAttribute("quat", (num(q.w()) + " " + num(q.x()) + " " + num(q.y()) + " " + num(q.z())).c_str());
-      tuneBody(b, o, &actuators);
+      tuneBody(b, o, robotBits(static_cast<size_t>(&r - robots.data()), robots.size()), &actuators);
       applyGround(b, o);
       mass += treeMass(b);
       int driven = 0;

@@ -159,3 +159,20 @@ TEST(Contacts, AnActorWalkingIntoARobotIsReported) {
   ASSERT_FALSE(events.empty());
   EXPECT_EQ(events[0].other, "actor_worker2");
 }
+
+TEST(Contacts, RobotsCollideWithEachOtherAndTheContactIsReportedOnce) {
+  ts::test::TestScene s(ts::makeFlatWorld(20.0), {ts::test::fourWheelSteered(), ts::test::fourWheelSteered()},
+                        {{{0.0, 0.0, 0.0}}, {{2.6, 0.0, 0.0}}});
+  ts::ContactMonitor monitor(s.sim->model(),
+                             {{s.sim->robot(0).root_body, "robot0"}, {s.sim->robot(1).root_body, "robot1"}});
+  std::vector<ts::ContactEvent> events;
+  for (int i = 0; i < 250 && events.empty(); ++i) {  // robot0 drives into robot1
+    s.command(0, 0.5, 0, 0);
+    s.run(0.02);
+    for (const auto& e : monitor.update(s.sim->data())) events.push_back(e);
+  }
+  ASSERT_FALSE(events.empty()) << "robot0 drove through robot1";
+  EXPECT_EQ(events[0].robot, "robot0");
+  EXPECT_EQ(events[0].other.rfind("robot1/", 0), 0u) << events[0].other;
+  EXPECT_LT(s.sim->robotState(0).position.x(), 2.6 - 1.0);  // stopped short of robot1's centre
+}

@@ -61,7 +61,8 @@ JointRole jointRole(const std::string& name_without_prefix);
 /// Joins a world and robots into one MJCF: world geoms, each robot's bodies at its spawn pose with tuned joints
 /// and wheel contacts, a position actuator per `steering<i>` and a velocity actuator per `wheel<i>` (named after
 /// the joint; the velocity servo is a motor plus joint damping so that the Euler integrator treats its gain
-/// implicitly). Robots collide with the world but not with each other. Throws ModelError on malformed robot MJCF.
+/// implicitly). Robots collide with the world, the actors and each other, not with themselves. Throws ModelError on
+/// malformed robot MJCF.
 std::string composeScene(const WorldDescription& world, const std::vector<RobotSpawn>& robots,
                          const SceneOptions& options);
 
