@@ -47,17 +47,11 @@ void RoverSim::setupDatasheet() {
     const char* name = mj_id2name(m, mjOBJ_JOINT, j);
     if (name && m->jnt_type[j] == mjJNT_HINGE && contains(name, "_leaf")) leaf_joints_.push_back(j);
   }
-  housing_geom_ = mj_name2id(m, mjOBJ_GEOM, "end_effector_housing");
   std::mt19937 day_rng(params_.seed * 7919u + 17u);  // its own stream: the camera noise's draws stay as they are
   daylight_ = thorvald_sim::randomDaylight(day_rng);
 }
 
-void RoverSim::setVacuum(bool on) {
-  vacuum_ = on;
-  if (housing_geom_ < 0) return;
-  model_->geom_conaffinity[housing_geom_] =
-      thorvald_sim::kPlantContype | thorvald_sim::kStemContype | (on ? 0 : thorvald_sim::kBollContype);
-}
+void RoverSim::setVacuum(bool on) { vacuum_ = on; }
 
 void RoverSim::updateBollBodies() {
   mjModel* m = model_.get();

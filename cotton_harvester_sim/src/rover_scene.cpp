@@ -129,7 +129,7 @@ class SceneWriter {
        << "     <geom name=\"horizontal_arm\" type=\"capsule\" fromto=\""
        << vec3(0, -e - 0.015, -0.03) + " " + vec3(0, -g_.horizontal_travel_m - 0.05, -0.03)
        << "\" size=\"0.015\" mass=\"2\" contype=\"0\" conaffinity=\"0\" rgba=\"" << kArmColour << "\"/>\n"
-       << "    </body>\n   </body>\n  </body>\n </body>\n</worldbody>\n";
+       << housingWalls() << "    </body>\n   </body>\n  </body>\n </body>\n</worldbody>\n";
   }
 
   void actuators() {
@@ -152,8 +152,26 @@ class SceneWriter {
   /// (its conaffinity and, in datasheet, stiff contacts: a stem does not let it sink in).
   std::string housingContact() const {
     if (p_.realism != thorvald_sim::Realism::kDatasheet) return "0";
-    return std::to_string(thorvald_sim::kPlantContype | thorvald_sim::kStemContype | thorvald_sim::kBollContype) +
+    return std::to_string(thorvald_sim::kPlantContype | thorvald_sim::kStemContype) +
            "\" solref=\"0.004 1\" solimp=\"0.95 0.99 0.001";
+  }
+
+  /// Datasheet: the housing's four side walls (invisible, 5 mm thick) meet the bolls; its open mouth below does not,
+  /// so a boll the nozzle comes down onto goes in while one the housing sweeps into from the side is pushed.
+  std::string housingWalls() const {
+    if (p_.realism != thorvald_sim::Realism::kDatasheet) return "";
+    const double e = g_.effector_half_m, h = 0.5 * g_.effector_height_m, t = 0.0025;
+    std::ostringstream w;
+    w.precision(9);
+    for (int k = 0; k < 4; ++k) {
+      const bool along_x = k < 2;
+      const double s = (k % 2 == 0 ? 1.0 : -1.0) * (e - t);
+      w << "     <geom name=\"end_effector_wall" << k << "\" type=\"box\" pos=\""
+        << (along_x ? vec3(s, 0, -h) : vec3(0, s, -h)) << "\" size=\"" << (along_x ? vec3(t, e, h) : vec3(e, t, h))
+        << "\" mass=\"0.01\" contype=\"0\" conaffinity=\"" << thorvald_sim::kBollContype
+        << "\" rgba=\"1 0.45 0.05 0\"/>\n";
+    }
+    return w.str();
   }
 
   const RoverSimParams& p_;

@@ -119,8 +119,6 @@ class RoverSim {
   double horizontalPosition() const { return horizontal_now_; }
   double verticalPosition() const { return vertical_now_; }
   bool armMoving() const { return horizontal_now_ != horizontal_target_ || vertical_now_ != vertical_target_; }
-  /// Datasheet: while the vacuum runs, bolls are drawn into the nozzle (the housing does not push them); with it
-  /// off the housing pushes bolls and can knock them off.
   void setVacuum(bool on);
   bool vacuum() const { return vacuum_; }
 
@@ -208,7 +206,6 @@ class RoverSim {
   std::vector<int> geom_boll_;       ///< geom -> boll index (lobes and core), -1
   std::vector<float> texture_;       ///< datasheet: texture amplitude per geom
   std::vector<int> leaf_joints_;     ///< datasheet: the leaves' hinges
-  int housing_geom_ = -1;            ///< datasheet: the end-effector housing
   thorvald_sim::Daylight daylight_;  ///< datasheet
   std::vector<float> true_depth_;
   // MuJoCo ids
