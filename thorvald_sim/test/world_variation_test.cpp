@@ -234,3 +234,26 @@ TEST(GreenhouseVariation, BadValuesAreNamed) {
   v.rail_length_jitter_m = 19.5;
   refused(v, "rail_length_jitter");
 }
+
+TEST(GreenhouseVariation, RobotDrivesOnTheHarshHeadland) {
+  ts::GreenhouseParams p = params(ts::greenhouseVariationProfile("harsh"));
+  p.variation.headland_slope_deg = 2.0;  // the steepest the issue asks for, bumps on top
+  ts::GreenhouseTruth t;
+  const ts::WorldDescription w = ts::makeGreenhouseWorld(p, &t);
+  ts::RobotSpawn s;
+  s.mjcf = ts::urdfToMjcf(ts::referenceUrdf(ts::test::fourWheelSteered(), ""), &s.root_link);
+  s.x = -3.0, s.y = 0.5, s.yaw = M_PI / 2;  // along the headland, across the slope
+  s.z = t.floorHeightAt(s.x, s.y) + 0.01;   // as the node lifts a robot onto the slope
+  ts::Simulation sim(ts::composeScene(w, {s}, ts::SceneOptions()), {s});
+  ts::DrivenRobot robot(sim, ts::test::fourWheelSteered(), "");
+  const Eigen::Vector3d start = sim.robotState(0).position;
+  for (double t_s = 0.0; t_s < 6.0; t_s += 0.02) {
+    robot.command({0.5, 0.0, 0.0}, t_s);
+    robot.control(t_s);
+    sim.step(10);
+  }
+  const Eigen::Vector3d end = sim.robotState(0).position;
+  EXPECT_EQ(sim.divergences(), 0u);
+  EXPECT_GT(end.y() - start.y(), 2.0);    // 3 m commanded
+  EXPECT_NEAR(end.z(), start.z(), 0.15);  // still on the floor, not fallen through
+}
