@@ -120,7 +120,9 @@ TEST(Suspension, KeepsEveryWheelOnTheGroundOverABumpThatLiftsARigidRobotsWheel) 
   EXPECT_EQ(sprung, 4);
 }
 
-// The expected hashes were taken from the code before surfaces and suspension were added (thorvald_sim at c0bf3f6).
+// The expected hashes were taken from the code before surfaces and suspension were added (thorvald_sim at c0bf3f6);
+// the scene's hash again at e029489, which gave each robot its own collision bits (robots collide with each other),
+// a change of the scene text that is not the ground's. The run's hash is still c0bf3f6's.
 TEST(IdealGround, SceneAndShortRunAreTheSameAsBefore) {
   const auto robot = ts::test::fourWheelSteered();
   ts::RobotSpawn spawn;
@@ -129,7 +131,7 @@ TEST(IdealGround, SceneAndShortRunAreTheSameAsBefore) {
   const std::string xml = ts::composeScene(ts::makeFlatWorld(), {spawn}, ts::SceneOptions());
   uint64_t scene = kFnvStart;
   hashInto(&scene, xml.data(), xml.size());
-  EXPECT_EQ(scene, 0x91d5ebb31358db5eull) << std::hex << scene;
+  EXPECT_EQ(scene, 0x3c3b7682bcc53e3aull) << std::hex << scene;
 
   ts::test::TestScene s(ts::makeFlatWorld(), {robot});
   uint64_t run = kFnvStart;
@@ -139,4 +141,19 @@ TEST(IdealGround, SceneAndShortRunAreTheSameAsBefore) {
     hashInto(&run, d->qpos, sizeof(mjtNum) * s.sim->model()->nq);
   }
   EXPECT_EQ(run, 0x3f2251498643be26ull) << std::hex << run;
+}
+
+TEST(Suspension, TravelOfADriveIsItsNearestCornersSuspAngle) {
+  auto robot = ts::test::fourWheelSteered();
+  robot.corners.clear();
+  EXPECT_TRUE(ts::suspensionOfDrives(robot).empty()) << "a robot without corners stays rigid";
+  for (const auto& d : robot.drives) {
+    thorvald_base::CornerConfig c;
+    c.x = d.x + 0.05, c.y = d.y;
+    c.susp_ang = d.index == 2 ? -0.35 : 0.0;
+    robot.corners.push_back(c);
+  }
+  EXPECT_EQ(ts::suspensionOfDrives(robot), (std::vector<double>{0.0, 0.0, 0.35, 0.0}));
+  for (auto& c : robot.corners) c.susp_ang = 0.0;
+  EXPECT_TRUE(ts::suspensionOfDrives(robot).empty()) << "corners without susp_ang keep the robot rigid";
 }
