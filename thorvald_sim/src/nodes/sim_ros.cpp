@@ -17,6 +17,17 @@ namespace {
 /// [s] of wall clock a paced simulation may make up by running faster than requested; beyond it the lag is dropped.
 constexpr double kMaxCatchUpS = 0.05;
 
+/// The surface `choice` names, or for `auto` the world's surface in the datasheet profile when any robot's sensor
+/// file asks for it (else dry concrete, the ideal ground).
+Ground groundUnderWheels(const std::string& choice, const std::string& world_name,
+                         const std::vector<std::vector<SensorConfig>>& sensors) {
+  if (choice != "auto") return *groundFromName(choice);
+  bool datasheet = false;
+  for (const auto& list : sensors)
+    for (const auto& c : list) datasheet = datasheet || c.realism == Realism::kDatasheet;
+  return groundOfWorld(world_name, datasheet ? Realism::kDatasheet : Realism::kIdeal);
+}
+
 double xmlNumber(XmlRpc::XmlRpcValue& v, const std::string& key, double def) {
   if (!v.hasMember(key)) return def;
   XmlRpc::XmlRpcValue& x = v[key];
@@ -57,6 +68,7 @@ bool SimRos::loadParams() {
         params.number("ground_truth_rate", p.ground_truth_rate_hz, ParamRange::aboveUpTo(0.0, 1000.0), "Hz");
     p.publish_map_tf = params.flag("publish_map_tf", p.publish_map_tf);
     p.sphere_wheels = params.flag("sphere_wheels", p.sphere_wheels);
+    p.ground = params.choice("ground", p.ground, {"dry_concrete", "wet_concrete", "loose_soil", "auto"});
     p.start_paused = params.flag("start_paused", p.start_paused);
     p.wait_for_description_s =
         params.number("wait_for_description", p.wait_for_description_s, ParamRange::closed(0.0, 3600.0), "s");
@@ -219,6 +231,8 @@ bool SimRos::loadRobots(const WorldDescription& world) {
           camera_height = std::max(camera_height, c.depth.height);
         }
     if (camera_width > 0) options.camera_max_width = camera_width, options.camera_max_height = camera_height;
+    options.ground = groundUnderWheels(params_.ground, world.name, sensors);
+    ROS_INFO("thorvald_sim: ground %s", groundName(options.ground));
     sim_ = std::make_unique<Simulation>(composeScene(world, spawns, options), spawns);
     world_truth_ =
         std::make_unique<WorldTruth>(nh_, *sim_, actors_ ? std::move(*actors_) : ActorScripts(std::vector<ActorSpec>{}),

@@ -26,6 +26,9 @@ struct SimNodeParams {
   double ground_truth_rate_hz = 50.0;
   bool publish_map_tf = false;
   bool sphere_wheels = true;  ///< SceneOptions::sphere_wheels: false keeps the wheels' URDF cylinders
+  /// The surface under every wheel (terrain.h): a name, or `auto` for the world's surface in the sensors' profile
+  /// (wet concrete in the greenhouse, loose soil in the cotton row when a sensor file says `datasheet`).
+  std::string ground = "dry_concrete";
   bool start_paused = false;
   double wait_for_description_s = 30.0;
   std::string encoders = "joint_simulator";  ///< default of the robots' `encoders`
