@@ -28,18 +28,19 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 
 # ---- packages.png -------------------------------------------------------------------------------------------
 BANDS = [  # top to bottom: (title, packages)
-    ("bringup and simulator scenarios", ["thorvald_bringup", "thorvald_sim"]),
+    ("bringup and simulator scenarios", ["thorvald_bringup", "thorvald_sim", "cotton_harvester_sim"]),
     ("applications", ["thorvald_navigation", "greenhouse_rail_nav", "cotton_harvester"]),
     ("platform: ROS-free core library + ROS adapters and nodes in each package",
      ["thorvald_twist_mux", "thorvald_teleop", "thorvald_model", "thorvald_can_devices", "thorvald_map",
-      "thorvald_state_machine", "thorvald_base"]),
+      "thorvald_state_machine", "thorvald_base", "thorvald_gnss"]),
     ("shared by every package (arrows to it not drawn)", ["thorvald_common"]),
 ]
 ROLES = {  # package: (nodes and adapters, core library)
     "thorvald_bringup": ("robot.launch, sim.launch, multi_robot.launch,\nsafety_heartbeat", "robot files (config/*.yaml)"),
-    "thorvald_sim": ("thorvald_sim node, sim_hardware plugin", "thorvald_sim (MuJoCo worlds, sensors)"),
+    "thorvald_sim": ("thorvald_sim node, sim_hardware plugin,\ngnss_receiver", "thorvald_sim (MuJoCo worlds,\nsensor models, GNSS model)"),
+    "cotton_harvester_sim": ("mujoco_rover_sim, mujoco_harvest,\nharvest_fleet_report", "cotton_harvester_sim\n(rover simulator, scorer)"),
     "thorvald_navigation": ("odom_fusion, headland_mapper,\nmap_localizer, headland_navigator,\nmap_publisher",
-                            "thorvald_navigation (EKF, mapper, planner)"),
+                            "thorvald_navigation (EKF, mapper,\nplanner, GoalRunner)"),
     "greenhouse_rail_nav": ("map_analyzer, rail_detector, surface_monitor,\nbumper, uv_mission",
                             "greenhouse_rail_nav, _mission"),
     "cotton_harvester": ("harvest_perception, harvest_state_machine,\nrover, manipulator",
@@ -51,7 +52,9 @@ ROLES = {  # package: (nodes and adapters, core library)
     "thorvald_state_machine": ("status publisher\n(thorvald_state_machine_ros)", "thorvald_state_machine"),
     "thorvald_base": ("base_driver, kinematics plugins,\nthorvald_base_ros", "thorvald_base\n(robot file, kinematics)"),
     "thorvald_map": ("message conversions (ros/)", "thorvald_map\n(grid, map files)"),
-    "thorvald_common": ("parameter reader, runNode, waitFor", "stop signals, command line, bench statistics"),
+    "thorvald_common": ("thorvald_common_ros: parameter reader, bounded reads, runNode, waitFor",
+                        "thorvald_common: stop signals, command line, bench statistics"),
+    "thorvald_gnss": ("gpsd_client, nmea_tcp_feeder", "thorvald_gnss\n(gpsd fix -> NavSatFix)"),
 }
 
 
