@@ -52,8 +52,8 @@ ROLES = {  # package: (nodes and adapters, core library)
     "thorvald_state_machine": ("status publisher\n(thorvald_state_machine_ros)", "thorvald_state_machine"),
     "thorvald_base": ("base_driver, kinematics plugins,\nthorvald_base_ros", "thorvald_base\n(robot file, kinematics)"),
     "thorvald_map": ("message conversions (ros/)", "thorvald_map\n(grid, map files)"),
-    "thorvald_common": ("thorvald_common_ros: parameter reader, bounded reads, runNode, waitFor",
-                        "thorvald_common: stop signals, command line, bench statistics"),
+    "thorvald_common": ("thorvald_common_ros: parameter reader,\nbounded reads, runNode, waitFor",
+                        "thorvald_common: stop signals,\ncommand line, bench statistics"),
     "thorvald_gnss": ("gpsd_client, nmea_tcp_feeder", "thorvald_gnss\n(gpsd fix -> NavSatFix)"),
 }
 
