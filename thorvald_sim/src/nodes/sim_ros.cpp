@@ -17,6 +17,22 @@ namespace {
 /// [s] of wall clock a paced simulation may make up by running faster than requested; beyond it the lag is dropped.
 constexpr double kMaxCatchUpS = 0.05;
 
+/// The scene's options: wheel shape, and an offscreen buffer that holds the largest camera image and no more
+/// (llvmpipe's cost per frame grows with the buffer, not only with the image drawn into it).
+SceneOptions sceneOptions(bool sphere_wheels, const std::vector<std::vector<SensorConfig>>& sensors) {
+  SceneOptions options;
+  options.sphere_wheels = sphere_wheels;
+  int camera_width = 0, camera_height = 0;
+  for (const auto& list : sensors)
+    for (const auto& c : list)
+      if (c.type == SensorType::kDepthCamera) {
+        camera_width = std::max(camera_width, c.depth.width);
+        camera_height = std::max(camera_height, c.depth.height);
+      }
+  if (camera_width > 0) options.camera_max_width = camera_width, options.camera_max_height = camera_height;
+  return options;
+}
+
 /// The surface `choice` names, or for `auto` the world's surface in the datasheet profile when any robot's sensor
 /// file asks for it (else dry concrete, the ideal ground).
 Ground groundUnderWheels(const std::string& choice, const std::string& world_name,
@@ -219,18 +235,7 @@ bool SimRos::loadRobots(const WorldDescription& world) {
     }
   }
   try {
-    SceneOptions options;
-    options.sphere_wheels = params_.sphere_wheels;
-    // The offscreen buffer holds the largest camera image and no more: llvmpipe's cost per frame grows with the
-    // buffer, not only with the image drawn into it.
-    int camera_width = 0, camera_height = 0;
-    for (const auto& list : sensors)
-      for (const auto& c : list)
-        if (c.type == SensorType::kDepthCamera) {
-          camera_width = std::max(camera_width, c.depth.width);
-          camera_height = std::max(camera_height, c.depth.height);
-        }
-    if (camera_width > 0) options.camera_max_width = camera_width, options.camera_max_height = camera_height;
+    SceneOptions options = sceneOptions(params_.sphere_wheels, sensors);
     options.ground = groundUnderWheels(params_.ground, world.name, sensors);
     ROS_INFO("thorvald_sim: ground %s", groundName(options.ground));
     sim_ = std::make_unique<Simulation>(composeScene(world, spawns, options), spawns);
