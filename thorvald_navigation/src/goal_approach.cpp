@@ -1,6 +1,7 @@
 #include "thorvald_navigation/goal_approach.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 
@@ -73,23 +74,56 @@ Approach approachAgain(const Costmap& costmap, const Footprint& footprint, const
 
 namespace {
 
-/// Whether turning on the spot at `p` from `from` to `to` sweeps the footprint over a wall, the keep-out zone or
-/// unknown space that it does not already overlap at `from`; names what it meets.
-Blocker turnMeets(const Costmap& costmap, const Footprint& footprint, const Eigen::Vector2d& p, double from,
-                  double to) {
-  const double step = std::max(0.05, costmap.geometry().resolution_m);
-  for (Blocker b : {Blocker::kWall, Blocker::kKeepOut, Blocker::kUnknown}) {
-    if (costmap.footprintTouches({p.x(), p.y(), from}, footprint, b)) continue;
-    if (turnTouches(costmap, footprint, p, from, to, b, step)) return b;
+/// Sweeps the footprint along a differential robot's motion (turns on the spot and straight legs) and names the first
+/// wall, keep-out zone or unknown space it meets. A blocker the footprint overlaps where the robot stands is not held
+/// against it until the footprint has once been clear of it (a robot pushed against a wall may still get away).
+class MotionSweep {
+ public:
+  MotionSweep(const Costmap& costmap, const Footprint& footprint, const thorvald_base::Pose2D& start)
+      : costmap_(costmap), footprint_(footprint), step_(std::max(0.05, costmap.geometry().resolution_m)) {
+    for (std::size_t i = 0; i < kKinds.size(); ++i) clear_[i] = !costmap.footprintTouches(start, footprint, kKinds[i]);
   }
-  return Blocker::kNone;
-}
+  /// Turning on the spot at `p` from `from` to `to` [rad].
+  Blocker turn(const Eigen::Vector2d& p, double from, double to) {
+    for (std::size_t i = 0; i < kKinds.size(); ++i)
+      if (clear_[i] && turnTouches(costmap_, footprint_, p, from, to, kKinds[i], step_)) return kKinds[i];
+    return at({p.x(), p.y(), to});
+  }
+  /// Driving straight from `a` to `b` with the heading `yaw` [rad].
+  Blocker move(const Eigen::Vector2d& a, const Eigen::Vector2d& b, double yaw) {
+    const double length = (b - a).norm();
+    const int n = static_cast<int>(std::ceil(length / step_));
+    for (int k = 1; k <= n; ++k) {
+      const Eigen::Vector2d p = a + (b - a) * (static_cast<double>(k) / n);
+      if (const Blocker hit = at({p.x(), p.y(), yaw}); hit != Blocker::kNone) return hit;
+    }
+    return Blocker::kNone;
+  }
 
-/// The first turn on the spot that meets a blocker on `legs` (driven backwards when `reverse`), as text; empty when
-/// both are clear: at the start, from the robot's heading to the way to the first point 0.3 m along (the follower
-/// turns on the spot when far off its path), and at the end, from the way the last 0.3 m run to `end_yaw`.
-std::string firstBlockedTurn(const Costmap& costmap, const Footprint& footprint, const thorvald_base::Pose2D& start,
-                             const std::vector<Eigen::Vector2d>& legs, double end_yaw, bool reverse) {
+ private:
+  Blocker at(const thorvald_base::Pose2D& pose) {
+    for (std::size_t i = 0; i < kKinds.size(); ++i) {
+      const bool touches = costmap_.footprintTouches(pose, footprint_, kKinds[i]);
+      if (touches && clear_[i]) return kKinds[i];
+      clear_[i] = clear_[i] || !touches;
+    }
+    return Blocker::kNone;
+  }
+
+  static constexpr std::array<Blocker, 3> kKinds{Blocker::kWall, Blocker::kKeepOut, Blocker::kUnknown};
+  const Costmap& costmap_;
+  const Footprint& footprint_;
+  double step_;
+  std::array<bool, 3> clear_{};
+};
+
+/// The first motion on `legs` (driven backwards when `reverse`) that sweeps the footprint over a wall, the keep-out
+/// zone or unknown space, as text; empty when all clear. The robot turns on the spot at the start, from its heading to
+/// the way to the first point 0.3 m along (the follower turns on the spot when far off its path), at every corner from
+/// one leg's way to the next, and at the end to `end_yaw`; between them it drives the legs straight with the oriented
+/// footprint. (The follower cuts a gentle corner with an arc inside that turn.)
+std::string firstBlockedMotion(const Costmap& costmap, const Footprint& footprint, const thorvald_base::Pose2D& start,
+                               const std::vector<Eigen::Vector2d>& legs, double end_yaw, bool reverse) {
   constexpr double kChord = 0.3;
   const auto way = [reverse](const Eigen::Vector2d& from, const Eigen::Vector2d& to) {
     const Eigen::Vector2d d = to - from;
@@ -101,17 +135,31 @@ std::string firstBlockedTurn(const Costmap& costmap, const Footprint& footprint,
                   from, to);
     return std::string(text) + blockerName(b);
   };
+  MotionSweep sweep(costmap, footprint, start);
   const Eigen::Vector2d& first = legs.front();
-  const Eigen::Vector2d& last = legs.back();
   std::size_t a = 1;
   while (a + 1 < legs.size() && (legs[a] - first).norm() < kChord) ++a;
-  std::size_t z = legs.size() - 2;
-  while (z > 0 && (last - legs[z]).norm() < kChord) --z;
-  const double out_way = way(first, legs[a]), in_way = way(legs[z], last);
-  Blocker b = turnMeets(costmap, footprint, first, start.yaw, out_way);
-  if (b != Blocker::kNone) return describe("first turn", first, start.yaw, out_way, b);
-  b = turnMeets(costmap, footprint, last, in_way, end_yaw);
-  if (b != Blocker::kNone) return describe("final turn", last, in_way, end_yaw, b);
+  double heading = way(first, legs[a]);
+  Blocker b = sweep.turn(first, start.yaw, heading);
+  if (b != Blocker::kNone) return describe("first turn", first, start.yaw, heading, b);
+  for (std::size_t i = 0; i + 1 < legs.size(); ++i) {
+    if ((legs[i + 1] - legs[i]).norm() < 1e-6) continue;
+    const double w = way(legs[i], legs[i + 1]);
+    if (std::abs(thorvald_base::normalizeAngle(w - heading)) > 1e-3) {
+      b = sweep.turn(legs[i], heading, w);
+      if (b != Blocker::kNone) return describe(i == 0 ? "first turn" : "turn", legs[i], heading, w, b);
+      heading = w;
+    }
+    b = sweep.move(legs[i], legs[i + 1], heading);
+    if (b != Blocker::kNone) {
+      char text[128];
+      std::snprintf(text, sizeof(text), "the way from (%.2f, %.2f) to (%.2f, %.2f) runs the frame over ", legs[i].x(),
+                    legs[i].y(), legs[i + 1].x(), legs[i + 1].y());
+      return text + std::string(blockerName(b));
+    }
+  }
+  b = sweep.turn(legs.back(), heading, end_yaw);
+  if (b != Blocker::kNone) return describe("final turn", legs.back(), heading, end_yaw, b);
   return {};
 }
 
@@ -124,7 +172,7 @@ PathDirection choosePathDirection(const Costmap& costmap, const Footprint& footp
   out.approach.first_leg = path;
   out.approach.first_target = goal;
   if (omnidirectional || path.size() < 2) return out;
-  const std::string forward = firstBlockedTurn(costmap, footprint, start, path, goal.yaw, false);
+  const std::string forward = firstBlockedMotion(costmap, footprint, start, path, goal.yaw, false);
   if (forward.empty()) return out;
   // Backwards as far as the final approach's start (the path's last segment runs along the goal's heading when it
   // has one), then forward along it: the robot then never turns its rear through the goal's side.
@@ -136,7 +184,7 @@ PathDirection choosePathDirection(const Costmap& costmap, const Footprint& footp
   if (has_final_approach) back.pop_back();
   const thorvald_base::Pose2D target =
       has_final_approach ? thorvald_base::Pose2D{back.back().x(), back.back().y(), goal.yaw} : goal;
-  std::string backward = firstBlockedTurn(costmap, footprint, start, back, target.yaw, true);
+  std::string backward = firstBlockedMotion(costmap, footprint, start, back, target.yaw, true);
   if (backward.empty() && has_final_approach) {
     // The last stretch forward along the goal's heading needs no turn.
     out.approach.first_leg = back;

@@ -46,7 +46,20 @@ GoalPlanners costmapPlanners(std::function<const Costmap&()> costmap, const Foot
                              bool omnidirectional) {
   GoalPlanners p;
   p.plan = [=](const thorvald_base::Pose2D& start, const thorvald_base::Pose2D& goal) {
-    return planToGoal(costmap(), footprint, start, goal, planner, omnidirectional ? 0.0 : final_approach_m);
+    GoalPlan r = planToGoal(costmap(), footprint, start, goal, planner, omnidirectional ? 0.0 : final_approach_m);
+    r.first_target = goal;
+    if (!r.ok || omnidirectional) return r;
+    const PathDirection d = choosePathDirection(costmap(), footprint, start, r.path, goal, false);
+    if (!d.ok) {
+      r.ok = false;
+      r.error = "goal refused: " + d.error;
+      return r;
+    }
+    r.path = d.approach.first_leg;
+    r.reverse = d.approach.reverse;
+    r.then_to_goal = d.approach.then_to_goal;
+    r.first_target = d.approach.first_target;
+    return r;
   };
   p.approach_again = [=](const thorvald_base::Pose2D& pose, const thorvald_base::Pose2D& goal) {
     return approachAgain(costmap(), footprint, pose, goal, final_approach_m, omnidirectional);
@@ -179,7 +192,11 @@ bool GoalRunner::planIfNeeded(const thorvald_base::Pose2D& pose, double now_s, G
     return false;
   }
   path_ = r.path;
-  follower_.setPath(path_, goal_);
+  // A differential robot beside a wall may have to back along the path to its final approach's start.
+  to_pre_goal_ = r.then_to_goal;
+  pre_goal_ = Eigen::Vector2d(r.first_target.x, r.first_target.y);
+  follower_.setPath(path_, r.then_to_goal ? r.first_target : goal_, r.reverse);
+  if (r.reverse) note(out, "backing along the path: a turn forward would sweep the frame over the map");
   out->new_plan = true;
   ++counts_.plans;
   need_plan_ = false;  // blocked_since_s_ stays: a new plan the obstacle still blocks does not restart the wait

@@ -16,8 +16,14 @@ struct GoalPlan {
   bool ok = false;
   /// The refusal is for lidar obstacles only (they may move away: wait), not for the map or the keep-out zone.
   bool blocked_by_obstacle = false;
-  std::vector<Eigen::Vector2d> path;  ///< start ... goal [m]
+  std::vector<Eigen::Vector2d> path;  ///< start ... goal [m] (the first leg when `then_to_goal`)
   std::string error;
+  /// How a differential robot drives it (choosePathDirection): backwards when `reverse`; with `then_to_goal` the path
+  /// ends at `first_target` (the final approach's start, heading the goal's) and a straight leg forward to the goal
+  /// follows. Forward and whole by default.
+  bool reverse = false;
+  bool then_to_goal = false;
+  thorvald_base::Pose2D first_target;
 };
 
 /// Refuses a goal whose footprint overlaps a wall, unmapped space, the keep-out zone or an obstacle (with that reason),
@@ -61,12 +67,13 @@ struct PathDirection {
   Approach approach;
 };
 
-/// Checks the turns on the spot a differential robot makes on `path` (from its heading to the way along the path's
-/// first 0.3 m, and from the way along its last 0.3 m to the goal's heading) against walls, the keep-out zone and
-/// unknown space; forward first, then backwards. The path's corners are the planner's (its clearance radius). A path
-/// whose turns all clear forward is driven forward. Turns the start pose's footprint already overlaps are not held
-/// against either direction (the robot stands there already). Omnidirectional robots and paths of fewer than 2 points:
-/// forward, unchecked.
+/// Sweeps the footprint polygon over the motions a differential robot makes on `path` against walls, the keep-out
+/// zone and unknown space: the turns on the spot (from its heading to the way along the path's first 0.3 m, at every
+/// corner of the path, and at the end to the goal's heading) and the straight legs between them with the footprint
+/// oriented along them; forward first, then backwards. A path that clears forward is driven forward. A blocker the
+/// start pose's footprint already overlaps is not held against either direction until the footprint has been clear
+/// of it (the robot stands there already). Omnidirectional robots and paths of fewer than 2 points: forward,
+/// unchecked.
 PathDirection choosePathDirection(const Costmap& costmap, const Footprint& footprint,
                                   const thorvald_base::Pose2D& start, const std::vector<Eigen::Vector2d>& path,
                                   const thorvald_base::Pose2D& goal, bool omnidirectional);

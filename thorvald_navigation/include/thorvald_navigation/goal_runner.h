@@ -45,7 +45,9 @@ struct GoalPlanners {
 };
 
 /// The navigator's planners on a costmap: planToGoal (a differential robot's path ends with `final_approach_m`
-/// straight along the goal's heading), approachAgain, and sweptObstacleDistance over `obstacle_check_ahead_m` [m].
+/// straight along the goal's heading) with the direction a differential robot drives it (choosePathDirection: a plan
+/// whose turns or legs sweep the footprint over a wall, the keep-out zone or unknown space either way is refused),
+/// approachAgain, and sweptObstacleDistance over `obstacle_check_ahead_m` [m].
 /// `costmap` is called at each use (the node replaces its costmap when a map arrives) and must return one then.
 GoalPlanners costmapPlanners(std::function<const Costmap&()> costmap, const Footprint& footprint,
                              const PlannerParams& planner, double final_approach_m, double obstacle_check_ahead_m,

@@ -6,6 +6,7 @@
 #include <thorvald_common/ros/param_reader.h>
 
 #include "thorvald_base/ros/robot_config_params.h"
+#include "thorvald_navigation/robot_footprint.h"
 
 namespace thorvald_navigation {
 
@@ -87,8 +88,25 @@ void readFollowerParams(thorvald_common::ParamReader& r, FollowerParams* f) {
   f->max_turn_reversals = r.integer("max_turn_reversals", f->max_turn_reversals, 0, 20);
 }
 
-/// The box around the wheels, casters and corners of the robot file in the robot's namespace; an "auto" drive mode
-/// becomes omnidirectional when every drive steers and no passive wheel drags.
+/// The outline of the robot's collision shapes in the namespace's `robot_description` (the URDF thorvald_model writes
+/// from the robot file and its frame extras: the frame, not only the wheels); false when there is none.
+bool footprintFromDescription(const ros::NodeHandle& nh, Settings* s) {
+  std::string urdf;
+  if (!nh.getParam("robot_description", urdf) || urdf.empty()) return false;
+  const UrdfFootprint u = footprintFromUrdf(urdf, s->base_frame);
+  check(u.error.empty() ? "" : "robot_description in " + nh.getNamespace() + ": " + u.error);
+  for (const auto& link : u.skipped)
+    ROS_WARN("headland_navigator: link %s has a mesh collision shape, left out of the footprint", link.c_str());
+  s->footprint.clear();
+  for (const auto& p : u.footprint.polygon) s->footprint.insert(s->footprint.end(), {p.x(), p.y()});
+  ROS_INFO("headland_navigator: footprint from robot_description: %d collision shapes, %zu corners", u.shapes,
+           u.footprint.polygon.size());
+  return true;
+}
+
+/// The footprint from the robot's description (footprintFromDescription), else the box around the wheels, casters and
+/// corners of the robot file in the robot's namespace; an "auto" drive mode becomes omnidirectional when every drive
+/// steers and no passive wheel drags.
 void footprintFromRobotFile(const ros::NodeHandle& nh, Settings* s) {
   thorvald_base::RobotConfig cfg;
   try {
@@ -111,7 +129,7 @@ void footprintFromRobotFile(const ros::NodeHandle& nh, Settings* s) {
   for (const auto& c : cfg.casters) grow(c.x, c.y, c.r_wheel + c.offset, 0.5 * c.w_wheel);
   for (const auto& c : cfg.passive_wheels) grow(c.x, c.y, c.r_wheel, 0.5 * c.w_wheel);
   for (const auto& c : cfg.corners) grow(c.x, c.y, 0.05, 0.05);
-  s->footprint = {x0, y0, x1, y0, x1, y1, x0, y1};
+  if (!footprintFromDescription(nh, s)) s->footprint = {x0, y0, x1, y0, x1, y1, x0, y1};
   if (s->drive_mode == "auto")
     s->drive_mode = all_steered && cfg.passive_wheels.empty() ? "omnidirectional" : "differential";
 }

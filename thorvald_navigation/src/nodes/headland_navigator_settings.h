@@ -18,7 +18,7 @@ struct Settings {
   std::string localization_status_topic = "map_localizer/status";  // empty: no status read (amcl)
   double controller_frequency = 20.0;
   double footprint_padding = 0.05;
-  std::vector<double> footprint;       // flat x0 y0 x1 y1 ...; empty: from the robot file
+  std::vector<double> footprint;       // flat x0 y0 x1 y1 ...; empty: robot_description, else the robot file
   std::string drive_mode = "auto";     // auto | omnidirectional | differential
   double obstacle_range = 3.0;         // lidar points farther than this are not obstacles [m]
   double obstacle_check_ahead = 1.5;   // path length checked for obstacles [m]
