@@ -32,6 +32,9 @@ add_library(cotton_harvester_control
   src/control/harvest_machine.cpp
   src/control/step_response.cpp
   src/control/virtual_row.cpp
+  src/control/waypoint_path.cpp
+  src/control/pure_pursuit.cpp
+  src/control/row_turn_planner.cpp
 )
 # thorvald_state_machine's ROS-free library alone: thorvald_state_machine_LIBRARIES also carries its ROS adapter and
 # roscpp.
@@ -100,4 +103,11 @@ if(CATKIN_ENABLE_TESTING)
     test/control/test_topic_harvest_plant.cpp)
   target_link_libraries(test_topic_harvest_plant cotton_harvester_ros cotton_harvester_control ${catkin_LIBRARIES})
   add_dependencies(test_topic_harvest_plant ${${PROJECT_NAME}_EXPORTED_TARGETS} ${catkin_EXPORTED_TARGETS})
+endif()
+
+# ---- Row following: pure pursuit and the headland turn on the rover's models (gtest) --------------------------
+if(CATKIN_ENABLE_TESTING)
+  catkin_add_gtest(test_row_following test/control/test_main.cpp test/control/test_row_following.cpp
+    test/control/test_row_turn_planner.cpp)
+  target_link_libraries(test_row_following cotton_harvester_control)
 endif()

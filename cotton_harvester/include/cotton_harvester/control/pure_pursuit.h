@@ -1,0 +1,73 @@
+#pragma once
+
+#include <string>
+
+#include "cotton_harvester/control/waypoint_path.h"
+
+namespace cotton_harvester {
+namespace control {
+
+/// Pure pursuit for the centre-articulated rover (paper §2.1, §4: path following along the rows with RTK-GNSS).
+/// The pose is the front axle's centre with the front half's heading, as ArticulatedOdometry integrates it: for equal
+/// half lengths a (axle to joint) the front axle then turns with curvature tan(gamma / 2) / a at articulation gamma.
+struct PurePursuitParams {
+  double lookahead_m = 1.2;              ///< lookahead at rest [m] ...
+  double lookahead_per_mps = 2.0;        ///< ... growing with the speed [s] ...
+  double min_lookahead_m = 0.8;          ///< ... and kept within these limits [m]
+  double max_lookahead_m = 3.0;          ///< [m]
+  double axle_to_joint_m = 0.91;         ///< both axles to the articulation joint (paper §2.1) [m]
+  double articulation_limit_deg = 45.0;  ///< the set-point never asks more (paper §2.3) [deg]
+  double goal_tolerance_m = 0.05;        ///< the path is done when the projection is this close to its end [m]
+  double search_window_m = 3.0;          ///< the projection looks this far ahead of the last one (never back) [m]
+
+  /// Empty when sound, otherwise "key: expected ...".
+  std::string check() const;
+};
+
+/// One step of the follower.
+struct PursuitStep {
+  double articulation_deg = 0.0;   ///< set-point for the articulation controller, within the limit [deg]
+  double curvature_1pm = 0.0;      ///< curvature pure pursuit asks (before the limit) [1/m]
+  double cross_track_m = 0.0;      ///< front axle to the path, positive left of it [m]
+  double heading_error_rad = 0.0;  ///< path heading minus the rover's at the projection [rad]
+  double lookahead_m = 0.0;        ///< the lookahead used [m]
+  double s_m = 0.0;                ///< progress along the path [m]
+  double remaining_m = 0.0;        ///< path length still ahead [m]
+  bool finished = false;
+};
+
+/// Articulation [deg] that gives the front axle a curvature [1/m]: gamma = 2 atan(a kappa).
+double articulationForCurvature(double curvature_1pm, double axle_to_joint_m);
+/// The front axle's curvature [1/m] at an articulation [deg]: tan(gamma / 2) / a.
+double curvatureForArticulation(double articulation_deg, double axle_to_joint_m);
+/// The smallest turning radius of the front axle at an articulation [deg] (45 deg, 0.91 m: 2.20 m).
+double minTurnRadius(double articulation_deg, double axle_to_joint_m);
+
+/// Follows a WaypointPath: projects the front axle onto the path (searching forward only, so a neighbouring row or
+/// the far side of a turn is never taken for the path), aims at the point one lookahead further along it
+/// (extrapolated straight past the end) and returns the articulation that puts the front axle on the circle
+/// through it. Deterministic; the caller's control loop sets the rate.
+class PurePursuit {
+ public:
+  /// Throws std::invalid_argument when params fail check().
+  explicit PurePursuit(const PurePursuitParams& params = PurePursuitParams());
+
+  /// A new path; progress starts at its beginning.
+  void setPath(const WaypointPath& path);
+  /// Lookahead for a speed [m/s] within the limits [m].
+  double lookahead(double speed_mps) const;
+  /// One step at the front axle's pose and the rover's speed [m/s]. Without a path: straight, finished.
+  PursuitStep update(const Pose2& front_axle, double speed_mps);
+
+  const WaypointPath& path() const { return path_; }
+  double progressM() const { return s_m_; }
+  const PurePursuitParams& params() const { return params_; }
+
+ private:
+  PurePursuitParams params_;
+  WaypointPath path_;
+  double s_m_ = 0.0;
+};
+
+}  // namespace control
+}  // namespace cotton_harvester
