@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """The greenhouse robot's sensors in the datasheet profile on known geometry (greenhouse_sim_datasheet.test): depth
-noise on the floor against 0.01 z^2, holes on the pipes' top line, the IMU's offset from the ideal IMU's, the range
-finders over the floor, the lidar at the rear wall. Every figure is printed."""
+noise on the floor against 0.01 z^2, holes in the pipes' glint band, the IMU's offset from its reading at rest, the
+range finders over the floor, the lidar at the rear wall. Every figure is printed."""
 import array
 import math
 import struct
@@ -18,6 +18,12 @@ DEPTH_NOISE = 0.01  # thorvald_sim README, active stereo noise_coeff: sigma_z = 
 LIDAR_SIGMA = 0.010  # UTM-30LX sigma_near (below 10 m)
 FRAMES = 12
 SKIP_U = 80  # the left invalid band (baseline fx / z) is narrower than this at z >= 0.4 m
+SHINY_BAND = 0.35  # thorvald_sim README, active stereo shiny_band: no depth within 0.35 rad of the glint line
+# The pipes in base_link (sim_greenhouse_world.launch: rail_top 0.06, thorvald_sim's 51 mm pipes, 0.55 m gauge;
+# the robots stand on the rail sets' centre lines).
+PIPE_R = 0.0255
+PIPE_Z = 0.06 - PIPE_R
+PIPE_Y = 0.275
 
 
 def camera_mount(sensors_file):
@@ -137,42 +143,71 @@ class GreenhouseDatasheetTest(unittest.TestCase):
         self.assertLess(abs(far - DEPTH_NOISE), 0.15 * DEPTH_NOISE)
         self.assertLess(abs(ideal - 0.002), 0.15 * 0.002)
 
-    def pipe_top_pixels(self):
-        """Pixels at the top of a pipe in i1's first frame: on a pipe (6-60 mm up, beside the rails' centre line)
-        with no pipe pixel above them, and the two below."""
-        w, h = self.width, self.info.height
-        pipe = [False] * (w * h)
+    def pipe_pixels(self):
+        """Pixels on a pipe in i1's first frame (6-80 mm up, beside the rails' centre line), from SKIP_U on."""
+        w = self.width
+        pipe = []
         for i, p in enumerate(self.ideal_points):
-            if math.isnan(p[2]):
+            if math.isnan(p[2]) or i % w < SKIP_U:
                 continue
             b = to_base(p, self.mount)
-            pipe[i] = 0.006 < b[2] < 0.08 and 0.4 < b[0] < 3.0 and 0.15 < abs(b[1]) < 0.45
-        top = []
-        for v in range(1, h - 2):
-            for u in range(SKIP_U, w):
-                i = v * w + u
-                if pipe[i] and not pipe[i - w]:
-                    top += [j for j in (i, i + w, i + 2 * w) if pipe[j]]
-        return top, pipe
+            if 0.006 < b[2] < 0.08 and 0.4 < b[0] < 3.0 and 0.15 < abs(b[1]) < 0.45:
+                pipe.append(i)
+        return pipe
 
-    def test_pipe_tops_have_holes(self):
-        top, pipe = self.pipe_top_pixels()
-        self.assertGreater(len(top), 300, "pipe-top pixels in the ideal image")
-        floor = [i for i in range(len(pipe)) if not pipe[i] and i % self.width >= SKIP_U and i % 7 == 0]
+    def glint_angle(self, i, side):
+        """The angle of pixel i's surface normal from the plane through the pipe's axis and the camera (thorvald_sim's
+        glintAngle), the pixel's ray met with the known pipe on `side` (+1 left, -1 right); None if it misses."""
+        k, u, v = self.info.K, i % self.width, i // self.width
+        o = to_base((0.0, 0.0, 0.0), self.mount)
+        e = to_base(((u - k[2]) / k[0], (v - k[5]) / k[4], 1.0), self.mount)
+        d = [e[j] - o[j] for j in range(3)]
+        yc, zc = o[1] - side * PIPE_Y, o[2] - PIPE_Z  # camera from the axis, across the pipe
+        a = d[1] ** 2 + d[2] ** 2
+        bq = 2 * (yc * d[1] + zc * d[2])
+        disc = bq * bq - 4 * a * (yc * yc + zc * zc - PIPE_R ** 2)
+        if disc < 0:
+            return None
+        t = (-bq - math.sqrt(disc)) / (2 * a)
+        ny, nz = (yc + t * d[1]) / PIPE_R, (zc + t * d[2]) / PIPE_R  # the unit normal (its x part is 0)
+        qn = math.hypot(yc, zc)  # q = x * (camera - axis) = (0, -zc, yc)
+        return math.asin(min(1.0, abs(-ny * zc + nz * yc) / qn))
+
+    def test_pipe_glint_band_has_no_depth(self):
+        """The pipes lose depth in their glint band (normal within SHINY_BAND of the plane through the axis and the
+        camera) and keep it elsewhere; the share lost is the share of pipe pixels in the band by the pipes' known
+        geometry (pixels within 0.1 rad of the band's edge are left out of the in/out checks: the pixel's footprint
+        and the robots' settling)."""
+        pipe = self.pipe_pixels()
+        self.assertGreater(len(pipe), 1000, "pipe pixels in the ideal image")
+        glint = {}
+        for i in pipe:
+            g = self.glint_angle(i, 1 if to_base(self.ideal_points[i], self.mount)[1] > 0 else -1)
+            if g is not None:
+                glint[i] = g
+        inside = [i for i, g in glint.items() if g < SHINY_BAND - 0.1]
+        outside = [i for i, g in glint.items() if g > SHINY_BAND + 0.1]
+        want = sum(g < SHINY_BAND for g in glint.values()) / float(len(glint))
+        floor = [i for i in range(len(self.ideal_points)) if i % self.width >= SKIP_U and i % 7 == 0 and
+                 i not in glint and not math.isnan(self.ideal_points[i][2])]
 
         def nan_frac(robot, idx):
             fr = self.frames[robot]
             return sum(math.isnan(f[i]) for f in fr for i in idx) / float(len(fr) * len(idx))
 
-        ds_top, ideal_top, ds_rest = nan_frac("d1", top), nan_frac("i1", top), nan_frac("d1", floor)
-        all_pipe = [i for i in range(len(pipe)) if pipe[i] and i % self.width >= SKIP_U]
-        print("no depth on the whole visible pipe (%d px): datasheet %.3f, ideal %.3f" %
-              (len(all_pipe), nan_frac("d1", all_pipe), nan_frac("i1", all_pipe)))
-        print("no depth at the pipes' top (%d px): datasheet %.3f, ideal %.3f; elsewhere (datasheet) %.3f" %
-              (len(top), ds_top, ideal_top, ds_rest))
-        self.assertGreater(ds_top, 0.3)
-        self.assertGreater(ds_top, 3.0 * ideal_top)
-        self.assertGreater(ds_top, 3.0 * ds_rest)
+        ds_all, ideal_all = nan_frac("d1", list(glint)), nan_frac("i1", list(glint))
+        ds_in, ds_out, ds_rest = nan_frac("d1", inside), nan_frac("d1", outside), nan_frac("d1", floor)
+        print("no depth on the visible pipe (%d px, %d met by their rays): datasheet %.3f for %.3f in the band by "
+              "geometry, ideal %.3f" % (len(pipe), len(glint), ds_all, want, ideal_all))
+        print("no depth well inside the glint band (%d px) %.3f, well outside (%d px) %.3f; elsewhere (datasheet) "
+              "%.3f" % (len(inside), ds_in, len(outside), ds_out, ds_rest))
+        self.assertGreater(len(glint), 0.8 * len(pipe))
+        self.assertGreater(len(inside), 200)
+        self.assertGreater(len(outside), 200)
+        self.assertGreater(ds_in, 0.9)
+        self.assertLess(ds_out, 0.1)
+        self.assertLess(abs(ds_all - want), 0.15 * want)
+        self.assertLess(ideal_all, 0.05)
         png = rospy.get_param("~figure_png", "")
         if png:
             w, h = self.width, self.info.height
@@ -183,8 +218,11 @@ class GreenhouseDatasheetTest(unittest.TestCase):
             print("wrote %s (left ideal, right datasheet)" % png)
 
     def test_imu_offset_beyond_white_noise(self):
-        """The datasheet IMU's mean over 10 s standing still differs from the ideal one's (same pose, no bias) by
-        more than their white noise allows: bias and scale factor are there."""
+        """The datasheet IMU's mean over 10 s standing still differs from the reading at rest (no rate, gravity's
+        reaction 9.81 m/s^2 up) by more than its white noise allows: bias and scale factor are there; the z offset is
+        within 3 sigma of the UM7 figures (scale factor 1 % of 9.81, bias 0.005). The ideal twin is printed, not
+        compared against: its body chatters on its contacts (accel z std dev near 1 m/s^2 in this world), so its 10 s
+        mean wanders by tenths of a m/s^2 from run to run."""
         n = 1000
         start = {r: rec.count() for r, rec in self.imu.items()}
         wait_for(lambda: all(rec.count() >= start[r] + n for r, rec in self.imu.items()), 120.0,
@@ -198,15 +236,19 @@ class GreenhouseDatasheetTest(unittest.TestCase):
             out = []
             for a in axes:
                 m = sum(a) / len(a)
-                out.append((m, sum((x - m) ** 2 for x in a) / (len(a) - 1) / len(a)))
+                out.append((m, sum((x - m) ** 2 for x in a) / (len(a) - 1)))
             return out
 
+        rest = [0.0, 0.0, 0.0, 0.0, 0.0, 9.81]
         ds, ideal = stats("d1"), stats("i1")
-        z = [(a[0] - b[0]) / math.sqrt(a[1] + b[1]) for a, b in zip(ds, ideal)]
+        z = [(a[0] - r) / math.sqrt(a[1] / n) for a, r in zip(ds, rest)]
         chi2 = sum(x * x for x in z)
-        print("IMU mean offset datasheet - ideal over %d readings (gyro rad/s, accel m/s^2): %s; chi2 over 6 axes %.1f"
-              % (n, ", ".join("%+.5f" % (a[0] - b[0]) for a, b in zip(ds, ideal)), chi2))
+        print("IMU mean offset from rest over %d readings (gyro rad/s, accel m/s^2): datasheet %s (chi2 over 6 axes "
+              "%.1f, accel z std dev %.3f); ideal %s (accel z std dev %.3f)" %
+              (n, ", ".join("%+.5f" % (a[0] - r) for a, r in zip(ds, rest)), chi2, math.sqrt(ds[5][1]),
+               ", ".join("%+.5f" % (a[0] - r) for a, r in zip(ideal, rest)), math.sqrt(ideal[5][1])))
         self.assertGreater(chi2, 30.0)  # p < 1e-5 for no offset (chi2 with 6 degrees of freedom)
+        self.assertLess(abs(ds[5][0] - 9.81), 3.0 * math.hypot(0.01 * 9.81, 0.005))
 
     def test_range_finders_over_the_floor(self):
         for name, rec in self.ranges.items():

@@ -172,16 +172,17 @@ std::vector<char> shinyGeoms(const mjModel* m, const std::string& prefix) {
 }
 
 /// The true view for the active-stereo model: `exact` (no noise, no dropout; range and grazing applied) as depth
-/// and, on shiny geoms, the cosine between the normal and the way back to the camera.
+/// and, on shiny geoms, the angle from the glint line (glintAngle: the axis of capsules and cylinders).
 DepthTruth depthTruth(const RenderedView& view, const RayCaster& caster, const SensorPose& pose,
                       const DepthCameraSpec& s, const DepthImage& exact) {
   DepthTruth t;
   t.width = s.width, t.height = s.height;
   const size_t n = exact.points.size();
   t.z_m.resize(n);
-  t.shiny_cos.assign(n, std::numeric_limits<float>::quiet_NaN());
+  t.glint_rad.assign(n, std::numeric_limits<float>::quiet_NaN());
   for (size_t i = 0; i < n; ++i) t.z_m[i] = exact.points[i].z();
   const mjModel* m = caster.model();
+  const mjData* d = caster.data();
   const std::vector<char> shiny = shinyGeoms(m, s.stereo.shiny_prefix);
   const Intrinsics k = intrinsics(s);
   for (int v = 0; v < s.height; ++v)
@@ -191,8 +192,13 @@ DepthTruth depthTruth(const RenderedView& view, const RayCaster& caster, const S
       if (g < 0 || !shiny[g] || !(t.z_m[i] > 0.0f)) continue;
       const Eigen::Vector3d ray((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
       const Eigen::Vector3d dir = pose.rotation * ray.normalized();
-      const Eigen::Vector3d nrm = caster.normal(g, pose.origin + pose.rotation * (ray * t.z_m[i]), dir);
-      t.shiny_cos[i] = static_cast<float>(-nrm.dot(dir));
+      const Eigen::Vector3d point = pose.origin + pose.rotation * (ray * t.z_m[i]);
+      const Eigen::Vector3d nrm = caster.normal(g, point, dir);
+      const mjtNum* xmat = d->geom_xmat + 9 * g;  // row-major: the geom's z axis is the third column
+      const bool round = m->geom_type[g] == mjGEOM_CAPSULE || m->geom_type[g] == mjGEOM_CYLINDER;
+      const Eigen::Vector3d axis = round ? Eigen::Vector3d(xmat[2], xmat[5], xmat[8]) : Eigen::Vector3d::Zero();
+      const Eigen::Vector3d centre(d->geom_xpos[3 * g], d->geom_xpos[3 * g + 1], d->geom_xpos[3 * g + 2]);
+      t.glint_rad[i] = static_cast<float>(glintAngle(nrm, point, centre, axis, pose.origin));
     }
   return t;
 }

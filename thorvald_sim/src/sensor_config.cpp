@@ -149,9 +149,9 @@ void readDatasheet(const YAML::Node& n, Reader& r, SensorConfig& c) {
                      {"dropout", 0, 1},
                      {"edge_jump", 0, 10},
                      {"flying_probability", 0, 1},
-                     {"shiny_max_angle", 0, M_PI / 2}},
+                     {"shiny_band", 0, M_PI / 2}},
                     {&m.noise_coeff, &m.baseline_m, &m.range_min_m, &m.dropout, &m.edge_jump, &m.flying_probability,
-                     &m.shiny_max_angle_rad},
+                     &m.shiny_band_rad},
                     &m.shiny_prefix, "shiny_prefix");
       break;
     }

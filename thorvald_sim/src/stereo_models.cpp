@@ -1,5 +1,6 @@
 #include "thorvald_sim/stereo_models.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -32,13 +33,21 @@ float edgeNeighbour(const std::vector<float>& z_m, int width, int height, int u,
 
 }  // namespace
 
+double glintAngle(const Eigen::Vector3d& n, const Eigen::Vector3d& point, const Eigen::Vector3d& centre,
+                  const Eigen::Vector3d& axis, const Eigen::Vector3d& camera) {
+  const Eigen::Vector3d q = axis.cross(camera - centre);
+  const double qn = q.norm();
+  if (qn > 1e-9 * std::max(1.0, (camera - centre).norm())) return std::asin(std::min(1.0, std::fabs(n.dot(q) / qn)));
+  const Eigen::Vector3d back = (camera - point).normalized();
+  return std::acos(std::clamp(n.dot(back), -1.0, 1.0));
+}
+
 std::vector<float> applyActiveStereo(const DepthTruth& t, double fx_px, const ActiveStereoModel& m, std::mt19937& rng) {
   const size_t n = static_cast<size_t>(t.width) * t.height;
   std::vector<float> out(n, kNan);
   if (t.z_m.size() != n) return out;
   PixelNoise noise(rng);
-  const double shiny_min_cos = std::cos(m.shiny_max_angle_rad);
-  const bool shiny = t.shiny_cos.size() == n;
+  const bool shiny = t.glint_rad.size() == n;
   const uint32_t drop_below = below(m.dropout), fly_below = below(m.flying_probability);
   for (int v = 0; v < t.height; ++v)
     for (int u = 0; u < t.width; ++u) {
@@ -47,7 +56,7 @@ std::vector<float> applyActiveStereo(const DepthTruth& t, double fx_px, const Ac
       if (!(z > 0.0f)) continue;
       const uint64_t draw = noise.next();
       if (z < m.range_min_m || u < m.baseline_m * fx_px / z) continue;  // too near; the left invalid band
-      if (shiny && t.shiny_cos[i] < shiny_min_cos) continue;            // the pattern reflects away
+      if (shiny && t.glint_rad[i] < m.shiny_band_rad) continue;         // the glint: no pattern to match
       if (PixelNoise::uniform(draw) < drop_below) continue;
       double zz = z;
       const float other = edgeNeighbour(t.z_m, t.width, t.height, u, v, z, m.edge_jump);

@@ -4,6 +4,7 @@
 // the top, NaN where there is no depth). Active stereo: the RealSense ZR300 / D400 class of the greenhouse robot.
 // Passive stereo: the ZED of the cotton rover. ROS-free and deterministic given the random engine.
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <random>
 #include <string>
@@ -20,21 +21,34 @@ struct ActiveStereoModel {
   double edge_jump = 0.05;            ///< a neighbour this much farther or nearer (fraction of z) makes a depth edge
   double flying_probability = 0.5;    ///< chance that a pixel on a depth edge gets a depth between the surfaces
   std::string shiny_prefix = "rail";  ///< round geoms whose name starts with this are shiny steel ("": none)
-  double shiny_max_angle_rad = 0.6;   ///< on shiny geoms, no depth where the normal is farther from the view [rad]
+  /// Half width [rad] of the glint band of a shiny round geom: no depth where the surface normal lies within this
+  /// angle of the plane through the geom's axis and the camera (DepthTruth::glint_rad). A visible pipe loses the
+  /// share sin(shiny_band) of its pixels (orthographic view of a cylinder; README).
+  double shiny_band_rad = 0.35;
 };
 
 /// The true view: depth along the optical axis [m] (NaN: nothing seen) and, where the pixel sees a shiny round
-/// surface, the cosine between its normal and the direction back to the camera (NaN elsewhere).
+/// surface, its angle from the glint line [rad] (NaN elsewhere): on a capsule or cylinder the angle between the
+/// surface normal and the plane through the axis and the camera (the line where the normal lies in that plane is the
+/// glossy pipe's mirror line, see glintAngle); on a sphere or ellipsoid the angle between the normal and the way
+/// back to the camera.
 struct DepthTruth {
   int width = 0, height = 0;
   std::vector<float> z_m;
-  std::vector<float> shiny_cos;
+  std::vector<float> glint_rad;
 };
 
+/// The angle [rad] between the unit surface normal `n` at `point` and the plane through the axis line (through
+/// `centre`, unit direction `axis`) and the `camera` position: asin |n . q|, q the plane's unit normal. With no axis
+/// (`axis` zero) or the camera on the axis line: the angle between n and the way back to the camera.
+double glintAngle(const Eigen::Vector3d& n, const Eigen::Vector3d& point, const Eigen::Vector3d& centre,
+                  const Eigen::Vector3d& axis, const Eigen::Vector3d& camera);
+
 /// What the active-stereo camera reports for `truth` (z [m], NaN: none): no depth below the minimum range, in the
-/// left invalid band (u < baseline * fx / z, the columns the right imager does not share), on shiny surfaces seen
-/// away from their normal, on dropouts; pixels on depth edges become flying pixels with flying_probability (a depth
-/// uniform between the pixel's and its farthest-off 4-neighbour's); then noise noise_coeff * z^2.
+/// left invalid band (u < baseline * fx / z, the columns the right imager does not share), in the glint band of shiny
+/// surfaces (glint_rad < shiny_band_rad), on dropouts; pixels on depth edges become flying pixels with
+/// flying_probability (a depth uniform between the pixel's and its farthest-off 4-neighbour's); then noise noise_coeff
+/// * z^2.
 std::vector<float> applyActiveStereo(const DepthTruth& truth, double fx_px, const ActiveStereoModel& model,
                                      std::mt19937& rng);
 
