@@ -67,3 +67,36 @@ WorldDescription makeCottonRowWorld(const CottonRowParams& params, CottonRowTrut
 bool writeCottonRowTruth(const CottonRowTruth& truth, const std::string& path);
 
 }  // namespace thorvald_sim
+
+namespace thorvald_sim {
+
+/// A field of cotton (the paper's field: rows 91.44 cm apart): `rows` rows along +x, each `row_length_m` long from
+/// `row.first_plant_x_m`, row k at y = row.row_y_m + k * row_spacing_m (to the left of the first). Every row is a
+/// makeCottonRowWorld row of `row` (its own seed: row.seed + k); plants are numbered through the field (plant<i>_...).
+struct CottonFieldParams {
+  int rows = 4;
+  double row_spacing_m = 0.9144;  ///< 36 in (paper §2.13)
+  double row_length_m = 20.0;     ///< first to last plant of a row [m]
+  CottonRowParams row;            ///< plants, bolls, leaves, slope and profile of each row (plants: from the length)
+  /// false: the ideal plants do not collide with anything (the rover's wheels, which run on the neighbouring rows'
+  /// lines at this spacing, pass through them); true: as makeCottonRowWorld makes them. Datasheet plants keep their
+  /// own collision classes either way.
+  bool plants_collide = false;
+};
+
+/// The field's ground truth and the rows' ends as a user records them with the GNSS (world frame).
+struct CottonFieldTruth {
+  CottonRowTruth plants;                   ///< all rows' plants and bolls (boll_plant: the field-wide plant index)
+  std::vector<int> plant_row;              ///< which row each plant is in
+  std::vector<Eigen::Vector2d> row_start;  ///< each row's first plant (x, y) [m]
+  std::vector<Eigen::Vector2d> row_end;    ///< and its last [m]
+};
+
+/// Builds the field. Throws std::invalid_argument naming a bad parameter.
+WorldDescription makeCottonFieldWorld(const CottonFieldParams& params, CottonFieldTruth* truth);
+
+/// Writes the rows' end waypoints as YAML (`rows: [{row: k, start: [x, y], end: [x, y]}, ...]`, world frame, metres).
+/// Returns false if the file cannot be written.
+bool writeCottonFieldWaypoints(const CottonFieldTruth& truth, const std::string& path);
+
+}  // namespace thorvald_sim
