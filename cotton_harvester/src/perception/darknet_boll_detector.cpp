@@ -45,16 +45,45 @@ std::string validate(const DarknetParams& p) {
 }
 
 NetInputTransform inputTransform(const cv::Size& image_size, const DarknetParams& params) {
+  return inputTransform(image_size, cv::Size(params.input_width, params.input_height), params.resize);
+}
+
+NetInputTransform inputTransform(const cv::Size& image_size, const cv::Size& input_size, InputResize resize) {
   NetInputTransform transform;
-  if (params.resize == InputResize::kNone) {
+  if (resize == InputResize::kNone) {
     // Image pixels keep their size: a normalised unit spans the whole network input.
-    transform.scale_x = params.input_width;
-    transform.scale_y = params.input_height;
+    transform.scale_x = input_size.width;
+    transform.scale_y = input_size.height;
   } else {
     transform.scale_x = image_size.width;
     transform.scale_y = image_size.height;
   }
   return transform;
+}
+
+cv::Mat netInputBlob(const cv::Mat& bgr, const cv::Size& input_size, InputResize resize, bool swap_rb) {
+  cv::Mat sized;
+  if (resize == InputResize::kNone) {
+    // Darknet pads with mid grey; the image keeps its pixels (cropped where larger than the input).
+    sized = cv::Mat(input_size, CV_8UC3, cv::Scalar(127, 127, 127));
+    const cv::Rect region(0, 0, std::min(bgr.cols, input_size.width), std::min(bgr.rows, input_size.height));
+    bgr(region).copyTo(sized(region));
+  } else {
+    const int interpolation = resize == InputResize::kNearest ? cv::INTER_NEAREST : cv::INTER_LINEAR;
+    cv::resize(bgr, sized, input_size, 0.0, 0.0, interpolation);
+  }
+  return cv::dnn::blobFromImage(sized, 1.0 / 255.0, input_size, cv::Scalar(), swap_rb, false);
+}
+
+std::vector<BollDetection> withoutExcluded(std::vector<BollDetection> bolls, const cv::Mat& exclude) {
+  if (exclude.empty() || exclude.type() != CV_8U) return bolls;
+  std::vector<BollDetection> kept;
+  for (const BollDetection& boll : bolls) {
+    const cv::Point p(static_cast<int>(boll.centroid.x), static_cast<int>(boll.centroid.y));
+    if (p.x < 0 || p.y < 0 || p.x >= exclude.cols || p.y >= exclude.rows || exclude.at<uint8_t>(p) == 0)
+      kept.push_back(boll);
+  }
+  return kept;
 }
 
 DarknetBollDetector::DarknetBollDetector(const DarknetParams& params) : params_(params) {
@@ -75,36 +104,16 @@ DarknetBollDetector::DarknetBollDetector(const DarknetParams& params) : params_(
   output_names_ = net_.getUnconnectedOutLayersNames();
 }
 
-cv::Mat DarknetBollDetector::makeInput(const cv::Mat& bgr) const {
-  const cv::Size input_size(params_.input_width, params_.input_height);
-  cv::Mat sized;
-  if (params_.resize == InputResize::kNone) {
-    // Darknet pads with mid grey; the image keeps its pixels (cropped where larger than the input).
-    sized = cv::Mat(input_size, CV_8UC3, cv::Scalar(127, 127, 127));
-    const cv::Rect region(0, 0, std::min(bgr.cols, input_size.width), std::min(bgr.rows, input_size.height));
-    bgr(region).copyTo(sized(region));
-  } else {
-    const int interpolation = params_.resize == InputResize::kNearest ? cv::INTER_NEAREST : cv::INTER_LINEAR;
-    cv::resize(bgr, sized, input_size, 0.0, 0.0, interpolation);
-  }
-  return cv::dnn::blobFromImage(sized, 1.0 / 255.0, input_size, cv::Scalar(), params_.swap_rb, false);
-}
-
 std::vector<BollDetection> DarknetBollDetector::detect(const cv::Mat& bgr, const cv::Mat& exclude) {
   outputs_.clear();
   if (bgr.empty() || bgr.type() != CV_8UC3) return {};
-  net_.setInput(makeInput(bgr));
+  const cv::Size input_size(params_.input_width, params_.input_height);
+  net_.setInput(netInputBlob(bgr, input_size, params_.resize, params_.swap_rb));
   net_.forward(outputs_, output_names_);
   std::vector<BollDetection> bolls =
       decodeYoloOutputs(outputs_, inputTransform(bgr.size(), params_), bgr.size(), params_.decode);
-  if (exclude.empty() || exclude.size() != bgr.size() || exclude.type() != CV_8U) return bolls;
-  std::vector<BollDetection> kept;
-  for (const BollDetection& boll : bolls) {
-    const cv::Point p(static_cast<int>(boll.centroid.x), static_cast<int>(boll.centroid.y));
-    if (p.x < 0 || p.y < 0 || p.x >= exclude.cols || p.y >= exclude.rows || exclude.at<uint8_t>(p) == 0)
-      kept.push_back(boll);
-  }
-  return kept;
+  if (exclude.size() != bgr.size()) return bolls;
+  return withoutExcluded(std::move(bolls), exclude);
 }
 
 }  // namespace perception

@@ -40,6 +40,15 @@ std::string validate(const DarknetParams& params);
 
 /// Computes the network input blob layout for an image: how the image is placed and how to map back.
 NetInputTransform inputTransform(const cv::Size& image_size, const DarknetParams& params);
+/// As above for any network of this input size and resize (DarknetBollDetector, NetworkBollDetector).
+NetInputTransform inputTransform(const cv::Size& image_size, const cv::Size& input_size, InputResize resize);
+
+/// The network input blob (1x3xHxW, values / 255) of an 8-bit colour image: resized to input_size, or with kNone
+/// placed top-left without interpolation and padded mid grey (cropped where larger).
+cv::Mat netInputBlob(const cv::Mat& bgr, const cv::Size& input_size, InputResize resize, bool swap_rb);
+
+/// The detections whose centre is not on the exclusion mask (CV_8U of the image's size; empty: all kept).
+std::vector<BollDetection> withoutExcluded(std::vector<BollDetection> bolls, const cv::Mat& exclude);
 
 /// Tiny YOLOv3 through OpenCV's DNN module: loads the Darknet cfg + weights, runs the network on each frame and
 /// decodes the yolo layers into bolls. Detections whose centre falls on the exclusion mask are dropped.
@@ -55,8 +64,6 @@ class DarknetBollDetector : public BollDetector {
   const std::vector<cv::Mat>& lastOutputs() const { return outputs_; }
 
  private:
-  cv::Mat makeInput(const cv::Mat& bgr) const;
-
   DarknetParams params_;
   cv::dnn::Net net_;
   std::vector<std::string> output_names_;
