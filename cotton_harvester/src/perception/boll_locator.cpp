@@ -39,6 +39,18 @@ double median(std::vector<double>& values) {
   return m;
 }
 
+/// The depth of a region facing the camera from the valid depths of `samples` pixels under its mask (see
+/// locateRegion): their median while most pixels carry depth; when most do not (a uniform or saturated face that
+/// the stereo matcher cannot match), the median of the nearest quarter, since what is left are the face's rim and
+/// the sides below it, which lie deeper than the face.
+double regionDepth(std::vector<double>& depths, int samples) {
+  if (2 * depths.size() >= static_cast<size_t>(samples)) return median(depths);
+  const size_t quarter = std::max<size_t>(1, depths.size() / 4);
+  std::nth_element(depths.begin(), depths.begin() + quarter, depths.end());
+  depths.resize(quarter);
+  return median(depths);
+}
+
 /// A valid cloud point under a boll's outline: its pixel and its range [m].
 struct SurfaceSample {
   cv::Vec3d ray;  ///< unit viewing ray of its pixel
@@ -223,19 +235,22 @@ std::optional<LocatedPoint> locateRegion(const cv::Mat& cloud, const cv::Mat& ma
   // axis is used, so that a region facing the camera gets one depth wherever its points lie in the image.
   const int stride = std::max(1, static_cast<int>(std::sqrt(box.area() / 4000.0)));
   std::vector<double> depths;
+  int samples = 0;
   for (int row = box.y; row < box.y + box.height; row += stride) {
     const uint8_t* inside = mask.ptr<uint8_t>(row);
     const cv::Vec3f* points = cloud.ptr<cv::Vec3f>(row);
     for (int col = box.x; col < box.x + box.width; col += stride) {
-      if (inside[col] && pointRange(points[col]) > 0.0 && points[col][2] > 0.0f) depths.push_back(points[col][2]);
+      if (!inside[col]) continue;
+      ++samples;
+      if (pointRange(points[col]) > 0.0 && points[col][2] > 0.0f) depths.push_back(points[col][2]);
     }
   }
   if (static_cast<int>(depths.size()) < params.min_valid_points) return std::nullopt;
-  // The range (eq. 6) at `pixel` of a point at the median depth.
+  // The range (eq. 6) at `pixel` of a point at the region's depth.
   const double ray_x = (pixel.x - intrinsics.cx) / intrinsics.fx, ray_y = (pixel.y - intrinsics.cy) / intrinsics.fy;
   LocatedPoint located;
   located.valid_points = static_cast<int>(depths.size());
-  located.range_m = median(depths) * std::sqrt(ray_x * ray_x + ray_y * ray_y + 1.0);
+  located.range_m = regionDepth(depths, samples) * std::sqrt(ray_x * ray_x + ray_y * ray_y + 1.0);
   located.position = backProject(intrinsics, pixel, located.range_m, params.depth_model);
   return located;
 }

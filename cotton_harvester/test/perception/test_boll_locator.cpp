@@ -114,6 +114,34 @@ TEST(BollLocator, RejectsBadParameters) {
   EXPECT_NE(validate(r).find("max_depth_m"), std::string::npos);
 }
 
+TEST(BollLocator, RegionWhoseFaceHasNoDepthIsLocatedFromItsNearestPoints) {
+  // The housing's top face (60 x 60 px at 1.6 m) seen by a passive-stereo camera: no match on the uniform face but
+  // along its rim (3 px); its side, a strip of 6 px, descends 8 cm from the face's edge.
+  const CameraIntrinsics k;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const cv::Mat plane = planeCloud(1.6);
+  cv::Mat cloud(720, 1280, CV_32FC3, cv::Scalar(nan, nan, nan));
+  cv::Mat mask(720, 1280, CV_8U, cv::Scalar(0));
+  const cv::Rect face(600, 300, 60, 60), side(660, 300, 6, 60);
+  mask(face | side).setTo(255);
+  plane(face).copyTo(cloud(face));
+  cloud(cv::Rect(603, 303, 54, 54)).setTo(cv::Scalar(nan, nan, nan));
+  for (int u = side.x; u < side.x + side.width; ++u)
+    for (int v = side.y; v < side.y + side.height; ++v) {
+      const double z = 1.6 + 0.08 * (u - side.x + 0.5) / side.width;
+      cloud.at<cv::Vec3f>(v, u) = {float((u - k.cx) / k.fx * z), float((v - k.cy) / k.fy * z), float(z)};
+    }
+  const auto rim_and_side = locateRegion(cloud, mask, {630.0, 330.0}, k, LocatorParams{});
+  ASSERT_TRUE(rim_and_side.has_value());
+  EXPECT_NEAR(rim_and_side->position.z, 1.6, 2e-3);
+  // Saturated in sun: the face's rim gives no depth either; its nearest points are the side's top.
+  cloud(face).setTo(cv::Scalar(nan, nan, nan));
+  const auto side_only = locateRegion(cloud, mask, {630.0, 330.0}, k, LocatorParams{});
+  ASSERT_TRUE(side_only.has_value());
+  EXPECT_NEAR(side_only->position.z, 1.6, 0.015);
+  EXPECT_GT(side_only->position.z, 1.6);
+}
+
 TEST(BollLocator, RegionDepthIsTheMedianUnderItsMask) {
   const CameraIntrinsics k;
   cv::Mat cloud = planeCloud(1.6);

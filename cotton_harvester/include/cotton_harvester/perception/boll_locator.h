@@ -54,6 +54,9 @@ std::optional<LocatedPoint> locate(const cv::Mat& cloud, const cv::Point2d& pixe
 /// Locates a segmented region (the end-effector): its depth is the median depth (z) of the valid cloud points
 /// under the mask (non-zero pixels, CV_8U, the cloud's size), so a leaf over part of the region does not lend it
 /// its depth; the range at `pixel` of a point at that depth then goes through the depth model as in locate().
+/// When fewer than half the mask's pixels carry depth (a passive-stereo camera finds no match on a uniform or
+/// saturated face: the housing's top in sun), what carries depth is the face's rim and the sides below it, which lie
+/// deeper than the face: the depth is then the median of the nearest quarter of the valid depths.
 /// std::nullopt when the mask holds fewer than min_valid_points valid points or does not fit the cloud.
 std::optional<LocatedPoint> locateRegion(const cv::Mat& cloud, const cv::Mat& mask, const cv::Point2d& pixel,
                                          const CameraIntrinsics& intrinsics, const LocatorParams& params);
