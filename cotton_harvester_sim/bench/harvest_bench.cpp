@@ -11,6 +11,7 @@
 //                                          [--realism ideal|datasheet] [--realism-frames FILE]
 //                                          [--debug-image FILE] [--verbose] [--no-leaf-clearing] [--ee-whole-image]
 //                                          [--no-leaf-push] [--no-partial-bolls]
+//                                          [--datasheet-off stereo daylight shadows housing-walls knock-off hood stems]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -19,6 +20,7 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <thorvald_common/bench_statistics.h>
 #include <thorvald_common/command_line.h>
 
 #include "cotton_harvester_sim/harvest_run.h"
@@ -56,6 +58,7 @@ struct Totals {
   std::map<std::string, int> state_entries;
   int frames = 0, ee_found = 0, ee_rejected = 0, ee_fallback = 0;
   int knocked_off = 0;
+  std::vector<double> boll_depth_errors_m, boll_errors_m, effector_depth_errors_m;
   int picks_cleared = 0, picks_redetected = 0, leaves_pushed = 0, leaf_searches = 0, leaf_sweeps = 0;
   void add(const sim::HarvestRunReport& r) {
     ++runs;
@@ -76,6 +79,10 @@ struct Totals {
     picks_redetected += r.picks_redetected;
     leaves_pushed += r.leaves_pushed;
     knocked_off += r.bolls_knocked_off;
+    for (auto [to, from] : {std::make_pair(&boll_depth_errors_m, &r.boll_depth_errors_m),
+                            std::make_pair(&boll_errors_m, &r.boll_errors_m),
+                            std::make_pair(&effector_depth_errors_m, &r.effector_depth_errors_m)})
+      to->insert(to->end(), from->begin(), from->end());
     leaf_searches += r.leaf_searches;
     leaf_sweeps += r.leaf_sweeps;
     counts.bolls_present += r.bolls_present;
@@ -118,6 +125,16 @@ void printTimes(const Totals& t) {
       "leaves: picks that swept leaves aside first %d, of them re-located by a new frame %d; places searched under "
       "the leaves %d, sweeps there %d; leaves pushed %d; bolls knocked off %d\n",
       t.picks_cleared, t.picks_redetected, t.leaf_searches, t.leaf_sweeps, t.leaves_pushed, t.knocked_off);
+  // Perception against the truth: median and 10th / 90th percentiles [cm].
+  const auto spread = [](const char* what, const std::vector<double>& e) {
+    std::printf("  %s: %zu, median %.1f cm (p10 %.1f, p90 %.1f)\n", what, e.size(),
+                100.0 * thorvald_common::percentile(e, 0.5), 100.0 * thorvald_common::percentile(e, 0.1),
+                100.0 * thorvald_common::percentile(e, 0.9));
+  };
+  std::printf("perception against the truth, per frame:\n");
+  spread("matched detections' depth minus the boll's true top", t.boll_depth_errors_m);
+  spread("matched detections' 3D distance from the boll's true top", t.boll_errors_m);
+  spread("end-effector's measured depth minus its true top face", t.effector_depth_errors_m);
   std::fflush(stdout);
 }
 
@@ -130,7 +147,8 @@ bool ee_near_arm = true;
 bool leaf_push = true;
 bool partial_bolls = true;
 bool search_leaves = true;
-thorvald_sim::Realism realism = thorvald_sim::Realism::kIdeal;
+thorvald_sim::Realism realism = thorvald_sim::Realism::kDatasheet;
+sim::DatasheetParts datasheet_parts;
 
 control::HarvestMetrics experiment(const char* title, bool field, int runs, unsigned seed, Totals* totals,
                                    const std::string& png, const std::string& debug_image) {
@@ -143,6 +161,7 @@ control::HarvestMetrics experiment(const char* title, bool field, int runs, unsi
       config.machine.row_length_m = 1.6 + 0.3 * potted_plants - 0.3;
     }
     config.sim.realism = realism;
+    config.sim.parts = datasheet_parts;
     if (i == 0) config.debug_image_path = debug_image;
     config.verbose = verbose;
     config.machine.actions.clear_leaves_before_pick = clear_leaves;
@@ -205,12 +224,20 @@ int main(int argc, char** argv) {
   app.add_option("--debug-image", debug_image, "camera frame of the first potted run with its detections");
   app.add_option("--potted-plants", potted_plants, "plants of the potted row (the paper: 6)")->check(CLI::Range(1, 60));
   app.add_option("--frames-dir", frames_dir, "write every frame of the first potted run with its detections here");
-  std::string realism_name = "ideal", realism_frames;
-  app.add_option("--realism", realism_name, "the cotton world and camera: ideal (today's) or datasheet")
+  std::string realism_name = "datasheet", realism_frames;
+  app.add_option(
+         "--realism", realism_name,
+         "the cotton world and camera: datasheet (the default) or ideal (flat-coloured plants, small depth noise)")
       ->check(CLI::IsMember({"ideal", "datasheet"}));
   app.add_option("--realism-frames", realism_frames,
                  "write the potted row's camera frame in ideal and datasheet side by side (colour over depth) as PNG "
                  "and end");
+  std::vector<std::string> parts_off;
+  app.add_option("--datasheet-off", parts_off,
+                 "datasheet parts to switch off (to measure each one's cost): stereo, daylight, shadows, "
+                 "housing-walls, knock-off, hood (the housing a solid box), stems (the housing passes through stems "
+                 "and branches)")
+      ->check(CLI::IsMember({"stereo", "daylight", "shadows", "housing-walls", "knock-off", "hood", "stems"}));
   app.add_flag("--verbose", verbose, "print the state machine's transitions");
   bool no_clear = false, ee_whole = false, no_push = false, no_partial = false, no_search = false;
   app.add_flag("--no-leaf-search", no_search, "pass on without looking under the leaves (field-like runs)");
@@ -225,6 +252,15 @@ int main(int argc, char** argv) {
   partial_bolls = !no_partial;
   search_leaves = !no_search;
   realism = *thorvald_sim::realismFromName(realism_name);
+  for (const std::string& part : parts_off) {
+    if (part == "stereo") datasheet_parts.passive_stereo = false;
+    if (part == "daylight") datasheet_parts.daylight = false;
+    if (part == "shadows") datasheet_parts.shadows = false;
+    if (part == "housing-walls") datasheet_parts.housing_meets_bolls = false;
+    if (part == "knock-off") datasheet_parts.knock_off = false;
+    if (part == "hood") datasheet_parts.hood_housing = false;
+    if (part == "stems") datasheet_parts.housing_meets_stems = false;
+  }
   if (!realism_frames.empty()) {
     const bool ok = sim::writeRealismFrames(sim::pottedConfig(seed).sim, realism_frames);
     std::printf(ok ? "wrote %s\n" : "could not write %s\n", realism_frames.c_str());

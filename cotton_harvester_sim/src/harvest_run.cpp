@@ -22,7 +22,12 @@ namespace {
 /// The scorer's view of one camera frame: which bolls were in view, how visible, and which detection was which
 /// boll (the nearest true visible top within the tracker's match radius), in the tracker's row coordinates.
 void scoreFrame(const RoverSim& sim, const perception::FrameResult& result, double rover_position_m,
-                double y_forward_sign, double match_radius_m, std::vector<BollRecord>* records) {
+                double y_forward_sign, double match_radius_m, HarvestRunReport* report) {
+  std::vector<BollRecord>* records = &report->boll_records;
+  if (result.end_effector) {
+    const double top = sim.toCamera(sim.nozzlePosition()).z() - 0.5 * sim.params().geometry.effector_height_m;
+    report->effector_depth_errors_m.push_back(result.end_effector->position.z - top);
+  }
   const double radius = sim.params().row.boll_radius_m;
   const auto& bolls = sim.bolls();
   for (size_t i = 0; i < bolls.size(); ++i) {
@@ -47,6 +52,10 @@ void scoreFrame(const RoverSim& sim, const perception::FrameResult& result, doub
     }
     if (best_i == bolls.size() || detected[best_i]) continue;
     detected[best_i] = true;
+    const Eigen::Vector3d c = sim.toCamera(bolls[best_i].centre);
+    const Eigen::Vector3d top = c - radius * c.normalized();
+    report->boll_depth_errors_m.push_back(p.z() - top.z());
+    report->boll_errors_m.push_back(best);
     BollRecord& r = (*records)[best_i];
     ++r.frames_detected;
     if (d.reachable) ++r.frames_detected_reachable;
@@ -240,8 +249,7 @@ void harvest(const HarvestRunConfig& config, HarvestRunReport* report) {
   const std::vector<bool> reachable = startBollRecords(sim, mp.row_length_m, report);
   plant.setFrameHook([&](const cv::Mat& bgr, const perception::FrameResult& result) {
     if (sim.time() - t0 > config.time_limit_s) machine.machine().requestPreempt();
-    scoreFrame(sim, result, plant.roverPositionM(), mp.decision.y_forward_sign, mp.tracker.match_radius_m,
-               &report->boll_records);
+    scoreFrame(sim, result, plant.roverPositionM(), mp.decision.y_forward_sign, mp.tracker.match_radius_m, report);
     writeFrameImages(config, plant.frames(), bgr, result, &debug_written);
   });
   report->rover_start = sim.roverPosition();

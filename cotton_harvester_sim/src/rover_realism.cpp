@@ -2,6 +2,7 @@
 // springs, springy leaves), the day's light on the camera image and the ZED's passive-stereo depth.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "cotton_harvester_sim/rover_sim.h"
@@ -11,20 +12,7 @@ namespace sim {
 
 namespace {
 
-bool startsWith(const std::string& s, const char* prefix) { return s.rfind(prefix, 0) == 0; }
-
 bool contains(const std::string& s, const char* part) { return s.find(part) != std::string::npos; }
-
-/// Texture amplitude of a geom of the datasheet row by its name: soil and clods strongly textured, plants less,
-/// the rover's painted and anodised parts not at all (uniform: the passive-stereo camera finds no match there).
-float textureOf(const std::string& name) {
-  if (name == "ground" || startsWith(name, "clod")) return 0.35f;
-  if (!startsWith(name, "plant") && !startsWith(name, "weed")) return 0.0f;
-  if (contains(name, "_bract") || contains(name, "_burr") || contains(name, "_dry")) return 0.25f;
-  if (contains(name, "_leaf") || startsWith(name, "weed")) return 0.18f;
-  if (contains(name, "_boll")) return 0.12f;  // lobes and core: fluffy fibre
-  return 0.1f;                                // stems, branches, pots
-}
 
 }  // namespace
 
@@ -33,7 +21,7 @@ void RoverSim::setupDatasheet() {
   texture_.assign(m->ngeom, 0.0f);
   for (int g = 0; g < m->ngeom; ++g) {
     const char* name = mj_id2name(m, mjOBJ_GEOM, g);
-    if (name) texture_[g] = textureOf(name);
+    if (name) texture_[g] = thorvald_sim::cottonGeomTexture(name);
   }
   for (BollTruth& b : bolls_) {
     b.body = m->geom_bodyid[b.geom];
@@ -55,7 +43,8 @@ void RoverSim::setVacuum(bool on) { vacuum_ = on; }
 
 void RoverSim::updateBollBodies() {
   mjModel* m = model_.get();
-  const double limit = params_.row.realism.boll_break_force;
+  const double limit =
+      params_.parts.knock_off ? params_.row.realism.boll_break_force : std::numeric_limits<double>::infinity();
   for (BollTruth& b : bolls_) {
     if (b.body < 0 || b.captured) continue;
     b.centre = Eigen::Map<const Eigen::Vector3d>(data_->xpos + 3 * b.body);
@@ -101,9 +90,16 @@ void RoverSim::datasheetCamera(const thorvald_sim::RenderedView& view, const tho
   const double to_ground =
       ahead.z() < -1e-3 ? (pose.origin.z() - row_truth_.plant_bases.front().z()) / -ahead.z() : 2.0;
   const Eigen::Vector3d centre = pose.origin + to_ground * ahead;
+  const bool shadows = params_.parts.shadows && daylight_.sunny;
   const thorvald_sim::ShadowMap shadow =
-      thorvald_sim::renderShadowMap(renderer_.get(), data_.get(), daylight_, centre, 2.1, 720, rear_body_);
-  thorvald_sim::shadeDaylight(view, pose, k, daylight_, &shadow, texture_, rgb);
+      shadows ? thorvald_sim::renderShadowMap(renderer_.get(), data_.get(), daylight_, centre, 2.1, 720, rear_body_)
+              : thorvald_sim::ShadowMap();
+  if (params_.parts.daylight)
+    thorvald_sim::shadeDaylight(view, pose, k, daylight_, shadows ? &shadow : nullptr, texture_, rgb);
+  if (!params_.parts.passive_stereo) {
+    depth_z->clear();  // the caller measures ideal's active-stereo depth instead
+    return;
+  }
   true_depth_.resize(view.depth_m.size());
   for (size_t i = 0; i < view.depth_m.size(); ++i) {
     const float z = view.depth_m[i];

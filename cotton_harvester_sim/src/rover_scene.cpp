@@ -148,28 +148,37 @@ class SceneWriter {
        << "</actuator>\n</mujoco>\n";
   }
 
-  /// The housing meets the datasheet plants (stems, leaves, bolls); in ideal nothing.
-  /// (its conaffinity and, in datasheet, stiff contacts: a stem does not let it sink in).
+  /// The housing meets the datasheet plants; in ideal nothing. As a solid box (parts.hood_housing off) it meets
+  /// leaves, stems and branches with its whole volume (stiff contacts: a stem does not let it sink in); as a hood
+  /// (on) its box meets leaves only and its walls meet stems and branches, so a branch passes into its open mouth.
   std::string housingContact() const {
     if (p_.realism != thorvald_sim::Realism::kDatasheet) return "0";
-    return std::to_string(thorvald_sim::kPlantContype | thorvald_sim::kStemContype) +
-           "\" solref=\"0.004 1\" solimp=\"0.95 0.99 0.001";
+    const int stems = p_.parts.hood_housing || !p_.parts.housing_meets_stems ? 0 : thorvald_sim::kStemContype;
+    return std::to_string(thorvald_sim::kPlantContype | stems) + "\" solref=\"0.004 1\" solimp=\"0.95 0.99 0.001";
   }
 
-  /// Datasheet: the housing's four side walls (invisible, 5 mm thick) meet the bolls; its open mouth below does not,
-  /// so a boll the nozzle comes down onto goes in while one the housing sweeps into from the side is pushed.
+  /// Datasheet: the housing's walls (invisible, 5 mm thick) meet the bolls (parts.housing_meets_bolls); its open
+  /// mouth below does not, so a boll the nozzle comes down onto goes in while one the housing sweeps into is pushed.
+  /// As a hood (parts.hood_housing) the housing is also open towards the boll, the way the arm extends to pick (the
+  /// sideways pick of the paper, which takes bolls on the real rover, needs that intake), and its three walls meet
+  /// stems and branches too.
   std::string housingWalls() const {
     if (p_.realism != thorvald_sim::Realism::kDatasheet) return "";
+    const bool hood = p_.parts.hood_housing;
+    const int bolls = p_.parts.housing_meets_bolls ? thorvald_sim::kBollContype : 0;
+    const int affinity = bolls | (hood && p_.parts.housing_meets_stems ? thorvald_sim::kStemContype : 0);
+    if (affinity == 0) return "";
     const double e = g_.effector_half_m, h = 0.5 * g_.effector_height_m, t = 0.0025;
     std::ostringstream w;
     w.precision(9);
     for (int k = 0; k < 4; ++k) {
+      if (hood && k == 2) continue;  // the intake: the wall on the side the arm extends towards (+y, camera x)
       const bool along_x = k < 2;
       const double s = (k % 2 == 0 ? 1.0 : -1.0) * (e - t);
       w << "     <geom name=\"end_effector_wall" << k << "\" type=\"box\" pos=\""
         << (along_x ? vec3(s, 0, -h) : vec3(0, s, -h)) << "\" size=\"" << (along_x ? vec3(t, e, h) : vec3(e, t, h))
-        << "\" mass=\"0.01\" contype=\"0\" conaffinity=\"" << thorvald_sim::kBollContype
-        << "\" rgba=\"1 0.45 0.05 0\"/>\n";
+        << "\" mass=\"0.01\" contype=\"0\" conaffinity=\"" << affinity
+        << (hood ? "\" solref=\"0.004 1\" solimp=\"0.95 0.99 0.001" : "") << "\" rgba=\"1 0.45 0.05 0\"/>\n";
     }
     return w.str();
   }

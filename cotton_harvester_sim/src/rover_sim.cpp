@@ -212,9 +212,9 @@ void RoverSim::renderCamera(cv::Mat* bgr, cv::Mat* cloud) {
   renderer_->render(data_.get(), pose, view, -1, &rendered);
   thorvald_sim::DepthImage points;
   thorvald_sim::ColorImage rgb = thorvald_sim::colorFromView(rendered, m, colour);
-  if (params_.row.datasheet) {
-    std::vector<float> z;
-    datasheetCamera(rendered, pose, thorvald_sim::intrinsics(depth), &rgb, &z);
+  std::vector<float> z;
+  if (params_.row.datasheet) datasheetCamera(rendered, pose, thorvald_sim::intrinsics(depth), &rgb, &z);
+  if (!z.empty()) {
     points.width = depth.width;
     points.height = depth.height;
     points.points.resize(z.size());

@@ -151,4 +151,15 @@ void shadeDaylight(const RenderedView& view, const SensorPose& pose, const Intri
   }
 }
 
+float cottonGeomTexture(const std::string& name) {
+  const auto starts = [&name](const char* prefix) { return name.rfind(prefix, 0) == 0; };
+  const auto has = [&name](const char* part) { return name.find(part) != std::string::npos; };
+  if (name == "ground" || starts("clod")) return 0.35f;
+  if (!starts("plant") && !starts("weed")) return 0.0f;
+  if (has("_bract") || has("_burr") || has("_dry")) return 0.25f;
+  if (has("_leaf") || starts("weed")) return 0.18f;
+  if (has("_boll")) return 0.12f;  // lobes and core: fluffy fibre
+  return 0.1f;                     // stems, branches, pots
+}
+
 }  // namespace thorvald_sim

@@ -61,6 +61,9 @@ struct HarvestRunReport {
   /// Simulated time spent in each state of the machine [s] and how often it was entered.
   std::map<std::string, double> state_time_s;
   std::map<std::string, int> state_entries;
+  /// Perception against the truth, per frame: each matched detection's position minus its boll's true top, signed
+  /// depth (z) and 3D distance [m]; the end-effector's measured depth minus its housing's true top face [m].
+  std::vector<double> boll_depth_errors_m, boll_errors_m, effector_depth_errors_m;
   std::string error;  ///< set when the run could not be done (model, renderer)
 };
 

@@ -42,6 +42,20 @@ struct RoverGeometry {
   std::string check() const;  ///< empty when sound
 };
 
+/// The `datasheet` parts that can be switched off one at a time to measure what each costs the harvest (all on:
+/// the datasheet profile). Ignored in `ideal`.
+struct DatasheetParts {
+  bool passive_stereo = true;       ///< the ZED's passive-stereo depth; off: ideal's active-stereo depth
+  bool daylight = true;             ///< shading, texture and exposure of the day; off: flat colours (and no shadows)
+  bool shadows = true;              ///< the sun's hard shadows (sunny days)
+  bool housing_meets_bolls = true;  ///< the housing's side walls push bolls; off: they pass through them
+  bool knock_off = true;            ///< a boll's springs break over the break force; off: they never do
+  /// The housing is a hood, open below and towards the boll (the arm's extension), that meets stems and branches
+  /// with its walls; off: a solid box that meets them with its whole volume and bolls with all four side walls.
+  bool hood_housing = true;
+  bool housing_meets_stems = true;  ///< the housing stops at stems and branches; off: it passes through them
+};
+
 /// The simulator's figures: physics, the actuators' speeds and the vacuum. None of these is known to the harvest
 /// stack; it only sees the encoder, the potentiometer, the stepper counters and the camera.
 struct RoverSimParams {
@@ -72,6 +86,7 @@ struct RoverSimParams {
   thorvald_sim::Realism realism = thorvald_sim::Realism::kIdeal;
   thorvald_sim::PassiveStereoModel stereo;  ///< datasheet: the ZED (120 mm baseline)
   double stepper_force_n = 1500.0;          ///< datasheet: the arm's axes push no harder than this [N]
+  DatasheetParts parts;                     ///< datasheet: which of its parts are on (all by default)
   std::string check() const;                ///< empty when sound
 };
 

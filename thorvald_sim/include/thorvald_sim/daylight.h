@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "thorvald_sim/camera_renderer.h"
@@ -59,5 +60,10 @@ void shadeDaylight(const RenderedView& view, const SensorPose& pose, const Intri
 
 /// Smooth value noise in [-1, 1] on a 3-D lattice of `cell_m` [m], seeded by the lattice only (deterministic).
 double valueNoise(const Eigen::Vector3d& p, double cell_m);
+
+/// Texture amplitude of a geom of the datasheet cotton row (makeCottonRowWorld) for shadeDaylight, by its name: soil
+/// and clods strongly textured, plants less, anything else (a robot's painted or anodised parts) not at all: uniform,
+/// so a passive-stereo camera finds no match there.
+float cottonGeomTexture(const std::string& geom_name);
 
 }  // namespace thorvald_sim
