@@ -9,6 +9,12 @@ double lidarSigma(const LidarModel& m, double range_m) {
   return range_m <= m.near_limit_m ? m.sigma_near_m : m.sigma_far_m;
 }
 
+bool lidarReturns(const LidarModel& m, double range_m, double incidence_rad) {
+  if (range_m < 0.0 || incidence_rad > m.max_incidence_rad) return false;
+  const double r = range_m / m.white_range_m;
+  return m.reflectance * std::cos(incidence_rad) >= r * r;
+}
+
 std::vector<float> applyLidarModel(const std::vector<LidarBeam>& beams, double range_min_m, double range_max_m,
                                    const LidarModel& m, std::mt19937& rng) {
   const size_t n = beams.size();
@@ -17,7 +23,7 @@ std::vector<float> applyLidarModel(const std::vector<LidarBeam>& beams, double r
   std::vector<double> range(n, -1.0);
   for (size_t i = 0; i < n; ++i) {
     const LidarBeam& b = beams[i];
-    if (b.range_m < 0.0 || b.incidence_rad > m.max_incidence_rad) continue;
+    if (!lidarReturns(m, b.range_m, b.incidence_rad)) continue;
     if (m.dropout > 0.0 && uni(rng) < m.dropout) continue;
     range[i] = b.range_m;
   }

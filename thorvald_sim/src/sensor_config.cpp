@@ -129,9 +129,11 @@ void readDatasheet(const YAML::Node& n, Reader& r, SensorConfig& c) {
                      {"dropout", 0, 1},
                      {"edge_jump", 0, 100},
                      {"mixed_probability", 0, 1},
-                     {"sweep_time", 0, 1}},
+                     {"sweep_time", 0, 1},
+                     {"white_range", 0.1, 1000},
+                     {"reflectance", 0, 10}},
                     {&m.sigma_near_m, &m.sigma_far_m, &m.near_limit_m, &m.max_incidence_rad, &m.dropout, &m.edge_jump_m,
-                     &m.mixed_probability, &m.sweep_s});
+                     &m.mixed_probability, &m.sweep_s, &m.white_range_m, &m.reflectance});
       break;
     }
     case SensorType::kUltrasonic: {

@@ -71,6 +71,26 @@ TEST(LidarModel, DropoutsAndGlancingBeamsReturnNothing) {
   EXPECT_TRUE(std::isinf(glancing[1]));
 }
 
+TEST(LidarModel, GlancingReturnsLostByRangeAsTheirPowerFalls) {
+  // A matte surface returns while reflectance cos(incidence) >= (range / white_range)^2: at 5, 10 and 20 m of the
+  // white sheet's 30 m the limit is acos(1/36) (capped at max_incidence), acos(1/9) and acos(4/9).
+  ts::LidarModel m;
+  m.dropout = 0.0, m.mixed_probability = 0.0, m.sigma_near_m = m.sigma_far_m = 0.0;
+  std::mt19937 rng(12);
+  for (double range : {5.0, 10.0, 20.0}) {
+    const double r = range / m.white_range_m;
+    const double limit = std::min(m.max_incidence_rad, std::acos(r * r / m.reflectance));
+    EXPECT_TRUE(ts::lidarReturns(m, range, limit - 0.01)) << range;
+    EXPECT_FALSE(ts::lidarReturns(m, range, limit + 0.01)) << range;
+    const auto out = ts::applyLidarModel({{range, limit - 0.01}, {range, limit + 0.01}}, 0.1, 30.0, m, rng);
+    EXPECT_TRUE(std::isfinite(out[0])) << range;
+    EXPECT_TRUE(std::isinf(out[1])) << range;
+  }
+  m.reflectance = 0.25;  // a dark surface: nothing beyond 15 m even head-on
+  EXPECT_TRUE(ts::lidarReturns(m, 14.9, 0.0));
+  EXPECT_FALSE(ts::lidarReturns(m, 15.1, 0.0));
+}
+
 TEST(LidarModel, MixedPixelOnAKnownEdge) {
   // Beams 0-9 on a post 2 m away, 10-19 on the wall 5 m behind it: the post's last beam straddles the edge.
   ts::LidarModel m = noiseOnly();

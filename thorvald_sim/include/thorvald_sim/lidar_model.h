@@ -10,10 +10,14 @@ namespace thorvald_sim {
 
 /// Range errors of the Hokuyo UTM-30LX (figures and sources: README, "Sensor models and realism").
 struct LidarModel {
-  double sigma_near_m = 0.010;     ///< range noise std dev up to near_limit_m [m] (repeatability)
-  double sigma_far_m = 0.025;      ///< range noise std dev beyond near_limit_m [m]
-  double near_limit_m = 10.0;      ///< [m]
-  double max_incidence_rad = 1.4;  ///< no return where the beam meets the surface more obliquely than this [rad]
+  double sigma_near_m = 0.010;      ///< range noise std dev up to near_limit_m [m] (repeatability)
+  double sigma_far_m = 0.025;       ///< range noise std dev beyond near_limit_m [m]
+  double near_limit_m = 10.0;       ///< [m]
+  double max_incidence_rad = 1.53;  ///< no return where the beam meets the surface more obliquely than this [rad]
+  /// Received power falls as reflectance * cos(incidence) / range^2 (a matte surface): no return where that is below
+  /// the power from a white sheet at white_range_m met head-on, reflectance * cos(incidence) < (range/white_range)^2.
+  double white_range_m = 30.0;     ///< detection range on the datasheet's white sheet at normal incidence [m]
+  double reflectance = 1.0;        ///< the surfaces' reflectance relative to that sheet
   double dropout = 0.001;          ///< probability that a beam with a target returns nothing
   double edge_jump_m = 0.10;       ///< range step between neighbouring beams taken as an edge [m]
   double mixed_probability = 0.5;  ///< probability that a beam beside an edge returns a mixed pixel
@@ -30,10 +34,14 @@ struct LidarBeam {
 /// Range noise std dev at `range_m` [m].
 double lidarSigma(const LidarModel& model, double range_m);
 
+/// Whether a beam meeting a surface at `range_m` [m] and `incidence_rad` returns (before dropouts): incidence up to
+/// max_incidence_rad and reflectance * cos(incidence) >= (range / white_range)^2.
+bool lidarReturns(const LidarModel& model, double range_m, double incidence_rad);
+
 /// The scan the device reports for the true beams: +inf where there is no return (nothing hit, out of
-/// [range_min, range_max], incidence beyond the limit, dropout). A beam whose neighbour's range differs by more than
-/// edge_jump_m straddles the edge: with mixed_probability the nearer beam of the pair returns a range between the
-/// two surfaces (uniform). Then Gaussian noise of lidarSigma.
+/// [range_min, range_max], incidence beyond max_incidence or too glancing for the range (lidarReturns), dropout). A
+/// beam whose neighbour's range differs by more than edge_jump_m straddles the edge: with mixed_probability the nearer
+/// beam of the pair returns a range between the two surfaces (uniform). Then Gaussian noise of lidarSigma.
 std::vector<float> applyLidarModel(const std::vector<LidarBeam>& beams, double range_min_m, double range_max_m,
                                    const LidarModel& model, std::mt19937& rng);
 
