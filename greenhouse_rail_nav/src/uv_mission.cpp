@@ -29,22 +29,10 @@ std::string UvMissionParams::validate() const {
   if (!(secure_wait_s > 0.0)) e << "secure_wait must be > 0 [s]; ";
   if (!(recover_reverse_max_m >= 0.0 && recover_reverse_max_m <= 5.0))
     e << "recover_reverse_max must be in [0, 5] [m]; ";
+  e << zone.validate();
+  if (!(min_lit_fraction > 0.0 && min_lit_fraction <= 1.0)) e << "min_lit_fraction must be in (0, 1]; ";
+  if (!(relight_overlap_m >= 0.0 && relight_overlap_m <= 1.0)) e << "relight_overlap must be in [0, 1] [m]; ";
   return e.str();
-}
-
-bool UvMission::Impl::holdWhileStopped(tsm::ExecutionContext& ctx) {
-  std::string why;
-  if (!io_.safetyStopped(&why)) return true;
-  stop();
-  io_.setLights(false);
-  log("paused: " + why + " (a person must clear it)");
-  while (io_.ok() && io_.safetyStopped(&why)) {
-    if (ctx.preemptRequested()) return false;
-    stop();
-    io_.waitTick();
-  }
-  log("safety stop cleared, continuing");
-  return io_.ok();
 }
 
 UvMission::Impl::Loop UvMission::Impl::runStep(const MotionStep& step, tsm::ExecutionContext& ctx,
@@ -56,12 +44,22 @@ UvMission::Impl::Loop UvMission::Impl::runStep(const MotionStep& step, tsm::Exec
     return Loop::kFailed;
   }
   motion.start(step, pose, io_.now());
+  const thorvald_base::Pose2D start = pose;
+  const bool translate = step.kind == MotionStep::Kind::kTranslate;
+  setZone(translate && step.amount < 0.0 ? ZonePhase::kReverse : ZonePhase::kHeadland);
   while (io_.ok()) {
     if (ctx.preemptRequested()) {
       stop();
       return Loop::kPreempted;
     }
+    const int pauses = report_.pauses;
     if (!holdWhileStopped(ctx)) return Loop::kPreempted;
+    if (report_.pauses != pauses && io_.odomPose(&pose)) {
+      // Held: the rest of the step from here (the motion's stall check counts from now).
+      const double done = translate ? (pose.position() - start.position()).dot(start.heading())
+                                    : thorvald_base::normalizeAngle(pose.yaw - start.yaw);
+      motion.start({step.kind, step.amount - done, step.label}, pose, io_.now());
+    }
     if (surfaceStale()) {
       stop();
       log("surface readings are stale: stopping '" + step.label + "'");
@@ -135,6 +133,8 @@ std::string UvMission::Impl::select() {
 
 std::string UvMission::Impl::navigate(tsm::ExecutionContext& ctx) {
   set_started_ = true;
+  setZone(ZonePhase::kHeadland);
+  if (!holdWhileStopped(ctx)) return tsm::kPreempted;  // a goal is sent once the zone is clear
   for (int attempt = 1; attempt <= p_.nav_attempts; ++attempt) {
     io_.sendNavGoal(current_->target_pose);
     const double deadline = io_.now() + p_.nav_timeout_s;
@@ -146,7 +146,7 @@ std::string UvMission::Impl::navigate(tsm::ExecutionContext& ctx) {
         return tsm::kPreempted;
       }
       std::string why;
-      if (io_.safetyStopped(&why)) {
+      if (mustHold(&why)) {
         io_.cancelNav();
         if (!holdWhileStopped(ctx)) return tsm::kPreempted;
         io_.sendNavGoal(current_->target_pose);

@@ -13,6 +13,18 @@ std::vector<MissionTarget> missionTargets(const RailSetFile& file) {
   return targets;
 }
 
+void setRailLengths(const std::string& path, double fallback_m, std::vector<MissionTarget>* targets) {
+  for (MissionTarget& t : *targets) t.rail_length_m = fallback_m;
+  const YAML::Node sets = YAML::LoadFile(path)["rail_sets"];
+  if (!sets || !sets.IsSequence()) return;
+  for (const auto& s : sets) {
+    if (!s["index"] || !s["length"]) continue;
+    const int index = s["index"].as<int>();
+    for (MissionTarget& t : *targets)
+      if (t.index == index) t.rail_length_m = s["length"].as<double>();
+  }
+}
+
 std::set<int> loadProgress(const std::string& path) {
   std::set<int> done;
   if (path.empty()) return done;
@@ -39,11 +51,12 @@ void saveProgress(const std::string& path, const std::set<int>& done) {
 std::string reportCsv(const std::vector<RailSetReport>& reports) {
   std::ostringstream o;
   o << "rail_set,treated,result,align_attempts,entry_attempts,searches,rail_length_m,lights_on_s,speed_mean_mps,"
-       "speed_std_mps,duration_s\n";
+       "speed_std_mps,duration_s,lit_pct,pauses\n";
   for (const auto& r : reports)
     o << r.index << "," << (r.treated ? 1 : 0) << ",\"" << r.result << "\"," << r.align_attempts << ","
       << r.entry_attempts << "," << r.searches << "," << r.rail_length_m << "," << r.lights_on_s << ","
-      << r.speed_mean_mps << "," << r.speed_std_mps << "," << r.duration_s << "\n";
+      << r.speed_mean_mps << "," << r.speed_std_mps << "," << r.duration_s << "," << r.lit_pct << "," << r.pauses
+      << "\n";
   return o.str();
 }
 

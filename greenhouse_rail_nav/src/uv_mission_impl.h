@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "greenhouse_rail_nav/lit_coverage.h"
 #include "greenhouse_rail_nav/uv_mission.h"
 
 namespace greenhouse_rail_nav {
@@ -20,7 +21,7 @@ namespace tsm = thorvald_state_machine;
 class UvMission::Impl {
  public:
   Impl(UvMission& owner, MissionIO& io, const UvMissionParams& p, std::vector<MissionTarget> targets)
-      : owner_(owner), io_(io), p_(p), targets_(std::move(targets)) {}
+      : owner_(owner), io_(io), p_(p), targets_(std::move(targets)), zone_hold_(p.zone.clear_time_s) {}
 
   // Outcomes of the motion loops.
   enum class Loop { kDone, kFailed, kPreempted, kEdge };
@@ -43,8 +44,25 @@ class UvMission::Impl {
   void stop() { io_.commandTwist(0.0, 0.0); }
   /// Adds a failure to the current set's reason (a treatment stopped on the rails, then its return).
   void addReason(const std::string& r) { skip_reason_ = skip_reason_.empty() ? r : skip_reason_ + "; " + r; }
-  /// Holds the robot while a person must clear a safety stop; false when preempted meanwhile.
+  /// Holds the robot (stopped, lights off) while a person must clear a safety stop, a relay board is in doubt or the
+  /// protected zone is not clear (uv_mission_safety.cpp); false when preempted meanwhile. The caller sets the zone's
+  /// context first.
   bool holdWhileStopped(tsm::ExecutionContext& ctx);
+  /// Whether the mission must hold now, and why.
+  bool mustHold(std::string* why);
+  void setHoldReason(const std::string& why);
+  void setZone(ZonePhase phase, double row_end_m = 0.0) {
+    ZoneContext c;
+    c.phase = phase;
+    c.row_end_m = row_end_m;
+    io_.setZoneContext(c);
+  }
+  /// Distance from base_link to the current set's far end when base_link is `entered_m` past the pose entering
+  /// began at [m]; 0 when the set's length is unknown.
+  double rowEnd(double entered_m) const;
+  /// After a hold on the rails: reverse over the stretch braked through with the lights off, to the last point lit
+  /// (relight_overlap_m before it); false when that failed (why in skip_reason_) or was preempted.
+  bool backToLit(tsm::ExecutionContext& ctx, double along_m, bool* preempted);
   bool surfaceStale() {
     const SurfaceReading s = io_.surface();
     return s.stamp_s < 0.0 || io_.now() - s.stamp_s > p_.surface_timeout_s;
@@ -109,6 +127,9 @@ class UvMission::Impl {
   bool treat_complete_ = false;  // the current set's rails were driven to their end with the lights on
   double entered_m_ = 0.0;
   double driven_in_m_ = 0.0;
+  ZoneHold zone_hold_;
+  std::string zone_why_;  // what was last in the zone
+  LitCoverage lit_;       // the current set's rails lit, from where treatment began
 };
 
 }  // namespace greenhouse_rail_nav

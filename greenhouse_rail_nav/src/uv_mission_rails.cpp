@@ -33,7 +33,11 @@ std::string UvMission::Impl::enter(tsm::ExecutionContext& ctx) {
       stop();
       return tsm::kPreempted;
     }
+    setZone(ZonePhase::kRow, rowEnd(entered_m_));
+    const int pauses = report_.pauses;
     if (!holdWhileStopped(ctx)) return tsm::kPreempted;
+    if (report_.pauses != pauses && io_.odomPose(&pose))
+      motion.start({MotionStep::Kind::kTranslate, p_.enter_max_distance_m - entered_m_, "enter"}, pose, io_.now());
     if (surfaceStale() || !io_.odomPose(&pose)) {
       stop();
       log("entering: surface readings or odometry lost, backing out");
@@ -109,6 +113,9 @@ std::string UvMission::Impl::treat(tsm::ExecutionContext& ctx) {
   const thorvald_base::Pose2D rail_start = pose;
   const double lights_since = io_.now();
   CruiseSpeedMeter speed;
+  lit_ = LitCoverage();
+  setZone(ZonePhase::kRow, rowEnd(entered_m_));
+  if (!holdWhileStopped(ctx)) return tsm::kPreempted;
   io_.setLights(true);
   log("UV lights on, driving along the rails");
   const std::string outcome = driveAlongRails(ctx, rail_start, lights_since, &pose, &speed);
@@ -118,11 +125,16 @@ std::string UvMission::Impl::treat(tsm::ExecutionContext& ctx) {
   driven_in_m_ = entered_m_ + (pose.position() - rail_start.position()).dot(rail_start.heading());
   report_.rail_length_m = driven_in_m_ - entered_m_;
   speed.stats(&report_.speed_mean_mps, &report_.speed_std_mps);
-  treat_complete_ = outcome == "end_of_rail";
+  report_.lit_pct = 100.0 * lit_.fraction();
+  treat_complete_ = outcome == "end_of_rail" && lit_.fraction() >= p_.min_lit_fraction;
   std::ostringstream o;
   o << "UV lights off after " << report_.rail_length_m << " m on the rails (mean speed " << report_.speed_mean_mps
-    << " m/s)";
+    << " m/s, " << report_.lit_pct << " % lit)";
   log(o.str());
+  if (outcome == "end_of_rail" && !treat_complete_) {
+    skip_reason_ = "not every metre was lit (" + std::to_string(report_.lit_pct) + " %)";
+    return "failed";
+  }
   return outcome;
 }
 
@@ -136,14 +148,34 @@ std::string UvMission::Impl::driveAlongRails(tsm::ExecutionContext& ctx, const t
                                              double t_start, thorvald_base::Pose2D* pose, CruiseSpeedMeter* speed) {
   const double yaw_ref = rail_start.yaw;
   thorvald_base::Pose2D last = rail_start;
-  double v = 0.0, t_last = t_start;
+  double v = 0.0, t_last = t_start, along_last = 0.0;
+  bool lights = true;
   while (io_.ok()) {
     if (ctx.preemptRequested()) return tsm::kPreempted;
+    double along_now = (pose->position() - rail_start.position()).dot(rail_start.heading());
+    lit_.add(along_last, along_now, lights);
+    along_last = along_now;
     std::string why;
-    if (io_.safetyStopped(&why)) {
+    setZone(ZonePhase::kRow, rowEnd(entered_m_ + along_now));
+    if (mustHold(&why)) {
       v = 0.0;
+      lights = false;
       if (!holdWhileStopped(ctx)) return tsm::kPreempted;
+      if (io_.odomPose(pose)) {  // braked on with the lights off
+        const double a = (pose->position() - rail_start.position()).dot(rail_start.heading());
+        lit_.add(along_now, a, false);
+        along_now = a;
+      }
+      bool preempted = false;
+      if (!backToLit(ctx, along_now, &preempted)) return preempted ? tsm::kPreempted : "failed";
+      if (!io_.odomPose(pose)) continue;  // railRunFault below says so
+      along_last = (pose->position() - rail_start.position()).dot(rail_start.heading());
+      setZone(ZonePhase::kRow, rowEnd(entered_m_ + along_last));
+      if (mustHold(&why)) continue;
       io_.setLights(true);
+      lights = true;
+      last = *pose;
+      t_last = io_.now();
     }
     const std::string fault = railRunFault(pose);
     if (!fault.empty()) {
@@ -162,8 +194,10 @@ std::string UvMission::Impl::driveAlongRails(tsm::ExecutionContext& ctx, const t
       log(skip_reason_);
       return "failed";
     }
-    v = inboundSpeed(p_.rail_run, v, io_.forwardRange(), dt);
-    if (v == 0.0 && along > 0.5) break;  // the far wall says the rail ends here
+    const double end_range = io_.zone().end_range_m;
+    v = inboundSpeed(p_.rail_run, v, end_range, dt);
+    // The far wall says the rail ends here (the zone's end range agrees with the set's length).
+    if (v == 0.0 && along > 0.5 && end_range <= p_.rail_run.end_wall_range_m) break;
     io_.commandTwist(v, railSteering(yaw_ref, pose->yaw));
     io_.waitTick();
   }
@@ -181,7 +215,8 @@ UvMission::Impl::Loop UvMission::Impl::reverseToEntry(tsm::ExecutionContext& ctx
       return Loop::kPreempted;
     }
     std::string stop_why;
-    if (io_.safetyStopped(&stop_why)) {
+    setZone(ZonePhase::kReverse);
+    if (mustHold(&stop_why)) {
       v = 0.0;
       if (!holdWhileStopped(ctx)) return Loop::kPreempted;
     }

@@ -68,6 +68,7 @@ UvMission::Impl::Safety UvMission::Impl::reverseToFloor(tsm::ExecutionContext& c
     << p_.recover_reverse_max_m << " m)";
   log(l.str());
   pose = start;
+  setZone(ZonePhase::kReverse);
   while (io_.ok()) {
     if (ctx.preemptRequested()) {
       stop();

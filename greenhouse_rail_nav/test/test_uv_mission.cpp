@@ -38,6 +38,9 @@ class SimulatedGreenhouse : public grn::MissionIO {
   int failing_nav_goals = 0;                  ///< this many navigation goals (the first ones) end in failure
   grn::UvMission* preempt_mission = nullptr;  ///< preempted once the robot has driven preempt_on_rails_x onto the rails
   double preempt_on_rails_x = -1.0;
+  double person_x = 0.0, person_from = -1.0, person_to = -1.0;  ///< a person standing in set 0's row, from .. to [s]
+  int lit_ticks_with_person = 0;  ///< control ticks with the lights on and the person ahead in the row
+  double closest_to_person = std::numeric_limits<double>::infinity();  ///< [m] base_link to the person
 
   // What the tests check.
   bool wheel_past_edge = false;
@@ -112,6 +115,21 @@ class SimulatedGreenhouse : public grn::MissionIO {
   }
   void resetLocalisation(const thorvald_base::Pose2D&) override { ++localisation_resets; }
   void log(const std::string& line) override { lines.push_back(line); }
+  void setZoneContext(const grn::ZoneContext& c) override { zone_ctx_ = c; }
+  grn::ZoneVerdict zone() override {
+    // The lidar sees the person between the rails of the set the robot is on, ahead of it.
+    grn::ZoneVerdict v;
+    v.end_range_m = forwardRange();
+    if (personAhead() && zone_ctx_.phase == grn::ZonePhase::kRow) {
+      v.blocked = v.person = true;
+      v.why = "a person in the row ahead";
+      v.end_range_m = std::numeric_limits<double>::quiet_NaN();
+    }
+    return v;
+  }
+  bool personAhead() const {
+    return t_ >= person_from && t_ < person_to && std::fabs(pose_.y - sets_[0].y) < 0.3 && person_x > pose_.x;
+  }
 
   grn::Surface surfaceAt(double lx, double ly) const {
     const double c = std::cos(pose_.yaw), s = std::sin(pose_.yaw);
@@ -150,6 +168,10 @@ class SimulatedGreenhouse : public grn::MissionIO {
     }
     updateSensors();
     if (lights_on) lights_on_time += dt;
+    if (personAhead()) {
+      lit_ticks_with_person += lights_on ? 1 : 0;
+      closest_to_person = std::min(closest_to_person, person_x - pose_.x);
+    }
   }
   void updateSensors() {
     // Drive wheels at base_link +-0.2 m: the range finders at +-0.30 m beside them watch the rail wheels' line.
@@ -192,6 +214,7 @@ class SimulatedGreenhouse : public grn::MissionIO {
   double t_ = 0.0, v_ = 0.0, w_ = 0.0, v_cmd_ = 0.0, w_cmd_ = 0.0, nav_done_at_ = -1.0, last_cloud_ = -1.0;
   grn::RailObservation obs_;
   grn::SurfaceReading surface_;
+  grn::ZoneContext zone_ctx_;
 };
 
 std::vector<grn::MissionTarget> targetsFor(const std::vector<RailSetTruth>& sets, double approach_x) {
@@ -291,6 +314,8 @@ TEST(UvMission, PausesForTheBumperAndPreemptsAndResumes) {
   bool said_paused = false;
   for (const auto& l : world.lines) said_paused = said_paused || l.find("paused: bumper pressed") != std::string::npos;
   EXPECT_TRUE(said_paused);
+  if (HasFailure())
+    for (const auto& l : world.lines) std::cout << l << "\n";
 
   // A preempted run resumes at the first set not treated.
   SimulatedGreenhouse world2(sets, 11);
@@ -499,6 +524,31 @@ TEST(UvMissionRobustness, SilentRangeFindersOnTheRailsStopTheMission) {
   EXPECT_EQ(world.lastLinearCommand(), 0.0);
   EXPECT_EQ(world.nav_goals, 1);
   EXPECT_TRUE(logSays(world, "mission stopped, not safe to go on"));
+  if (HasFailure())
+    for (const auto& l : world.lines) std::cout << l << "\n";
+}
+
+TEST(UvMission, StopsShortOfAPersonInTheRowLightsOffAndTreatsTheSetAfterTheyLeave) {
+  const std::vector<RailSetTruth> sets = {{0.0}};
+  SimulatedGreenhouse world(sets, 3);
+  world.person_x = 6.0;  // steps into the row 6 m from its start while the robot treats it, stays 20 s
+  world.person_from = 25.0;
+  world.person_to = 45.0;
+  grn::UvMissionParams p;
+  auto targets = targetsFor(sets, -1.2);
+  targets[0].rail_length_m = world.rail_length;
+  grn::UvMission mission(world, p, targets);
+  EXPECT_EQ(mission.run(), "done");
+  ASSERT_EQ(mission.reports().size(), 1u);
+  const grn::RailSetReport& r = mission.reports()[0];
+  EXPECT_TRUE(r.treated) << r.result;
+  EXPECT_GE(r.pauses, 1);
+  EXPECT_GE(r.lit_pct, 99.0);
+  EXPECT_LE(world.lit_ticks_with_person, 1) << "the lights go off at the first tick the person is seen";
+  EXPECT_GT(world.closest_to_person, 0.5) << "stopped short of the person";
+  bool said = false;
+  for (const auto& l : world.lines) said = said || l.find("paused: a person in the row ahead") != std::string::npos;
+  EXPECT_TRUE(said);
   if (HasFailure())
     for (const auto& l : world.lines) std::cout << l << "\n";
 }

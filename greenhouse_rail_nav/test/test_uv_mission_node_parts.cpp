@@ -222,15 +222,17 @@ TEST(UvMissionFiles, TheReportHasAHeaderAndOneLinePerRailSet) {
   a.speed_mean_mps = 0.49;
   a.speed_std_mps = 0.01;
   a.duration_s = 120.0;
+  a.lit_pct = 100.0;
+  a.pauses = 1;
   grn::RailSetReport b;
   b.index = 4;
   b.result = "rails not found by the search";
   b.searches = 1;
   EXPECT_EQ(grn::reportCsv({a, b}),
             "rail_set,treated,result,align_attempts,entry_attempts,searches,rail_length_m,lights_on_s,speed_mean_mps,"
-            "speed_std_mps,duration_s\n"
-            "3,1,\"treated\",0,1,0,19.25,40.5,0.49,0.01,120\n"
-            "4,0,\"rails not found by the search\",0,0,1,0,0,0,0,0\n");
+            "speed_std_mps,duration_s,lit_pct,pauses\n"
+            "3,1,\"treated\",0,1,0,19.25,40.5,0.49,0.01,120,100,1\n"
+            "4,0,\"rails not found by the search\",0,0,1,0,0,0,0,0,0,0\n");
 }
 
 TEST(CruiseSpeedMeter, MeasuresOverWindowsSoTheOdometryRateDoesNotShowInTheSpread) {

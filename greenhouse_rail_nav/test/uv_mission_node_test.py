@@ -35,6 +35,16 @@ from greenhouse_rail_nav.msg import RailDetectionStatus, SurfaceState
 
 RATE_HZ = 50.0
 LAG_S = 0.1  # the base's first-order response to nav_vel [s]
+_STATIC = []  # every world's static transforms, sent together by one broadcaster (tf_static is latched)
+
+
+def publish_static(transform):
+    if not _STATIC:
+        _STATIC.append(tf2_ros.StaticTransformBroadcaster())
+    _STATIC.append(transform)
+    _STATIC[0].sendTransform(_STATIC[1:])
+
+
 RAIL_LENGTH = 2.0  # [m] along each rail set from its start on the headland edge
 WALL_GAP = 1.0  # the far wall stands this far beyond the rails' end [m]
 LIDAR_X = 0.45  # the lidar ahead of base_link [m]
@@ -99,6 +109,12 @@ class World:
         self.scan_pub = rospy.Publisher(ns + "/scan", LaserScan, queue_size=2)
         self.bumper_pub = rospy.Publisher(ns + "/bumper/lock", Bool, queue_size=5, latch=True)
         self.tf = tf2_ros.TransformBroadcaster()
+        # The lidar's mount: the mission evaluates its people and obstacle zone in base_link.
+        mount = TransformStamped()
+        mount.header.stamp = rospy.Time.now()
+        mount.header.frame_id, mount.child_frame_id = ns + "/base_link", ns + "/laser"
+        mount.transform.translation.x, mount.transform.rotation.w = LIDAR_X, 1.0
+        publish_static(mount)
         rospy.Subscriber(ns + "/nav_vel", Twist, self.on_twist, queue_size=50)
         rospy.Subscriber(ns + "/uv_lights", Bool, self.on_lights, queue_size=50)
         rospy.Subscriber(ns + "/initialpose", PoseWithCovarianceStamped, self.initial_poses.append, queue_size=5)

@@ -2,12 +2,14 @@
 
 #include <map>
 #include <memory>
+#include <mutex>
 #include <set>
 #include <string>
 #include <vector>
 
 #include <thorvald_state_machine/state_machine.h>
 
+#include "greenhouse_rail_nav/obstacle_zones.h"
 #include "greenhouse_rail_nav/odometry_motion.h"
 #include "thorvald_base/pose2d.h"
 #include "greenhouse_rail_nav/rail_alignment.h"
@@ -56,6 +58,18 @@ class MissionIO {
   /// Tells the localisation where the robot stands (the pose stored before entering the rails).
   virtual void resetLocalisation(const thorvald_base::Pose2D& map_pose) = 0;
   virtual void log(const std::string& line) = 0;
+  /// What the mission is doing, for the protected zone's shape (obstacle_zones.h); the robot evaluates each scan
+  /// against the latest context.
+  virtual void setZoneContext(const ZoneContext& /*ctx*/) {}
+  /// The protected zone at the latest scan. Without a people and obstacle detector: never blocked, and the far end's
+  /// range is forwardRange() (any return ahead is the far wall).
+  virtual ZoneVerdict zone() {
+    ZoneVerdict v;
+    v.end_range_m = forwardRange();
+    return v;
+  }
+  /// True while the lamps' relay board does not confirm its outputs (base_driver's io/<board>/state_unknown).
+  virtual bool lightsInDoubt(std::string* /*why*/) { return false; }
 };
 
 /// One rail set to treat: where to stand in front of it (map frame) and the analyzer's verdict.
@@ -64,6 +78,7 @@ struct MissionTarget {
   thorvald_base::Pose2D target_pose;  ///< map frame, facing the rails
   bool good = true;                   ///< false: the map analyzer was not sure of it; the mission skips it
   std::string note;                   ///< the analyzer's reason when not good
+  double rail_length_m = 0.0;  ///< the set's length from its rail start [m]; 0: unknown (any return ahead ends it)
 };
 
 struct UvMissionParams {
@@ -93,6 +108,14 @@ struct UvMissionParams {
   /// With rail still under the wheels after such a failure, the robot reverses at the slow speed at most this
   /// far to find the floor; beyond it the mission stops [m].
   double recover_reverse_max_m = 1.0;
+  /// People and obstacles: the protected zone, and how long it must be clear before the mission goes on.
+  ZoneParams zone;
+  /// A set counts as treated only when this share of its length was passed with the lights on (at no more than the
+  /// treatment speed: every metre got at least the dose).
+  double min_lit_fraction = 0.99;
+  /// After a stop for the zone on the rails, reverse to the last lit point before the lights go on again (the
+  /// robot brakes past it with the lights off); this much further back [m].
+  double relight_overlap_m = 0.1;
 
   std::string validate() const;
 };
@@ -110,6 +133,8 @@ struct RailSetReport {
   double speed_mean_mps = 0.0;  ///< odometry speed while the lights were on, cruise part [m/s]
   double speed_std_mps = 0.0;
   double duration_s = 0.0;  ///< from leaving for the target to being back [s]
+  double lit_pct = 0.0;     ///< share of the rails driven that was passed with the lights on [%]
+  int pauses = 0;           ///< stops for a person, an obstacle, a safety stop or a relay board in doubt
 };
 
 /// The greenhouse UV-treatment mission (greenhouse paper §V-A): for each good rail set, navigate to its target
@@ -136,6 +161,9 @@ class UvMission {
   void markDone(const std::set<int>& indices) { done_.insert(indices.begin(), indices.end()); }
   /// Why the mission stopped before its end (empty when it did not).
   const std::string& stopReason() const { return stop_reason_; }
+  /// Why the mission is holding right now (a person or obstacle in the zone, a safety stop, a relay board in
+  /// doubt); empty while it is not. Any thread.
+  std::string holdReason() const;
 
  private:
   class Impl;
@@ -144,6 +172,8 @@ class UvMission {
   std::vector<RailSetReport> reports_;
   std::set<int> done_;
   std::string stop_reason_;
+  mutable std::mutex hold_mutex_;
+  std::string hold_reason_;  // guarded by hold_mutex_
   friend class Impl;
 };
 

@@ -16,6 +16,11 @@ namespace greenhouse_rail_nav {
 /// its verdict (uncertain sets are kept, to be reported as skipped) and the analyzer's reason.
 std::vector<MissionTarget> missionTargets(const RailSetFile& file);
 
+/// Sets each target's rail length: a rail set's `length` [m] in the rail-set file at `path` (a person measured it, or
+/// a tool wrote it: the map of the headland does not show it), else `fallback_m` (0: unknown). Throws
+/// YAML::Exception on a file that is not YAML or a `length` that is not a number.
+void setRailLengths(const std::string& path, double fallback_m, std::vector<MissionTarget>* targets);
+
 /// The rail sets an earlier run treated, from the progress file at `path` (YAML, `treated: [0, 2, ...]`). Empty
 /// when `path` is empty, the file does not exist or has no `treated` list; throws YAML::Exception on a file that
 /// is not YAML or holds something other than integers there.

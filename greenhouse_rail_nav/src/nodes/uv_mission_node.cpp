@@ -2,6 +2,7 @@
 // move_base action (this workspace's headland navigator or a real move_base), reads the rail detector, the
 // surface monitor, odometry, the lidar and the bumper's lock, and drives through nav_vel (the mux).
 #include <actionlib/client/simple_action_client.h>
+#include <diagnostic_updater/diagnostic_updater.h>
 #include <geometry_msgs/PoseArray.h>
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <geometry_msgs/Twist.h>
@@ -30,6 +31,7 @@
 #include "greenhouse_rail_nav/uv_mission_files.h"
 #include "greenhouse_rail_nav/uv_mission_runner.h"
 #include "thorvald_map/ros/conversions.h"
+#include "uv_mission_params.h"
 
 namespace greenhouse_rail_nav {
 namespace {
@@ -53,13 +55,10 @@ Surface fromMsg(uint8_t s) {
 /// thread reads copies under the mutex.
 class RosMissionIO : public MissionIO {
  public:
-  struct Config {
-    std::string map_frame = "map", base_frame = "base_link";
-    double rate_hz = 50.0, odom_timeout_s = 0.5, scan_half_width_rad = 0.05;
-  };
+  using Config = MissionIoConfig;
 
   RosMissionIO(ros::NodeHandle& nh, const Config& c)
-      : cfg_(c), rate_(c.rate_hz), tf_listener_(tf_), move_base_(nh, "move_base", true) {
+      : cfg_(c), rate_(c.rate_hz), tf_listener_(tf_), move_base_(nh, "move_base", true), zones_(nh, c.zones, tf_) {
     odom_sub_ = nh.subscribe("odometry/base_raw", 5, &RosMissionIO::onOdom, this);
     rail_sub_ = nh.subscribe("rail_detection", 5, &RosMissionIO::onRail, this);
     surface_sub_ = nh.subscribe("surface_monitor/state", 5, &RosMissionIO::onSurface, this);
@@ -159,6 +158,12 @@ class RosMissionIO : public MissionIO {
     initialpose_pub_.publish(m);
   }
   void log(const std::string& line) override { ROS_INFO("uv_mission: %s", line.c_str()); }
+  void setZoneContext(const ZoneContext& ctx) override { zones_.setContext(ctx); }
+  ZoneVerdict zone() override {
+    ZoneVerdict v = zones_.verdict();
+    return v;
+  }
+  bool lightsInDoubt(std::string* why) override { return zones_.lightsInDoubt(why); }
 
  private:
   void onOdom(const nav_msgs::Odometry& m) {
@@ -213,78 +218,10 @@ class RosMissionIO : public MissionIO {
   tf2_ros::Buffer tf_;
   tf2_ros::TransformListener tf_listener_;
   MoveBaseClient move_base_;
+  ZoneWatch zones_;
   ros::Subscriber odom_sub_, rail_sub_, surface_sub_, scan_sub_, bumper_sub_;
   ros::Publisher cmd_pub_, lights_pub_, initialpose_pub_;
 };
-
-/// The node's parameters: the mission's, the robot interface's and how the node runs it.
-struct NodeSettings {
-  UvMissionParams mission;
-  RosMissionIO::Config io;
-  std::string rail_sets_file, progress_file;
-  bool autostart = true, exit_when_done = false;
-  double wait_for_rail_sets_s = 0.0;  ///< [s]
-};
-
-/// Reads the robot interface's and the mission's motion parameters (in this order; defaults from their structs).
-void readMotionParams(thorvald_common::ParamReader& params, NodeSettings* s) {
-  using R = thorvald_common::ParamRange;
-  RosMissionIO::Config& io = s->io;
-  UvMissionParams& p = s->mission;
-  io.map_frame = params.text("map_frame", io.map_frame);
-  io.base_frame = params.text("base_frame", io.base_frame);
-  io.rate_hz = params.number("control_rate", io.rate_hz, R::aboveUpTo(1.0, 200.0), "Hz");
-  io.odom_timeout_s = params.number("odom_timeout", io.odom_timeout_s, R::above(0.0), "s");
-  p.alignment.approach_x_m = params.number("approach_x", p.alignment.approach_x_m, R::closed(-5.0, -0.2), "m");
-  p.alignment.y_limit_m = params.number("y_limit", p.alignment.y_limit_m, R::aboveUpTo(0.0, 0.1), "m");
-  p.alignment.yaw_limit_rad = params.number("yaw_limit", p.alignment.yaw_limit_rad, R::aboveUpTo(0.0, 0.2), "rad");
-  p.alignment.max_turn_rad = params.number("max_turn", p.alignment.max_turn_rad, R::closed(0.1, 1.4), "rad");
-  p.motion.max_speed_mps = params.number("align_speed", p.motion.max_speed_mps, R::aboveUpTo(0.0, 1.0), "m/s");
-  p.motion.max_turn_rate_rps = params.number("turn_rate", p.motion.max_turn_rate_rps, R::aboveUpTo(0.0, 2.0), "rad/s");
-  p.motion.response_time_s = params.number("response_time", p.motion.response_time_s, R::closed(0.0, 1.0), "s");
-  p.rail_run.treat_speed_mps = params.number("treat_speed", p.rail_run.treat_speed_mps, R::aboveUpTo(0.0, 1.5), "m/s");
-  p.rail_run.return_speed_mps =
-      params.number("return_speed", p.rail_run.return_speed_mps, R::aboveUpTo(0.0, 1.5), "m/s");
-  p.rail_run.end_wall_range_m = params.number("end_wall_range", p.rail_run.end_wall_range_m, R::above(0.0), "m");
-  p.rail_run.slow_fraction = params.number("slow_fraction", p.rail_run.slow_fraction, R::closed(0.1, 0.99));
-}
-
-/// Reads the mission's steps' parameters (in this order; defaults from UvMissionParams).
-void readStepParams(thorvald_common::ParamReader& params, UvMissionParams* p) {
-  using R = thorvald_common::ParamRange;
-  p->nav_timeout_s = params.number("nav_timeout", p->nav_timeout_s, R::above(0.0), "s");
-  p->detect_timeout_s = params.number("detect_timeout", p->detect_timeout_s, R::above(0.0), "s");
-  p->search_step_rad = params.number("search_step", p->search_step_rad, R::aboveUpTo(0.0, 1.0), "rad");
-  p->search_limit_rad = params.number("search_limit", p->search_limit_rad, R::aboveUpTo(0.0, 3.14), "rad");
-  p->max_align_attempts = params.integer("max_align_attempts", p->max_align_attempts, 1, 50);
-  p->enter_speed_mps = params.number("enter_speed", p->enter_speed_mps, R::aboveUpTo(0.0, 0.3), "m/s");
-  p->enter_max_distance_m = params.number("enter_max_distance", p->enter_max_distance_m, R::above(0.0), "m");
-  p->on_rails_margin_m = params.number("on_rails_margin", p->on_rails_margin_m, R::closed(0.0, 1.0), "m");
-  p->enter_line_frequency_rps =
-      params.number("enter_line_frequency", p->enter_line_frequency_rps, R::closed(0.0, 3.0), "rad/s");
-  p->secure_wait_s = params.number("secure_wait", p->secure_wait_s, R::aboveUpTo(0.0, 10.0), "s");
-  p->recover_reverse_max_m = params.number("recover_reverse_max", p->recover_reverse_max_m, R::closed(0.0, 5.0), "m");
-}
-
-/// Every private parameter, checked; throws ParamError naming the bad one.
-NodeSettings readSettings(ros::NodeHandle& pnh) {
-  thorvald_common::ParamReader params(pnh);
-  NodeSettings s;
-  s.rail_sets_file = params.text("rail_sets_file", "");
-  s.progress_file = params.text("progress_file", "");
-  s.autostart = params.flag("autostart", true);
-  s.exit_when_done = params.flag("exit_when_done", false);
-  s.wait_for_rail_sets_s =
-      params.number("wait_for_rail_sets", 0.0, thorvald_common::ParamRange::closed(0.0, 3600.0), "s");
-  readMotionParams(params, &s);
-  readStepParams(params, &s.mission);
-  params.finish();
-  const std::string problems = s.mission.validate();
-  if (!problems.empty()) throw thorvald_common::ParamError("uv_mission: " + problems);
-  if (s.rail_sets_file.empty())
-    throw thorvald_common::ParamError("uv_mission: ~rail_sets_file is required (map_analyzer's output)");
-  return s;
-}
 
 /// map_analyzer, started together with the mission, writes the rail-set file before it publishes rail_targets
 /// (latched): the file is read once that message has come, so a file left by an earlier run is not taken. False
@@ -317,6 +254,29 @@ void runMission(ros::NodeHandle& nh, ros::NodeHandle& pnh, const NodeSettings& s
   mission.markDone(loadProgress(settings.progress_file));
   thorvald_state_machine::StatusPublisher status(nh, mission.machine(), "mission/status", 1.0);
   ros::Publisher report_pub = nh.advertise<std_msgs::String>("mission/report", 1, true);
+  // Why the mission holds (a person or obstacle in the zone, a safety stop, a relay board in doubt), on change.
+  ros::Publisher safety_pub = nh.advertise<std_msgs::String>("mission/safety", 1, true);
+  diagnostic_updater::Updater diagnostics(nh, pnh);
+  diagnostics.setHardwareID("uv_mission");
+  diagnostics.add("uv_mission safety", [&](diagnostic_updater::DiagnosticStatusWrapper& stat) {
+    const std::string why = mission.holdReason();
+    if (why.empty())
+      stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "not holding");
+    else
+      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "holding: " + why);
+  });
+  std::string last_hold = "-";
+  ros::Timer safety_timer = nh.createTimer(ros::Duration(0.1), [&](const ros::TimerEvent&) {
+    const std::string why = mission.holdReason();
+    if (why != last_hold) {
+      std_msgs::String m;
+      m.data = why.empty() ? "clear" : "holding: " + why;
+      safety_pub.publish(m);
+      last_hold = why;
+      diagnostics.force_update();
+    }
+    diagnostics.update();
+  });
   UvMissionRunner::Hooks hooks;
   hooks.error = [](const std::string& e) { ROS_ERROR("uv_mission: the mission stopped on an error: %s", e.c_str()); };
   hooks.finished = [&](const std::string& outcome) {
@@ -369,7 +329,8 @@ int main(int argc, char** argv) {
       ROS_FATAL("uv_mission: %s", error.c_str());
       return 1;
     }
-    const std::vector<grn::MissionTarget> targets = grn::missionTargets(sets);
+    std::vector<grn::MissionTarget> targets = grn::missionTargets(sets);
+    grn::setRailLengths(settings.rail_sets_file, settings.rail_length_m, &targets);
     ROS_INFO("uv_mission: %zu rail sets in %s", targets.size(), settings.rail_sets_file.c_str());
     grn::runMission(nh, pnh, settings, targets);
   } catch (const thorvald_common::ParamError& e) {

@@ -1,0 +1,101 @@
+#pragma once
+
+#include <functional>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace greenhouse_rail_nav {
+
+/// The protected zone around the UV robot and how lidar points are grouped (issue 29). Lengths in base_link [m].
+struct ZoneParams {
+  double cluster_gap_m = 0.2;        ///< neighbouring scan points closer than this belong to one cluster
+  int min_cluster_points = 3;        ///< fewer points: noise, ignored
+  double person_min_width_m = 0.15;  ///< a cluster this wide ...
+  double person_max_width_m = 0.9;   ///< ... up to this is a person's size
+  /// Headland: a person (cluster not in the map) within this of base_link is in the zone (the lamps' radius) [m].
+  double headland_radius_m = 1.5;
+  double map_clearance_m = 0.2;  ///< headland: a point this close to an occupied map cell is the map [m]
+  /// Row: the corridor between the rails, |y| below this, ahead of the robot [m].
+  double row_half_width_m = 0.3;
+  /// Row: a return at the set's length less this (or beyond) is the far end; anything shorter is an obstacle [m].
+  double end_tolerance_m = 1.0;
+  double row_ahead_m = 100.0;        ///< row: obstacles farther ahead than this are not in the zone [m]
+  double end_half_angle_rad = 0.05;  ///< the far end's range: median of the returns within this of the lidar's axis
+  double rear_stop_range_m = 1.0;    ///< reversing: a rear range finder reading less is something behind [m]
+  double clear_time_s = 2.0;         ///< the zone must be clear this long before the mission resumes [s]
+
+  std::string validate() const;
+};
+
+/// A lidar return in base_link [m].
+struct ScanPoint {
+  double x = 0.0, y = 0.0;
+};
+
+/// Neighbouring returns that belong to one body.
+struct PointCluster {
+  double x = 0.0, y = 0.0;  ///< centroid in base_link [m]
+  double near_x = 0.0;      ///< smallest x of its points [m]
+  double width = 0.0;       ///< largest distance between two of its points [m]
+  int points = 0;
+  bool person = false;  ///< of a person's size
+};
+
+/// Groups points given in scan order: a point joins the cluster of the one before it when closer than
+/// cluster_gap_m. Clusters of fewer than min_cluster_points are dropped.
+std::vector<PointCluster> clusterScan(const std::vector<ScanPoint>& points, const ZoneParams& p);
+
+/// What the mission is doing, which decides the zone.
+enum class ZonePhase {
+  kIdle,      ///< not moving for the mission: people within the headland radius only (for the interlock)
+  kHeadland,  ///< on the headland floor: people (not in the map) within the headland radius
+  kRow,       ///< entering or on the rails: anything in the corridor between the rails short of the set's end
+  kReverse,   ///< reversing: the rear range finders
+};
+const char* toString(ZonePhase phase);
+
+struct ZoneContext {
+  ZonePhase phase = ZonePhase::kIdle;
+  /// Row: distance along base_link's x to the rail set's far end (the set's length less how far base_link is along
+  /// it) [m]; <= 0: unknown, and every return ahead counts as the far end (no row obstacles).
+  double row_end_m = 0.0;
+};
+
+/// The zone at one scan.
+struct ZoneVerdict {
+  bool blocked = false;  ///< something in the protected zone
+  bool person = false;   ///< a person-sized cluster in it
+  std::string why;       ///< what and where, for the status and the log (empty when clear)
+  /// Row: the lidar's range to the far end where it agrees with the set's length; NaN when nothing is seen ahead or
+  /// what is seen is short of the end (an obstacle) [m].
+  double end_range_m = std::numeric_limits<double>::quiet_NaN();
+  std::vector<PointCluster> clusters;  ///< every cluster considered (for markers)
+  std::vector<bool> in_zone;           ///< per cluster
+};
+
+/// True for a point of the known map (walls, plant rows) at base_link coordinates.
+using KnownPoint = std::function<bool(double x, double y)>;
+
+/// Evaluates one scan: `points` in base_link in scan order, `lidar_x` the lidar's position on base_link's x axis
+/// [m], `known` the map on the headland (may be empty: nothing is known). The rear range finders' readings (NaN or
+/// out of range: nothing) count in the reverse phase only.
+ZoneVerdict evaluateZone(const std::vector<ScanPoint>& points, double lidar_x, const ZoneContext& ctx,
+                         const ZoneParams& p, const KnownPoint& known = {},
+                         const std::vector<double>& rear_ranges = {});
+
+/// Follows a zone over time: blocked at once, clear only after clear_time_s without anything in it.
+class ZoneHold {
+ public:
+  explicit ZoneHold(double clear_time_s) : clear_time_s_(clear_time_s) {}
+  /// One verdict at time t [s]; returns whether the mission must hold.
+  bool update(bool blocked, double t_s);
+  bool holding() const { return holding_; }
+
+ private:
+  double clear_time_s_;
+  bool holding_ = false;
+  double last_blocked_s_ = -1e18;
+};
+
+}  // namespace greenhouse_rail_nav

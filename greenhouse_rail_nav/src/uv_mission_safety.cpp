@@ -1,0 +1,88 @@
+// The UV mission's holds: a safety stop a person must clear (the bumper), a relay board whose outputs are in doubt,
+// and the protected zone (obstacle_zones.h: a person or an obstacle near the robot, in the row ahead or behind it
+// while reversing). While holding, the robot stands with its lights off; on the rails it then comes back over the
+// stretch it braked through with the lights off before they go on again.
+#include <sstream>
+
+#include "uv_mission_impl.h"
+
+namespace greenhouse_rail_nav {
+
+std::string UvMission::holdReason() const {
+  std::lock_guard<std::mutex> l(hold_mutex_);
+  return hold_reason_;
+}
+
+void UvMission::Impl::setHoldReason(const std::string& why) {
+  std::lock_guard<std::mutex> l(owner_.hold_mutex_);
+  owner_.hold_reason_ = why;
+}
+
+bool UvMission::Impl::mustHold(std::string* why) {
+  if (io_.safetyStopped(why)) {
+    *why += " (a person must clear it)";
+    return true;
+  }
+  if (io_.lightsInDoubt(why)) {
+    *why = "the lamps' relay board is in doubt: " + *why;
+    return true;
+  }
+  const ZoneVerdict v = io_.zone();
+  if (v.blocked) zone_why_ = v.why;
+  if (!zone_hold_.update(v.blocked, io_.now())) return false;
+  std::ostringstream o;
+  o << zone_why_;
+  if (!v.blocked) o << "; clear, going on after " << p_.zone.clear_time_s << " s";
+  *why = o.str();
+  return true;
+}
+
+bool UvMission::Impl::holdWhileStopped(tsm::ExecutionContext& ctx) {
+  std::string why;
+  if (!mustHold(&why)) return true;
+  stop();
+  io_.setLights(false);
+  ++report_.pauses;
+  log("paused: " + why);
+  setHoldReason(why);
+  while (io_.ok() && mustHold(&why)) {
+    if (ctx.preemptRequested()) {
+      setHoldReason("");
+      return false;
+    }
+    stop();
+    setHoldReason(why);
+    io_.waitTick();
+  }
+  setHoldReason("");
+  log("clear, continuing");
+  return io_.ok();
+}
+
+double UvMission::Impl::rowEnd(double entered_m) const {
+  if (!current_ || !(current_->rail_length_m > 0.0)) return 0.0;
+  // base_link in the rail frame when entering began, from the last detection (the rail start out of view: at least
+  // the nearest x the camera sees).
+  double x0 = last_obs_.robot_in_rail.x;
+  if (last_obs_.status == RailObservation::Status::kXUnobserved)
+    x0 = std::max(x0, p_.alignment.approach_x_m + p_.alignment.x_window_m);
+  return std::max(1e-3, current_->rail_length_m - (x0 + entered_m));
+}
+
+bool UvMission::Impl::backToLit(tsm::ExecutionContext& ctx, double along_m, bool* preempted) {
+  *preempted = false;
+  const double back = along_m - lit_.litUpTo() + p_.relight_overlap_m;
+  if (lit_.litUpTo() >= lit_.end() - 1e-3 || back <= p_.relight_overlap_m + 0.02) return true;
+  std::ostringstream o;
+  o << "back " << back << " m over the stretch passed with the lights off";
+  log(o.str());
+  MotionLimits slow = p_.motion;
+  slow.max_speed_mps = std::min(slow.max_speed_mps, p_.rail_run.slow_speed_mps);
+  const Loop l = runStep({MotionStep::Kind::kTranslate, -back, "back to the last lit point"}, ctx, slow);
+  if (l == Loop::kPreempted) *preempted = true;
+  if (l == Loop::kDone) return true;
+  skip_reason_ = "treatment stopped: reversing to the last lit point failed";
+  return false;
+}
+
+}  // namespace greenhouse_rail_nav

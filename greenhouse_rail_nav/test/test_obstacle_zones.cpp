@@ -1,0 +1,168 @@
+// The protected zone's logic (obstacle_zones.h) on synthetic scans of a row: the far wall at the rail set's length is
+// the end, a person or a crate short of it is an obstacle and never the end; on the headland people that are not in
+// the map and near the robot are in the zone; reversing, the rear range finders.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "greenhouse_rail_nav/lit_coverage.h"
+#include "greenhouse_rail_nav/obstacle_zones.h"
+
+namespace grn = greenhouse_rail_nav;
+
+namespace {
+
+constexpr double kLidarX = 0.45;
+
+/// A scan from a lidar at (kLidarX, 0) over ±135°: a wall across x = wall_x (|y| < 0.8), and circles (people) or
+/// boxes seen as their near face, each hiding what lies behind it.
+struct SyntheticScan {
+  double wall_x = 21.0;
+  struct Body {
+    double x, y, half_width;
+  };
+  std::vector<Body> bodies;
+
+  std::vector<grn::ScanPoint> points() const {
+    std::vector<grn::ScanPoint> pts;
+    for (int i = 0; i <= 1080; ++i) {
+      const double a = -2.356 + i * (4.712 / 1080);
+      const double c = std::cos(a), s = std::sin(a);
+      double r = INFINITY;
+      if (c > 1e-6) {
+        const double rw = (wall_x - kLidarX) / c;
+        if (std::fabs(rw * s) < 0.8) r = rw;
+      }
+      for (const Body& b : bodies) {
+        if (c <= 1e-6) continue;
+        const double rb = (b.x - b.half_width - kLidarX) / c;
+        if (std::fabs(rb * s - b.y) <= b.half_width && rb < r) r = rb;
+      }
+      if (std::isfinite(r) && r < 30.0) pts.push_back({kLidarX + r * c, r * s});
+    }
+    return pts;
+  }
+};
+
+grn::ZoneContext row(double row_end_m) {
+  grn::ZoneContext c;
+  c.phase = grn::ZonePhase::kRow;
+  c.row_end_m = row_end_m;
+  return c;
+}
+
+}  // namespace
+
+TEST(ObstacleZones, APersonSizedClusterIsAPerson) {
+  grn::ZoneParams p;
+  SyntheticScan scan;
+  scan.bodies.push_back({4.0, 0.0, 0.25});  // a person, 0.5 m across
+  const auto clusters = grn::clusterScan(scan.points(), p);
+  ASSERT_GE(clusters.size(), 1u);  // the person (hiding the wall)
+  bool person = false;
+  for (const auto& c : clusters)
+    if (std::fabs(c.x - 3.75) < 0.1) person = c.person;
+  EXPECT_TRUE(person);
+  // The wall (1.6 m across) is too wide to be one.
+  SyntheticScan wall_only;
+  const auto w = grn::clusterScan(wall_only.points(), p);
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_FALSE(w[0].person);
+}
+
+TEST(ObstacleZones, TheWallAtTheSetsLengthIsTheEnd) {
+  grn::ZoneParams p;
+  SyntheticScan scan;  // rails of 20 m, wall 1 m beyond their end; base_link 18 m along: the end 2 m ahead
+  const grn::ZoneVerdict v = grn::evaluateZone(scan.points(), kLidarX, row(2.0), p);
+  EXPECT_FALSE(v.blocked) << v.why;
+  EXPECT_NEAR(v.end_range_m, 21.0 - kLidarX, 0.01);
+}
+
+TEST(ObstacleZones, ACrateShortOfTheEndIsAnObstacleNeverTheEnd) {
+  grn::ZoneParams p;
+  SyntheticScan scan;
+  scan.wall_x = 23.0;
+  scan.bodies.push_back({6.0, 0.0, 0.2});  // a crate 0.4 m across, 6 m ahead, in a row that ends 20 m ahead
+  const grn::ZoneVerdict v = grn::evaluateZone(scan.points(), kLidarX, row(20.0), p);
+  EXPECT_TRUE(v.blocked);
+  EXPECT_TRUE(std::isnan(v.end_range_m)) << "a return short of the set's length is never the end";
+  EXPECT_NE(v.why.find("row ahead"), std::string::npos) << v.why;
+}
+
+TEST(ObstacleZones, APersonInTheRowIsAPersonInTheZone) {
+  grn::ZoneParams p;
+  SyntheticScan scan;
+  scan.bodies.push_back({10.0, 0.05, 0.25});
+  const grn::ZoneVerdict v = grn::evaluateZone(scan.points(), kLidarX, row(19.0), p);
+  EXPECT_TRUE(v.blocked);
+  EXPECT_TRUE(v.person);
+  EXPECT_NE(v.why.find("person"), std::string::npos) << v.why;
+}
+
+TEST(ObstacleZones, WithoutTheSetsLengthAnyReturnAheadIsTheEnd) {
+  // As before issue 29: the length unknown, the crate ends the row (the legacy behaviour, documented as unsafe).
+  grn::ZoneParams p;
+  SyntheticScan scan;
+  scan.bodies.push_back({6.0, 0.0, 0.2});
+  const grn::ZoneVerdict v = grn::evaluateZone(scan.points(), kLidarX, row(0.0), p);
+  EXPECT_FALSE(v.blocked);
+  EXPECT_NEAR(v.end_range_m, 5.8 - kLidarX, 0.01);
+}
+
+TEST(ObstacleZones, HeadlandPeopleNotInTheMapAndNearAreInTheZone) {
+  grn::ZoneParams p;
+  grn::ZoneContext c;
+  c.phase = grn::ZonePhase::kHeadland;
+  SyntheticScan near;
+  near.wall_x = 8.0;
+  near.bodies.push_back({1.2, 0.3, 0.25});
+  // The wall is part of the map.
+  const grn::KnownPoint known = [](double x, double) { return x > 7.5; };
+  grn::ZoneVerdict v = grn::evaluateZone(near.points(), kLidarX, c, p, known);
+  EXPECT_TRUE(v.blocked);
+  EXPECT_TRUE(v.person);
+  SyntheticScan far;
+  far.wall_x = 8.0;
+  far.bodies.push_back({3.5, 0.3, 0.25});
+  v = grn::evaluateZone(far.points(), kLidarX, c, p, known);
+  EXPECT_FALSE(v.blocked) << "a person 3.5 m away is outside the headland radius: " << v.why;
+  // A trolley-sized body near the robot on the headland is left to the navigator.
+  SyntheticScan trolley;
+  trolley.wall_x = 8.0;
+  trolley.bodies.push_back({1.2, 0.0, 0.6});
+  v = grn::evaluateZone(trolley.points(), kLidarX, c, p, known);
+  EXPECT_FALSE(v.blocked) << v.why;
+}
+
+TEST(ObstacleZones, ReversingTheRearRangeFindersWatchBehind) {
+  grn::ZoneParams p;
+  grn::ZoneContext c;
+  c.phase = grn::ZonePhase::kReverse;
+  EXPECT_FALSE(grn::evaluateZone({}, kLidarX, c, p, {}, {NAN, 2.5}).blocked);
+  const grn::ZoneVerdict v = grn::evaluateZone({}, kLidarX, c, p, {}, {NAN, 0.6});
+  EXPECT_TRUE(v.blocked);
+  EXPECT_NE(v.why.find("behind"), std::string::npos);
+  c.phase = grn::ZonePhase::kHeadland;
+  EXPECT_FALSE(grn::evaluateZone({}, kLidarX, c, p, {}, {0.6}).blocked) << "only while reversing";
+}
+
+TEST(ObstacleZones, TheHoldLastsUntilTheZoneWasClearForTheClearTime) {
+  grn::ZoneHold hold(2.0);
+  EXPECT_FALSE(hold.update(false, 0.0));
+  EXPECT_TRUE(hold.update(true, 1.0));
+  EXPECT_TRUE(hold.update(false, 1.5));
+  EXPECT_TRUE(hold.update(false, 2.9));
+  EXPECT_FALSE(hold.update(false, 3.0));
+}
+
+TEST(LitCoverage, AStretchBrakedThroughWithTheLightsOffIsAGapUntilLitAgain) {
+  grn::LitCoverage lit(0.05);
+  lit.add(0.0, 5.0, true);
+  lit.add(5.0, 5.3, false);  // braking with the lights off
+  EXPECT_NEAR(lit.litUpTo(), 5.0, 0.051);
+  EXPECT_LT(lit.fraction(), 0.99);
+  lit.add(5.3, 4.9, false);  // back over it
+  lit.add(4.9, 10.0, true);
+  EXPECT_DOUBLE_EQ(lit.fraction(), 1.0);
+  EXPECT_NEAR(lit.litUpTo(), 10.0, 1e-9);
+}
