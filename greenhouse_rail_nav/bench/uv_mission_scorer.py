@@ -14,6 +14,15 @@ mission's own outputs (uv_lights, nav_vel, mission/status, mission/report, safet
   deliver the readings in time).
 - rail speed: truth speed while the lights are on and the mission commands its treatment speed (from
   `settle` s after it first does).
+- people (thorvald_sim's sim/actors, truth): a person is in the protected zone when within `zone_radius` of
+  base_link with the lights on, or ahead of base_link within `zone_radius` while it moves (its swept path), or, the
+  robot on a set's rails with the lights on or driving in, between that set's rails ahead of it.
+  `uv_on_with_person_events`: times the lights were on with a person in that zone (counted when it begins);
+  `person_stop_latency_p99_ms`: from a person entering the zone to the mission's twist being zero with the lights
+  off (0 when they already were).
+- `collisions`: every body contact that began (sim/contacts START: people, trolleys, walls).
+- `coverage_pct` per set: share of the set's own length (the truth file's `length`, else `rail_length`), from
+  `start_margin` to `end_margin` before its end in 5 cm bins, that base_link passed over with the lights on.
 Ends when the mission has finished (mission/status not running after it ran) or after `timeout` s of simulated
 time, and prints `RESULT {json}`. Run as a node (sim_uv_mission.launch scorer:=true) or imported by the rostest."""
 import json
@@ -26,6 +35,11 @@ import yaml
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from std_msgs.msg import Bool, String
+
+try:
+    from thorvald_sim.msg import ActorArray, BodyContact
+except ImportError:  # no simulator messages: no people, no contacts
+    ActorArray = BodyContact = None
 
 from greenhouse_rail_nav.msg import SurfaceState
 from thorvald_state_machine.msg import MachineStatus
@@ -55,15 +69,26 @@ def parse_report(text):
 
 class UvMissionScorer:
     def __init__(self, truth_file, treat_speed=0.5, lateral_tol=0.04, drop=0.01, tilt=0.02, start_margin=1.0,
-                 end_margin=1.5, settle=0.5):
+                 end_margin=1.5, settle=0.5, zone_radius=1.5, scenario="none"):
         with open(truth_file) as f:
             self.truth = yaml.safe_load(f)
         self.sets = self.truth["rail_sets"]
         self.rail_length = float(self.truth["rail_length"])
+        self.zone_radius, self.scenario = zone_radius, scenario
+        self.people = []  # (x, y, radius) of every person at the latest sim/actors
+        self.pose = None  # (t, x, y, yaw) of base_link, truth
+        self.in_zone = False
+        self.zone_since = None  # a person entered the zone at this time and the robot has not yet stopped
+        self.latencies = []
+        self.uv_person_events = 0
+        self.uv_person_now = False
+        self.collisions = []
+        self.lit_bins = {}  # set index -> set of 5 cm bins passed with the lights on
+        self.person_min_m = float("inf")  # closest any person's body came to base_link
         self.treat_speed, self.lateral_tol, self.drop, self.tilt = treat_speed, lateral_tol, drop, tilt
         self.start_margin, self.end_margin, self.settle = start_margin, end_margin, settle
         self.lights = False
-        self.cmd_v = 0.0
+        self.cmd_v = self.cmd_w = 0.0
         self.cruise_since = None
         self.last = None  # (t, x, y)
         self.z0 = None
@@ -89,14 +114,69 @@ class UvMissionScorer:
         self.report_received = False
         self.path = []
 
+    def set_length(self, s):
+        return float(s.get("length", self.rail_length))
+
+    def in_set(self, s, x, y):
+        dx, dy = x - float(s["x"]), y - float(s["y"])
+        c, si = math.cos(float(s["yaw"])), math.sin(float(s["yaw"]))
+        return c * dx + si * dy, -si * dx + c * dy
+
     def on_rails(self, x, y):
         for s in self.sets:
-            dx, dy = x - float(s["x"]), y - float(s["y"])
-            c, si = math.cos(float(s["yaw"])), math.sin(float(s["yaw"]))
-            along, across = c * dx + si * dy, -si * dx + c * dy
-            if 0.0 <= along <= self.rail_length and abs(across) <= self.lateral_tol:
+            along, across = self.in_set(s, x, y)
+            if 0.0 <= along <= self.set_length(s) and abs(across) <= self.lateral_tol:
                 return s["index"], along
         return None, None
+
+    def person_in_zone(self):
+        """A person in the protected zone (truth): near the lit lamps, in the swept path, or in the row ahead."""
+        if self.pose is None:
+            return False
+        _, x, y, yaw = self.pose
+        c, si = math.cos(yaw), math.sin(yaw)
+        idx, along = self.on_rails(x, y)
+        for px, py, _ in self.people:
+            fx, fy = c * (px - x) + si * (py - y), -si * (px - x) + c * (py - y)
+            near = math.hypot(fx, fy) < self.zone_radius
+            if near and (self.lights or (self.cmd_v > 1e-3 and fx > 0.0) or (self.cmd_v < -1e-3 and fx < 0.0)):
+                return True
+            if idx is not None and (self.lights or self.cmd_v > 1e-3):
+                s = [q for q in self.sets if q["index"] == idx][0]
+                p_along, p_across = self.in_set(s, px, py)
+                if abs(p_across) < 0.3 and along < p_along <= self.set_length(s):
+                    return True
+        return False
+
+    def update_zone(self, t):
+        if self.pose is not None:
+            for px, py, pr in self.people:
+                self.person_min_m = min(self.person_min_m, math.hypot(px - self.pose[1], py - self.pose[2]) - pr)
+        zone = self.person_in_zone()
+        stopped = not self.lights and abs(self.cmd_v) < 1e-6 and abs(self.cmd_w) < 1e-6
+        if zone and not self.in_zone:
+            if stopped:
+                self.latencies.append(0.0)
+            else:
+                self.zone_since = t
+        if self.zone_since is not None and (stopped or not zone):
+            self.latencies.append(t - self.zone_since)  # stopped, or the person left the zone first
+            self.zone_since = None
+        uv = zone and self.lights
+        if uv and not self.uv_person_now:
+            self.uv_person_events += 1
+            rospy.logwarn("uv_mission_scorer: lights on with a person in the zone at %.2f s" % t)
+        self.uv_person_now, self.in_zone = uv, zone
+
+    def on_actors(self, m):
+        self.people = [(a.x, a.y, a.radius) for a in m.actors if a.kind == "person"]
+        self.update_zone(m.header.stamp.to_sec())
+
+    def on_contact(self, m):
+        if m.event == 0:  # START
+            self.collisions.append("%s-%s at (%.2f, %.2f), %.1f s" % (m.robot_body, m.other, m.x, m.y,
+                                                                       m.header.stamp.to_sec()))
+            rospy.logwarn("uv_mission_scorer: contact %s" % self.collisions[-1])
 
     # callbacks
     def on_truth(self, m):
@@ -117,11 +197,18 @@ class UvMissionScorer:
         if past and not getattr(self, "_past", False):
             self.wheel_past_edge += 1
         self._past = past
+        self.pose = (t, p.x, p.y, yaw)
+        self.update_zone(t)
         if self.last is not None:
             dt = t - self.last[0]
             if dt > 0.0 and self.lights:
                 self.lights_on_s += dt
                 idx, along = self.on_rails(p.x, p.y)
+                if idx is not None:
+                    bins = self.lit_bins.setdefault(idx, set())
+                    _, along0 = self.on_rails(self.last[1], self.last[2])
+                    lo, hi = sorted((along if along0 is None else along0, along))
+                    bins.update(range(int(lo / 0.05), int(hi / 0.05) + 1))
                 if idx is None:
                     self.lights_off_rails_s += dt
                     if self.lights_off_rails_where is None:
@@ -137,7 +224,7 @@ class UvMissionScorer:
         self.lights = m.data
 
     def on_cmd(self, m):
-        self.cmd_v = m.linear.x
+        self.cmd_v, self.cmd_w = m.linear.x, m.angular.z
         cruise = self.lights and abs(m.linear.x - self.treat_speed) < 1e-6
         if cruise and self.cruise_since is None:
             self.cruise_since = rospy.Time.now().to_sec()
@@ -176,6 +263,10 @@ class UvMissionScorer:
         rospy.Subscriber("surface_monitor/state", SurfaceState, self.on_surface)
         rospy.Subscriber("mission/status", MachineStatus, self.on_status)
         rospy.Subscriber("mission/report", String, self.on_report)
+        if ActorArray is not None:
+            rospy.Subscriber(rospy.get_param("~actors_topic", "/thorvald_sim/sim/actors"), ActorArray, self.on_actors)
+            rospy.Subscriber(rospy.get_param("~contacts_topic", "/thorvald_sim/sim/contacts"), BodyContact,
+                             self.on_contact, queue_size=100)
 
     def finished(self):
         return self.t_end is not None and self.report_received
@@ -197,9 +288,17 @@ class UvMissionScorer:
         good_sets = [int(r["rail_set"]) for r in self.report]
         treated_report = [int(r["rail_set"]) for r in self.report if r.get("treated") == "1"]
         treated_truth = []
+        length = {s["index"]: self.set_length(s) for s in self.sets}
         for idx, (lo, hi) in sorted(self.on_set_span.items()):
-            if lo <= self.start_margin and hi >= self.rail_length - self.end_margin:
+            if lo <= self.start_margin and hi >= length[idx] - self.end_margin:
                 treated_truth.append(idx)
+        coverage = {}
+        for s in self.sets:
+            want = range(int(math.ceil(self.start_margin / 0.05)), int((length[s["index"]] - self.end_margin) / 0.05))
+            lit = self.lit_bins.get(s["index"], set())
+            coverage[str(s["index"])] = round(100.0 * sum(1 for b in want if b in lit) / max(1, len(want)), 1)
+        lat = sorted(self.latencies)
+        p99 = lat[min(len(lat) - 1, int(math.ceil(0.99 * len(lat))) - 1)] * 1000.0 if lat else 0.0
         n_sets = len(self.sets)
         aligns = [float(r["align_attempts"]) for r in self.report if r.get("treated") == "1"]
         mean = sum(self.speeds) / len(self.speeds) if self.speeds else float("nan")
@@ -237,6 +336,16 @@ class UvMissionScorer:
             "align_attempts_mean": round(sum(aligns) / len(aligns), 2) if aligns else float("nan"),
             "cycle_min_per_rail_set": round(total_s / 60.0 / len(both), 2) if both else float("nan"),
             "total_min": round(total_s / 60.0, 2),
+            "scenario": self.scenario,
+            "uv_on_with_person_events": self.uv_person_events,
+            "person_zone_entries": len(self.latencies),
+            "person_stop_latency_p99_ms": round(p99, 1),
+            "person_stop_latency_max_ms": round(lat[-1] * 1000.0, 1) if lat else 0.0,
+            "collisions": len(self.collisions),
+            "person_min_distance_m": round(self.person_min_m, 2) if self.people else None,
+            "collisions_first": self.collisions[:5],
+            "coverage_pct": coverage,
+            "coverage_min_pct": min(coverage.values()) if coverage else 0.0,
         }
 
 
@@ -249,7 +358,8 @@ def make_scorer(truth_file, wait_s=120.0, **kwargs):
 
 def main():
     rospy.init_node("uv_mission_scorer")
-    s = make_scorer(rospy.get_param("~truth_file"), treat_speed=rospy.get_param("~treat_speed", 0.5))
+    s = make_scorer(rospy.get_param("~truth_file"), treat_speed=rospy.get_param("~treat_speed", 0.5),
+                    zone_radius=rospy.get_param("~zone_radius", 1.5), scenario=rospy.get_param("~scenario", "none"))
     timeout = float(rospy.get_param("~timeout", 900.0))
     s.subscribe()
     s.wait(timeout)
