@@ -116,7 +116,13 @@ RoverOutput RoverController::update(const Telemetry& telemetry, double dt_s) {
 void ArticulatedOdometry::update(double travel_m, double articulation_deg, double dt_s) {
   if (!std::isfinite(travel_m) || !std::isfinite(articulation_deg)) return;
   const double half = 0.5 * articulation_deg * M_PI / 180.0;
-  const double dyaw = travel_m * std::tan(half) / axle_to_joint_m_;
+  // The swing over this step, at the mid angle (so that articulating out and back in cancels exactly).
+  const double mid = 0.5 * (articulation_deg + last_articulation_deg_) * M_PI / 180.0;
+  const double swing = std::isfinite(last_articulation_deg_)
+                           ? (articulation_deg - last_articulation_deg_) * M_PI / 180.0 / (1.0 + std::cos(mid))
+                           : 0.0;
+  last_articulation_deg_ = articulation_deg;
+  const double dyaw = travel_m * std::tan(half) / axle_to_joint_m_ + swing;
   x_ += travel_m * std::cos(yaw_ + 0.5 * dyaw);
   y_ += travel_m * std::sin(yaw_ + 0.5 * dyaw);
   yaw_ = std::atan2(std::sin(yaw_ + dyaw), std::cos(yaw_ + dyaw));

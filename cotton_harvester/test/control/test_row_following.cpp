@@ -204,3 +204,14 @@ TEST(PurePursuit, OmegaTurnEntersTheNextRowAligned) {
   EXPECT_LT(deepest, 10.0 + turn.depth_m + 0.3);
   EXPECT_LT(widest, 0.5 * (turn.max_lateral_m - turn.min_lateral_m) + 0.3);
 }
+
+TEST(RoverKinematics, ArticulatingInPlaceSwingsTheFrontHalf) {
+  // Both axles roll without sliding sideways: the front half turns by the integral of dgamma / (1 + cos gamma),
+  // tan(gamma / 2) from straight; back to straight, it is where it started.
+  cc::ArticulatedOdometry odometry(0.91);
+  for (int i = 0; i <= 400; ++i) odometry.update(0.0, 0.1 * i, 0.02);
+  EXPECT_NEAR(odometry.yaw(), std::tan(20.0 * M_PI / 180.0), 1e-4);
+  for (int i = 400; i >= 0; --i) odometry.update(0.0, 0.1 * i, 0.02);
+  EXPECT_NEAR(odometry.yaw(), 0.0, 1e-9);
+  EXPECT_NEAR(odometry.x(), 0.0, 1e-12);
+}

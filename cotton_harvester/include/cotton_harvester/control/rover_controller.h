@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 
@@ -91,7 +92,8 @@ class RoverController {
 };
 
 /// Dead-reckoned pose of the articulated rover from the encoder and the articulation angle:
-/// the front half's yaw rate is v tan(γ/2) / axle_to_joint for equal half lengths.
+/// the front half's yaw rate is v tan(γ/2) / axle_to_joint for equal half lengths, plus γ' / (1 + cos γ) while the
+/// articulation moves (both axles roll without sliding sideways, so the halves swing about the joint).
 class ArticulatedOdometry {
  public:
   explicit ArticulatedOdometry(double axle_to_joint_m = 0.91) : axle_to_joint_m_(axle_to_joint_m) {}
@@ -105,6 +107,7 @@ class ArticulatedOdometry {
 
  private:
   double axle_to_joint_m_;
+  double last_articulation_deg_ = std::numeric_limits<double>::quiet_NaN();
   double x_ = 0.0, y_ = 0.0, yaw_ = 0.0, speed_ = 0.0, yaw_rate_ = 0.0;
 };
 
