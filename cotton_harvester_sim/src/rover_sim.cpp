@@ -21,7 +21,15 @@ constexpr double kDegToRad = M_PI / 180.0;
 RoverSim::RoverSim(const RoverSimParams& params) : params_(params), drive_(params.drive), rng_(params.seed) {
   if (auto bad = params_.check(); !bad.empty()) throw std::invalid_argument("rover simulation: " + bad);
   params_.row.datasheet = params_.realism == thorvald_sim::Realism::kDatasheet;
-  const thorvald_sim::WorldDescription world = thorvald_sim::makeCottonRowWorld(params_.row, &row_truth_);
+  thorvald_sim::WorldDescription world;
+  if (params_.field) {
+    params_.field->row.datasheet = params_.row.datasheet;
+    thorvald_sim::CottonFieldTruth field;
+    world = thorvald_sim::makeCottonFieldWorld(*params_.field, &field);
+    row_truth_ = field.plants;
+  } else {
+    world = thorvald_sim::makeCottonRowWorld(params_.row, &row_truth_);
+  }
   xml_ = roverSceneXml(params_, world.worldbody);
   model_ = thorvald_sim::compileXml(xml_, "cotton rover scene");
   data_.reset(mj_makeData(model_.get()));
@@ -129,7 +137,16 @@ void RoverSim::stepOnce() {
   const double dt = params_.timestep_s;
   drive_.step(pwm_command_, false, false, dt);
   const double wheel_rate = drive_.speedMps() / params_.geometry.wheel_radius_m;
-  for (int w = 0; w < 4; ++w) d->ctrl[wheel_act_[w]] = params_.wheel_damping * wheel_rate;
+  // Left wheels (0, 2) on the inside of a left turn (positive articulation): slower by the half track times the axles'
+  // curvature tan(gamma / 2) / axle_to_joint.
+  const RoverGeometry& g = params_.geometry;
+  const double curvature =
+      params_.differential_wheels ? std::tan(0.5 * potentiometerDeg() * kDegToRad) / g.axle_to_joint_m : 0.0;
+  const double half_track = 0.5 * (g.width_m - g.wheel_width_m);
+  for (int w = 0; w < 4; ++w) {
+    const double side = w % 2 == 0 ? 1.0 : -1.0;
+    d->ctrl[wheel_act_[w]] = params_.wheel_damping * wheel_rate * (1.0 - side * half_track * curvature);
+  }
   d->ctrl[articulation_act_] = articulation_target_deg_ * kDegToRad;
   auto ramp = [dt](double now, double target, double speed) {
     const double stepm = speed * dt;

@@ -3,6 +3,7 @@
 #include <Eigen/Core>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -63,6 +64,10 @@ struct RoverSimParams {
   control::HydrostaticDriveParams drive;  ///< swashplate PWM -> pump flow with the deadband and lag
   double timestep_s = 0.002;
   double wheel_damping = 3000.0;       ///< wheel velocity servo gain [N m s/rad] (hydraulic motors are stiff)
+  /// false: all four wheels turn at the pump's speed, as before (they scrub when the rover is articulated); true: the
+  /// hydraulic motors share the flow as a differential would, each wheel at the speed of its track on the turning
+  /// circle that the articulation angle gives (the axles' centres at the pump's speed).
+  bool differential_wheels = false;
   double vertical_speed_mps = 0.365;   ///< stepper: 150 steps/s at 410.7 steps/m (eq. 7)
   double horizontal_speed_mps = 0.30;  ///< stepper: 2000 steps/s on a 20-tooth 3 mm belt
   double capture_radius_m = 0.05;      ///< a boll whose centre is this close to the nozzle is sucked in ...
@@ -73,6 +78,9 @@ struct RoverSimParams {
   double leaf_push_max_m = 0.15;
   double start_x_m = -0.6;            ///< articulation joint's start position along the row (world x)
   thorvald_sim::CottonRowParams row;  ///< the row of plants with bolls
+  /// When set: a field of rows (thorvald_sim::makeCottonFieldWorld, its rows' profile from `realism`) instead of
+  /// `row`; row() then holds the whole field's plants and bolls.
+  std::optional<thorvald_sim::CottonFieldParams> field;
   int camera_width = 1280, camera_height = 720;
   double fx = 699.936, cx = 685.286, cy = 361.248;  ///< the ZED's calibration (paper eq. 1)
   double depth_noise_coeff = 0.001;                 ///< active-stereo noise coefficient [1/m]
