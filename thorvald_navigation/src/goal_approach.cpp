@@ -119,9 +119,10 @@ class MotionSweep {
 
 /// The first motion on `legs` (driven backwards when `reverse`) that sweeps the footprint over a wall, the keep-out
 /// zone or unknown space, as text; empty when all clear. The robot turns on the spot at the start, from its heading to
-/// the way to the first point 0.3 m along (the follower turns on the spot when far off its path), at every corner from
-/// one leg's way to the next, and at the end to `end_yaw`; between them it drives the legs straight with the oriented
-/// footprint. (The follower cuts a gentle corner with an arc inside that turn.)
+/// the way to the first point 0.3 m along (the follower turns on the spot when far off its path), at every corner of
+/// the path's points taken 0.3 m apart from one leg's way to the next, and at the end to `end_yaw`; between them it
+/// drives the legs straight with the oriented footprint. (The follower cuts a gentle corner with an arc inside that
+/// turn.)
 std::string firstBlockedMotion(const Costmap& costmap, const Footprint& footprint, const thorvald_base::Pose2D& start,
                                const std::vector<Eigen::Vector2d>& legs, double end_yaw, bool reverse) {
   constexpr double kChord = 0.3;
@@ -135,32 +136,74 @@ std::string firstBlockedMotion(const Costmap& costmap, const Footprint& footprin
                   from, to);
     return std::string(text) + blockerName(b);
   };
+  // The ways the robot heads along: the path's points at least 0.3 m apart (the planner's short grid steps and the
+  // corners it cut are driven as one leg, not turned into one by one), always with its first and last point.
+  std::vector<Eigen::Vector2d> driven{legs.front()};
+  for (std::size_t i = 1; i < legs.size(); ++i) {
+    const bool last = i + 1 == legs.size();
+    if ((legs[i] - driven.back()).norm() >= kChord) {
+      driven.push_back(legs[i]);
+    } else if (last) {
+      if (driven.size() > 1) driven.pop_back();
+      driven.push_back(legs[i]);
+    }
+  }
   MotionSweep sweep(costmap, footprint, start);
-  const Eigen::Vector2d& first = legs.front();
-  std::size_t a = 1;
-  while (a + 1 < legs.size() && (legs[a] - first).norm() < kChord) ++a;
-  double heading = way(first, legs[a]);
-  Blocker b = sweep.turn(first, start.yaw, heading);
-  if (b != Blocker::kNone) return describe("first turn", first, start.yaw, heading, b);
-  for (std::size_t i = 0; i + 1 < legs.size(); ++i) {
-    if ((legs[i + 1] - legs[i]).norm() < 1e-6) continue;
-    const double w = way(legs[i], legs[i + 1]);
+  double heading = start.yaw;
+  Blocker b = Blocker::kNone;
+  for (std::size_t i = 0; i + 1 < driven.size(); ++i) {
+    if ((driven[i + 1] - driven[i]).norm() < 1e-6) continue;
+    const double w = way(driven[i], driven[i + 1]);
     if (std::abs(thorvald_base::normalizeAngle(w - heading)) > 1e-3) {
-      b = sweep.turn(legs[i], heading, w);
-      if (b != Blocker::kNone) return describe(i == 0 ? "first turn" : "turn", legs[i], heading, w, b);
+      b = sweep.turn(driven[i], heading, w);
+      if (b != Blocker::kNone) return describe(i == 0 ? "first turn" : "turn", driven[i], heading, w, b);
       heading = w;
     }
-    b = sweep.move(legs[i], legs[i + 1], heading);
+    b = sweep.move(driven[i], driven[i + 1], heading);
     if (b != Blocker::kNone) {
       char text[128];
-      std::snprintf(text, sizeof(text), "the way from (%.2f, %.2f) to (%.2f, %.2f) runs the frame over ", legs[i].x(),
-                    legs[i].y(), legs[i + 1].x(), legs[i + 1].y());
+      std::snprintf(text, sizeof(text), "the way from (%.2f, %.2f) to (%.2f, %.2f) runs the frame over ", driven[i].x(),
+                    driven[i].y(), driven[i + 1].x(), driven[i + 1].y());
       return text + std::string(blockerName(b));
     }
   }
   b = sweep.turn(legs.back(), heading, end_yaw);
   if (b != Blocker::kNone) return describe("final turn", legs.back(), heading, end_yaw, b);
   return {};
+}
+
+/// The way from `path[k]` to its first point at least 0.3 m on (or the last) [rad].
+double wayOn(const std::vector<Eigen::Vector2d>& path, std::size_t k) {
+  std::size_t a = k + 1;
+  while (a + 1 < path.size() && (path[a] - path[k]).norm() < 0.3) ++a;
+  const Eigen::Vector2d d = path[a] - path[k];
+  return std::atan2(d.y(), d.x());
+}
+
+/// Backwards along `path` to the first of its points (every 0.1 m) where the robot can turn to the way on and drive the
+/// rest forward, every motion clear; false when there is none.
+bool splitPath(const Costmap& costmap, const Footprint& footprint, const thorvald_base::Pose2D& start,
+               const std::vector<Eigen::Vector2d>& path, const thorvald_base::Pose2D& goal, Approach* out) {
+  std::vector<Eigen::Vector2d> dense{path.front()};
+  for (std::size_t i = 0; i + 1 < path.size(); ++i) {
+    const int n = std::max(1, static_cast<int>(std::ceil((path[i + 1] - path[i]).norm() / 0.1)));
+    for (int k = 1; k <= n; ++k) dense.push_back(path[i] + (path[i + 1] - path[i]) * (static_cast<double>(k) / n));
+  }
+  for (std::size_t k = 1; k + 1 < dense.size(); ++k) {
+    const double on = wayOn(dense, k);
+    const std::vector<Eigen::Vector2d> back(dense.begin(), dense.begin() + static_cast<long>(k) + 1);
+    if (!firstBlockedMotion(costmap, footprint, start, back, on, true).empty()) continue;
+    const thorvald_base::Pose2D turn_at{dense[k].x(), dense[k].y(), on};
+    const std::vector<Eigen::Vector2d> ahead(dense.begin() + static_cast<long>(k), dense.end());
+    if (!firstBlockedMotion(costmap, footprint, turn_at, ahead, goal.yaw, false).empty()) continue;
+    out->first_leg = back;
+    out->first_target = turn_at;
+    out->reverse = true;
+    out->then_to_goal = true;
+    out->second_leg = ahead;
+    return true;
+  }
+  return false;
 }
 
 }  // namespace
@@ -197,6 +240,7 @@ PathDirection choosePathDirection(const Costmap& costmap, const Footprint& footp
     out.approach.reverse = true;
     return out;
   }
+  if (splitPath(costmap, footprint, start, path, goal, &out.approach)) return out;
   out.ok = false;
   out.error = "no way to drive the path without sweeping the robot over the map: forward, " + forward +
               "; backwards, " + backward;

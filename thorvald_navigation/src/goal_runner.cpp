@@ -50,15 +50,15 @@ GoalPlanners costmapPlanners(std::function<const Costmap&()> costmap, const Foot
     r.first_target = goal;
     if (!r.ok || omnidirectional) return r;
     const PathDirection d = choosePathDirection(costmap(), footprint, start, r.path, goal, false);
-    if (!d.ok) {
-      r.ok = false;
-      r.error = "goal refused: " + d.error;
+    if (!d.ok) {  // driven forward as planned (the planner's circle clears it), with the reason on the log
+      r.warning = d.error;
       return r;
     }
     r.path = d.approach.first_leg;
     r.reverse = d.approach.reverse;
     r.then_to_goal = d.approach.then_to_goal;
     r.first_target = d.approach.first_target;
+    r.second_leg = d.approach.second_leg;
     return r;
   };
   p.approach_again = [=](const thorvald_base::Pose2D& pose, const thorvald_base::Pose2D& goal) {
@@ -195,8 +195,10 @@ bool GoalRunner::planIfNeeded(const thorvald_base::Pose2D& pose, double now_s, G
   // A differential robot beside a wall may have to back along the path to its final approach's start.
   to_pre_goal_ = r.then_to_goal;
   pre_goal_ = Eigen::Vector2d(r.first_target.x, r.first_target.y);
+  next_leg_ = r.second_leg;
   follower_.setPath(path_, r.then_to_goal ? r.first_target : goal_, r.reverse);
   if (r.reverse) note(out, "backing along the path: a turn forward would sweep the frame over the map");
+  if (!r.warning.empty()) note(out, r.warning + "; driving the plan forward", true);
   out->new_plan = true;
   ++counts_.plans;
   need_plan_ = false;  // blocked_since_s_ stays: a new plan the obstacle still blocks does not restart the wait
@@ -229,7 +231,8 @@ GoalTick GoalRunner::arrived(const thorvald_base::Pose2D& pose, double now_s) {
   // pose once it stands, and approach again while it is outside the tolerances.
   if (to_pre_goal_) {  // at the start of the final approach: now straight to the goal
     to_pre_goal_ = false;
-    path_ = {pre_goal_, Eigen::Vector2d(goal_.x, goal_.y)};
+    path_ = next_leg_.empty() ? std::vector<Eigen::Vector2d>{pre_goal_, Eigen::Vector2d(goal_.x, goal_.y)} : next_leg_;
+    next_leg_.clear();
     follower_.setPath(path_, goal_);
     GoalTick out;
     out.state = GoalState::kActive;
@@ -270,6 +273,7 @@ GoalTick GoalRunner::judgeArrival(const thorvald_base::Pose2D& pose, double now_
     follower_.setPath(path_, a.first_target, a.reverse);
     to_pre_goal_ = a.then_to_goal;
     pre_goal_ = Eigen::Vector2d(a.first_target.x, a.first_target.y);
+    next_leg_ = a.second_leg;
     return out;
   }
   active_ = false;

@@ -135,10 +135,9 @@ TEST(RobotFootprint, ATurnTheCircleAllowsButTheFrameSweepsIsNotCommanded) {
 }
 
 // A strip 1.5 m wide between two walls: a goal facing the other way needs a half turn, whose sweep (0.97 m round
-// base_link) meets a wall 0.75 m away whether the robot turns at the start (forward) or at the final approach's start
-// (backing along the strip): the plan is refused with the turn that meets the wall, though the goal's footprint is
-// free.
-TEST(RobotFootprint, APlanNoDirectionClearsIsRefused) {
+// base_link) meets a wall 0.75 m away wherever the robot turns: no direction clears. The plan is driven forward as the
+// planner made it (as before the sweep), with the turn that meets the wall as its warning.
+TEST(RobotFootprint, APlanNoDirectionClearsIsDrivenForwardWithAWarning) {
   thorvald_map::OccupancyGrid map{160, 100, 0.05, 0.0, 0.0, thorvald_map::kFree};
   for (int x = 0; x < map.width; ++x)
     for (int y = 0; y < map.height; ++y)
@@ -151,9 +150,11 @@ TEST(RobotFootprint, APlanNoDirectionClearsIsRefused) {
   const tn::GoalPlanners p =
       tn::costmapPlanners([&]() -> const tn::Costmap& { return strip; }, kFrame, tn::PlannerParams{}, 0.3, 1.5, false);
   const tn::GoalPlan r = p.plan(start, goal);
-  EXPECT_FALSE(r.ok);
-  EXPECT_NE(r.error.find("turn"), std::string::npos) << r.error;
-  EXPECT_NE(r.error.find("wall"), std::string::npos) << r.error;
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_FALSE(r.reverse);
+  EXPECT_FALSE(r.then_to_goal);
+  EXPECT_NE(r.warning.find("turn"), std::string::npos) << r.warning;
+  EXPECT_NE(r.warning.find("wall"), std::string::npos) << r.warning;
 }
 
 // A passage 1.1 m wide: the frame (0.92 m wide) driven along it fits, though the circle round it (0.97 m radius)
@@ -187,4 +188,46 @@ TEST(RobotFootprint, ANarrowPassageTheCircleRefusesTheFrameFits) {
       EXPECT_EQ(cm.footprintBlocker({q.x(), q.y(), yaw}, kFrame), tn::Blocker::kNone) << i << " " << s;
     }
   }
+}
+
+// The greenhouse's two outer rail sets: from a target 0.75 m from one side wall to the next target 1.6 m over, 0.81 m
+// from the other side wall, both facing the rows. Forward, the first turn swings the rear into the first wall; backing
+// all the way puts the rear into the second wall at the final approach's start. The robot backs to where it can turn
+// in the open, turns there and drives on forward; every motion keeps the frame clear.
+TEST(RobotFootprint, BetweenTwoWallsTheRobotBacksToWhereItCanTurn) {
+  thorvald_map::OccupancyGrid map{160, 100, 0.05, 0.0, 0.0, thorvald_map::kFree};
+  for (int x = 0; x < map.width; ++x)
+    for (int y = 0; y < map.height; ++y)
+      if (x == 0 || x == map.width - 1 || y == 0 || y >= 64) map.at(x, y) = thorvald_map::kOccupied;
+  tn::CostmapParams cp;
+  cp.planning_radius_m = kFrame.halfWidth();
+  const tn::Costmap cm(map, thorvald_map::OccupancyGrid{}, cp);
+  const Pose2D start{4.0, 2.45, 0.0}, goal{4.0, 0.86, 0.0};  // walls' faces at y = 3.2 and y = 0.05
+  const tn::GoalPlanners p =
+      tn::costmapPlanners([&]() -> const tn::Costmap& { return cm; }, kFrame, tn::PlannerParams{}, 0.3, 1.5, false);
+  const tn::GoalPlan r = p.plan(start, goal);
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_TRUE(r.reverse);
+  ASSERT_TRUE(r.then_to_goal);
+  ASSERT_GE(r.second_leg.size(), 2u);
+  EXPECT_LT((r.second_leg.back() - Eigen::Vector2d(goal.x, goal.y)).norm(), 1e-9);
+  // The turn point leaves room for the frame's rear round it (1.0 m) on both sides.
+  EXPECT_GT(r.first_target.y, 0.05 + 0.97);
+  EXPECT_LT(r.first_target.y, 3.2 - 0.97);
+  // Drive it: back along the first leg, turn, forward along the second, final turn; the frame clear all the way.
+  double heading = start.yaw;
+  const auto drive = [&](const std::vector<Eigen::Vector2d>& leg, bool reverse) {
+    for (std::size_t i = 0; i + 1 < leg.size(); ++i) {
+      const Eigen::Vector2d d = leg[i + 1] - leg[i];
+      if (d.norm() < 1e-9) continue;
+      const double way = thorvald_base::normalizeAngle(std::atan2(d.y(), d.x()) + (reverse ? thorvald_base::kPi : 0.0));
+      EXPECT_FALSE(tn::turnTouches(cm, kFrame, leg[i], heading, way, tn::Blocker::kWall)) << i;
+      heading = way;
+      const Eigen::Vector2d q = leg[i + 1];
+      EXPECT_EQ(cm.footprintBlocker({q.x(), q.y(), heading}, kFrame), tn::Blocker::kNone) << i;
+    }
+  };
+  drive(r.path, true);
+  drive(r.second_leg, false);
+  EXPECT_FALSE(tn::turnTouches(cm, kFrame, r.second_leg.back(), heading, goal.yaw, tn::Blocker::kWall));
 }

@@ -24,6 +24,8 @@ struct GoalPlan {
   bool reverse = false;
   bool then_to_goal = false;
   thorvald_base::Pose2D first_target;
+  std::vector<Eigen::Vector2d> second_leg;  ///< with then_to_goal: forward to the goal (empty: the straight line)
+  std::string warning;  ///< not empty: no direction keeps the footprint clear of the map (why); driven forward
 };
 
 /// Refuses a goal whose footprint overlaps a wall, unmapped space, the keep-out zone or an obstacle (with that reason),
@@ -48,6 +50,8 @@ struct Approach {
   bool reverse = false;
   /// Whether a second leg follows, straight from first_target to the goal.
   bool then_to_goal = false;
+  /// With then_to_goal: the second leg, driven forward from first_target to the goal (empty: the straight line).
+  std::vector<Eigen::Vector2d> second_leg;
 };
 
 /// Differential robot with a free final approach: back straight off to its start (no half turn on the spot, which
@@ -70,7 +74,8 @@ struct PathDirection {
 /// Sweeps the footprint polygon over the motions a differential robot makes on `path` against walls, the keep-out
 /// zone and unknown space: the turns on the spot (from its heading to the way along the path's first 0.3 m, at every
 /// corner of the path, and at the end to the goal's heading) and the straight legs between them with the footprint
-/// oriented along them; forward first, then backwards. A path that clears forward is driven forward. A blocker the
+/// oriented along them; forward first, then backwards, then backwards as far as a point of the path where the robot
+/// can turn and forward from there (the first such point). A path that clears forward is driven forward. A blocker the
 /// start pose's footprint already overlaps is not held against either direction until the footprint has been clear
 /// of it (the robot stands there already). Omnidirectional robots and paths of fewer than 2 points: forward,
 /// unchecked.

@@ -46,7 +46,8 @@ struct GoalPlanners {
 
 /// The navigator's planners on a costmap: planToGoal (a differential robot's path ends with `final_approach_m`
 /// straight along the goal's heading) with the direction a differential robot drives it (choosePathDirection: a plan
-/// whose turns or legs sweep the footprint over a wall, the keep-out zone or unknown space either way is refused),
+/// backwards, or backwards to a turning point and forward; a plan no direction clears is driven forward as planned,
+/// with the reason in GoalPlan::warning),
 /// approachAgain, and sweptObstacleDistance over `obstacle_check_ahead_m` [m].
 /// `costmap` is called at each use (the node replaces its costmap when a map arrives) and must return one then.
 GoalPlanners costmapPlanners(std::function<const Costmap&()> costmap, const Footprint& footprint,
@@ -163,6 +164,7 @@ class GoalRunner {
   std::optional<double> blocked_since_s_, arrived_at_s_;
   bool to_pre_goal_ = false;  ///< a correction is on its way to the start of the final approach
   Eigen::Vector2d pre_goal_{0.0, 0.0};
+  std::vector<Eigen::Vector2d> next_leg_;  ///< after pre_goal_: the way on to the goal (empty: straight)
   FollowPhase last_phase_ = FollowPhase::kIdle;
   bool holding_ = false;  ///< stopped for the localiser
   std::string hold_reason_, last_failure_;
