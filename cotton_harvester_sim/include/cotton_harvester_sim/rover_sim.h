@@ -186,6 +186,9 @@ class RoverSim {
   int divergences() const { return divergences_; }
   /// The compiled scene as MJCF (for viewing it in MuJoCo's simulate).
   const std::string& sceneXml() const { return xml_; }
+  /// The MuJoCo model and state, read-only (the rover's sensors, rover_sensors.h, read their truth from them).
+  const mjModel* model() const { return model_.get(); }
+  const mjData* data() const { return data_.get(); }
 
  private:
   void stepOnce();
