@@ -264,8 +264,8 @@ class UvMissionScorer:
         rospy.Subscriber("mission/status", MachineStatus, self.on_status)
         rospy.Subscriber("mission/report", String, self.on_report)
         if ActorArray is not None:
-            rospy.Subscriber(rospy.get_param("~actors_topic", "/thorvald_sim/sim/actors"), ActorArray, self.on_actors)
-            rospy.Subscriber(rospy.get_param("~contacts_topic", "/thorvald_sim/sim/contacts"), BodyContact,
+            rospy.Subscriber(rospy.get_param("~actors_topic", "/sim/actors"), ActorArray, self.on_actors)
+            rospy.Subscriber(rospy.get_param("~contacts_topic", "/sim/contacts"), BodyContact,
                              self.on_contact, queue_size=100)
 
     def finished(self):

@@ -12,6 +12,7 @@ std::string ZoneParams::validate() const {
   if (min_cluster_points < 1) e << "min_cluster_points must be >= 1; ";
   if (!(person_min_width_m >= 0.0 && person_max_width_m > person_min_width_m))
     e << "person widths must be 0 <= min < max [m]; ";
+  if (!(person_min_depth_m >= 0.0)) e << "person_min_depth must be >= 0 [m]; ";
   if (!(headland_radius_m >= 0.0)) e << "headland_radius must be >= 0 [m]; ";
   if (!(map_clearance_m >= 0.0)) e << "map_clearance must be >= 0 [m]; ";
   if (!(row_half_width_m > 0.0)) e << "row_half_width must be > 0 [m]; ";
@@ -38,18 +39,32 @@ const char* toString(ZonePhase phase) {
 
 namespace {
 
-PointCluster summarise(const std::vector<ScanPoint>& pts, const ZoneParams& p) {
+PointCluster summarise(const std::vector<ScanPoint>& pts, const ZoneParams& p, double origin_x) {
   PointCluster c;
   c.points = static_cast<int>(pts.size());
   c.near_x = pts.front().x;
+  double range = 0.0;
   for (const ScanPoint& q : pts) {
     c.x += q.x / pts.size();
     c.y += q.y / pts.size();
     c.near_x = std::min(c.near_x, q.x);
+    range += std::hypot(q.x - origin_x, q.y) / pts.size();
   }
-  // Scan order: the extreme points are the first and last; a wide arc is measured across its whole span.
-  for (const ScanPoint& q : pts) c.width = std::max(c.width, std::hypot(q.x - pts.front().x, q.y - pts.front().y));
-  c.person = c.width >= p.person_min_width_m && c.width <= p.person_max_width_m;
+  // The width across the beams (angle spanned times the mean range): a body's face, not a streak of mixed pixels
+  // along the beams at an edge (the lidar's returns between a near edge and what lies behind it).
+  double a_min = 1e9, a_max = -1e9;
+  for (const ScanPoint& q : pts) {
+    const double a = std::atan2(q.y, q.x - origin_x);
+    a_min = std::min(a_min, a), a_max = std::max(a_max, a);
+  }
+  c.width = range * (a_max - a_min);
+  // How far the points bulge from the chord between the first and the last: a person's body is round, the face of
+  // a trolley or a crate is flat.
+  const double cx = pts.back().x - pts.front().x, cy = pts.back().y - pts.front().y, chord = std::hypot(cx, cy);
+  for (const ScanPoint& q : pts)
+    if (chord > 1e-6)
+      c.depth = std::max(c.depth, std::fabs(cx * (q.y - pts.front().y) - cy * (q.x - pts.front().x)) / chord);
+  c.person = c.width >= p.person_min_width_m && c.width <= p.person_max_width_m && c.depth >= p.person_min_depth_m;
   return c;
 }
 
@@ -81,7 +96,7 @@ void rowZone(const std::vector<ScanPoint>& points, double lidar_x, const ZoneCon
   std::vector<ScanPoint> corridor;
   for (const ScanPoint& q : points)
     if (q.x > 0.0 && std::fabs(q.y) < p.row_half_width_m) corridor.push_back(q);
-  v->clusters = clusterScan(corridor, p);
+  v->clusters = clusterScan(corridor, p, lidar_x);
   for (const PointCluster& c : v->clusters) {
     const bool obstacle = length_known && c.near_x < end_from && c.near_x < p.row_ahead_m;
     v->in_zone.push_back(obstacle);
@@ -109,11 +124,11 @@ void rowZone(const std::vector<ScanPoint>& points, double lidar_x, const ZoneCon
 
 }  // namespace
 
-std::vector<PointCluster> clusterScan(const std::vector<ScanPoint>& points, const ZoneParams& p) {
+std::vector<PointCluster> clusterScan(const std::vector<ScanPoint>& points, const ZoneParams& p, double origin_x) {
   std::vector<PointCluster> out;
   std::vector<ScanPoint> cur;
   auto close = [&] {
-    if (static_cast<int>(cur.size()) >= p.min_cluster_points) out.push_back(summarise(cur, p));
+    if (static_cast<int>(cur.size()) >= p.min_cluster_points) out.push_back(summarise(cur, p, origin_x));
     cur.clear();
   };
   for (const ScanPoint& q : points) {
@@ -146,7 +161,7 @@ ZoneVerdict evaluateZone(const std::vector<ScanPoint>& points, double lidar_x, c
   std::vector<ScanPoint> unknown;
   for (const ScanPoint& q : points)
     if (!known || !known(q.x, q.y)) unknown.push_back(q);
-  v.clusters = clusterScan(unknown, p);
+  v.clusters = clusterScan(unknown, p, lidar_x);
   for (const PointCluster& c : v.clusters) {
     const bool in = c.person && std::hypot(c.x, c.y) < p.headland_radius_m;
     v.in_zone.push_back(in);

@@ -11,8 +11,10 @@ namespace greenhouse_rail_nav {
 struct ZoneParams {
   double cluster_gap_m = 0.2;        ///< neighbouring scan points closer than this belong to one cluster
   int min_cluster_points = 3;        ///< fewer points: noise, ignored
-  double person_min_width_m = 0.15;  ///< a cluster this wide ...
+  double person_min_width_m = 0.25;  ///< a cluster this wide across the beams ...
   double person_max_width_m = 0.9;   ///< ... up to this is a person's size
+  /// ... and its points bulge this far from their chord (a round body, not a trolley's or a crate's flat face) [m]
+  double person_min_depth_m = 0.05;
   /// Headland: a person (cluster not in the map) within this of base_link is in the zone (the lamps' radius) [m].
   double headland_radius_m = 1.5;
   double map_clearance_m = 0.2;  ///< headland: a point this close to an occupied map cell is the map [m]
@@ -37,14 +39,17 @@ struct ScanPoint {
 struct PointCluster {
   double x = 0.0, y = 0.0;  ///< centroid in base_link [m]
   double near_x = 0.0;      ///< smallest x of its points [m]
-  double width = 0.0;       ///< largest distance between two of its points [m]
+  double width = 0.0;       ///< across the lidar's beams [m]
+  double depth = 0.0;       ///< largest distance of its points from the chord between its first and last [m]
   int points = 0;
   bool person = false;  ///< of a person's size
 };
 
 /// Groups points given in scan order: a point joins the cluster of the one before it when closer than
-/// cluster_gap_m. Clusters of fewer than min_cluster_points are dropped.
-std::vector<PointCluster> clusterScan(const std::vector<ScanPoint>& points, const ZoneParams& p);
+/// cluster_gap_m. Clusters of fewer than min_cluster_points are dropped. A cluster's width is measured across the
+/// beams of a lidar at (origin_x, 0) (the angle it spans times its mean range), so that a streak of mixed pixels
+/// along the beams at an edge is not taken for a body.
+std::vector<PointCluster> clusterScan(const std::vector<ScanPoint>& points, const ZoneParams& p, double origin_x = 0.0);
 
 /// What the mission is doing, which decides the zone.
 enum class ZonePhase {

@@ -16,6 +16,7 @@ void ZoneWatch::readParams(thorvald_common::ParamReader& params, Config* c) {
   z.min_cluster_points = params.integer("zone/min_cluster_points", z.min_cluster_points, 1, 1000);
   z.person_min_width_m = params.number("zone/person_min_width", z.person_min_width_m, R::closed(0.0, 2.0), "m");
   z.person_max_width_m = params.number("zone/person_max_width", z.person_max_width_m, R::aboveUpTo(0.0, 5.0), "m");
+  z.person_min_depth_m = params.number("zone/person_min_depth", z.person_min_depth_m, R::closed(0.0, 1.0), "m");
   z.headland_radius_m = params.number("zone/headland_radius", z.headland_radius_m, R::closed(0.0, 10.0), "m");
   z.map_clearance_m = params.number("zone/map_clearance", z.map_clearance_m, R::closed(0.0, 1.0), "m");
   z.row_half_width_m = params.number("zone/row_half_width", z.row_half_width_m, R::aboveUpTo(0.0, 2.0), "m");
