@@ -14,6 +14,7 @@
 #include <thorvald_state_machine/ros/status_publisher.h>
 
 #include "cotton_harvester_sim/harvest_run.h"
+#include "field_rows_experiment.h"
 #include "harvest_metrics_status.h"
 
 namespace {
@@ -67,6 +68,9 @@ diagnostic_msgs::DiagnosticStatus metricsMsg(const HarvestRunReport& report, con
 int main(int argc, char** argv) {
   ros::init(argc, argv, "mujoco_harvest");
   ros::NodeHandle nh, pnh("~");
+  // A whole field, row after row (rows, row_length_m, seed, realism, path_png, waypoints).
+  if (pnh.param<std::string>("experiment", "potted") == "field_rows")
+    return cotton_harvester::sim::runFieldRowsExperiment(nh, pnh);
   HarvestRunConfig config;
   std::string metrics_csv, path_png, run_name;
   try {
