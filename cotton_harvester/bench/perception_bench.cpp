@@ -2,8 +2,12 @@
 // and detection precision/recall, 3D error and end-effector detection of the colour pipeline on synthetic frames
 // with ground truth: sun, overcast and shade, random exposure and white balance, glare on the end-effector, touching
 // boll clusters, leaves over bolls, at 1280x720 and at 640x360 and 1920x1080.
+// The trained boll network (detector: network): its time per 720p frame (ms_per_frame_dnn, single thread), whether
+// its weights detect (network_trained), and with --heldout-dir its precision and recall next to the colour
+// detector's on held-out datasheet frames of the simulated row (cotton_harvester_sim's boll_dataset_export --full,
+// seeds never trained on), with --fig8 also with bilinear, nearest and no interpolation of its input (paper Fig. 8).
 //   rosrun cotton_harvester perception_bench [--frames N] [--other-resolution-frames N] [--dnn-frames N] [--seed S]
-//                                            [--list-misses]
+//                                            [--list-misses] [--network-model FILE] [--heldout-dir DIR] [--fig8]
 
 #include <algorithm>
 #include <chrono>
@@ -29,6 +33,7 @@
 #include "cotton_harvester/testing/darknet_net_writer.h"
 #include "cotton_harvester/testing/detection_scoring.h"
 #include "cotton_harvester/testing/scene_renderer.h"
+#include "network_figures.h"
 
 using namespace cotton_harvester::perception;
 using Clock = std::chrono::steady_clock;
@@ -125,6 +130,12 @@ int main(int argc, char** argv) {
   app.add_flag("--list-misses", list_misses,
                "print every missed boll and every false detection of the colour pipeline (frame seed, size, pixel, "
                "case, visible share, nearest detection) to look at them one by one");
+  NetworkParams network_params;
+  std::string heldout_dir;
+  bool fig8 = false;
+  app.add_option("--network-model", network_params.model_path, "the boll network (default: the shipped ONNX)");
+  app.add_option("--heldout-dir", heldout_dir, "held-out datasheet frames (boll_dataset_export --full) to score");
+  app.add_flag("--fig8", fig8, "with --heldout-dir: the network with bilinear, nearest and no input interpolation");
   if (const auto code = thorvald_common::parseCommandLine(app, argc, argv)) return *code;
 
   // The timing figure is single-core, as the goal states.
@@ -147,7 +158,7 @@ int main(int argc, char** argv) {
   ScoreSummary by_light[3], by_resolution[3], all, all_paper, all_rgb, all_window, all_no_partial, all_arc_test,
       all_no_dome;
   CaseStats by_case[3];
-  Timing colour_time, colour_cpu, dnn_time, render_time;
+  Timing colour_time, colour_cpu, dnn_time, network_time, render_time;
   int total = 0;
   for (const Resolution& resolution : resolutions) total += resolution.frames;
   int done = 0;
@@ -176,9 +187,11 @@ int main(int argc, char** argv) {
     PerceptionParams no_dome_params = params;
     no_dome_params.boll_min_dome_fraction = 0.0;
     PerceptionPipeline colour_no_dome(no_dome_params, std::make_unique<ColourBollDetector>(ColourBollParams{}));
-    std::unique_ptr<PerceptionPipeline> dnn;
-    if (r == 0 && dnn_frames > 0)
+    std::unique_ptr<PerceptionPipeline> dnn, network;
+    if (r == 0 && dnn_frames > 0) {
       dnn = std::make_unique<PerceptionPipeline>(params, std::make_unique<DarknetBollDetector>(darknet));
+      network = std::make_unique<PerceptionPipeline>(params, std::make_unique<NetworkBollDetector>(network_params));
+    }
 
     for (int i = 0; i < resolution.frames; ++i, ++done) {
       SceneParams scene = sceneFor(i, params.intrinsics);
@@ -230,6 +243,8 @@ int main(int argc, char** argv) {
       all_no_dome.add(scoreFrame(colour_no_dome.process(frame.bgr, frame.cloud), frame.layout, ScoringParams{}));
       all_rgb.add(scoreFrame(colour_rgb.process(frame.bgr, frame.cloud), frame.layout, ScoringParams{}));
       if (dnn && i < dnn_frames) dnn_time.ms.push_back(timeMs([&] { dnn->process(frame.bgr, frame.cloud); }));
+      if (network && i < dnn_frames)
+        network_time.ms.push_back(timeMs([&] { network->process(frame.bgr, frame.cloud); }));
       if ((done + 1) % 10 == 0 || done + 1 == total) {
         std::printf("[perception_bench] %d/%d frames (%dx%d)\n", done + 1, total, resolution.width, resolution.height);
         std::fflush(stdout);
@@ -247,6 +262,7 @@ int main(int argc, char** argv) {
   timing_row("colour (end-effector + bolls + 3D)", colour_time);
   timing_row("colour, CPU time of the thread", colour_cpu);
   timing_row("tiny-YOLOv3 416x416 (+ EE + 3D)", dnn_time);
+  timing_row("boll network 448x256 (+ EE + 3D)", network_time);
   timing_row("(synthetic frame rendering, all sizes)", render_time);
 
   std::printf("\n%-26s %5s %5s %5s %9s %7s %10s %10s %12s %6s %5s\n", "colour detector", "TP", "FP", "FN", "precision",
@@ -272,15 +288,32 @@ int main(int argc, char** argv) {
   std::printf(
       "\nScored against bolls at least half visible; 3D error to the visible surface point on the ray through the\n"
       "boll centre. The end-effector counts as expected when at least half of its top face is visible.\n"
-      "The DNN's weights are random: only its time is meaningful.\n");
+      "The tiny-YOLOv3's weights are random: only its time is meaningful.\n");
+
+  NetworkFigures net_figures;
+  constexpr double kMaxError3dM = 0.03;
+  checkTrained(network_params, COTTON_HARVESTER_BOLL_NET_FRAMES, &net_figures);
+  if (!heldout_dir.empty()) {
+    const std::string error = scoreHeldout(heldout_dir, network_params, fig8, kMaxError3dM, &net_figures);
+    if (!error.empty()) std::printf("held-out frames: %s\n", error.c_str());
+  }
+  printNetworkFigures(net_figures, kMaxError3dM);
+  const auto fig8_recall = [&](int i) { return net_figures.fig8_run ? net_figures.fig8[i].recall() : -1.0; };
+  const auto held = [&](double value) { return net_figures.heldout_frames > 0 ? value : -1.0; };
 
   std::printf(
       "RESULT {\"ms_per_frame_colour_720p\": %.3f, \"cpu_ms_per_frame_colour_720p\": %.3f, \"ms_per_frame_dnn\": %.3f, "
       "\"precision\": %.4f, "
       "\"recall\": %.4f, \"boll_3d_err_m\": %.4f, \"boll_3d_err_p95_m\": %.4f, \"end_effector_found\": %.4f, "
-      "\"end_effector_found_paper_rgb\": %.4f, \"frames\": %d}\n",
-      colour_time.mean(), colour_cpu.mean(), dnn_time.mean(), all.precision(), all.recall(), all.meanError3d(),
+      "\"end_effector_found_paper_rgb\": %.4f, \"frames\": %d, \"ms_per_frame_darknet_random\": %.3f, "
+      "\"network_trained\": %d, \"heldout_frames\": %d, \"network_precision\": %.4f, \"network_recall\": %.4f, "
+      "\"network_boll_3d_err_p95_m\": %.4f, \"heldout_colour_precision\": %.4f, \"heldout_colour_recall\": %.4f, "
+      "\"fig8_linear_recall\": %.4f, \"fig8_nearest_recall\": %.4f, \"fig8_none_recall\": %.4f}\n",
+      colour_time.mean(), colour_cpu.mean(), network_time.mean(), all.precision(), all.recall(), all.meanError3d(),
       all.percentileError3d(0.95), ratio(all.end_effector_found, all.end_effector_expected),
-      ratio(all_rgb.end_effector_found, all_rgb.end_effector_expected), total);
+      ratio(all_rgb.end_effector_found, all_rgb.end_effector_expected), total, dnn_time.mean(), net_figures.trained,
+      net_figures.heldout_frames, held(net_figures.network.precision()), held(net_figures.network.recall()),
+      held(net_figures.network.percentileError3d(0.95)), held(net_figures.colour.precision()),
+      held(net_figures.colour.recall()), fig8_recall(0), fig8_recall(1), fig8_recall(2));
   return 0;
 }

@@ -10,9 +10,10 @@
 //   labels/<name>.txt   YOLO labels: `class cx cy w h` normalised to the image, class 0 boll, 1 end-effector; a boll
 //                       is labelled when its centre is in view and at least --min-visible of its disc is seen
 //                       in the frame's true depth
-//   truth/<name>.txt    every boll in view: `boll u v radius_px visible x y z ray_visible` (camera frame [m], its
-//                       centre; visible from the true depth, ray_visible the simulator's ray test) and the
-//                       end-effector's top face `end_effector u v visible x y z` (pixels at 1280x720)
+//   truth/<name>.txt    the day (`day sunny|overcast exposure`), every boll in view (`boll u v radius_px visible
+//                       x y z ray_visible`: camera frame [m], its centre; visible from the true depth, ray_visible
+//                       the simulator's ray test) and the end-effector's top face (`end_effector u v visible x y z`);
+//                       pixels at 1280x720
 //   depth/<name>.png    with --full: the frame's depth along the optical axis, 16-bit millimetres (0: none)
 // Held-out seeds are never used for training: see cotton_harvester/models/README.md.
 //   rosrun cotton_harvester_sim boll_dataset_export --out DIR [--seed-begin 1000] [--seed-end 1100]
@@ -139,6 +140,7 @@ int writeTruth(RoverSim& sim, const ExportOptions& o, const std::string& name, c
   const double scale_x = static_cast<double>(size.width) / p.camera_width;
   const double scale_y = static_cast<double>(size.height) / p.camera_height;
   std::ofstream labels(o.out + "/labels/" + name + ".txt"), truth(o.out + "/truth/" + name + ".txt");
+  truth << "day " << (sim.daylight().sunny ? "sunny" : "overcast") << " " << sim.daylight().exposure << "\n";
   int labelled = 0;
   for (size_t i = 0; i < sim.bolls().size(); ++i) {
     const auto& b = sim.bolls()[i];

@@ -19,6 +19,7 @@
 #include "cotton_harvester/BollArray.h"
 #include "cotton_harvester/perception/colour_boll_detector.h"
 #include "cotton_harvester/perception/darknet_boll_detector.h"
+#include "cotton_harvester/perception/network_boll_detector.h"
 #include "cotton_harvester/perception/debug_overlay.h"
 #include "cotton_harvester/perception/perception_pipeline.h"
 #include "perception_conversions.h"
@@ -49,13 +50,19 @@ class HarvestPerceptionNode {
     diagnostics_.add("perception", this, &HarvestPerceptionNode::diagnose);
     diagnostics_timer_ = nh.createTimer(ros::Duration(1.0), [this](const ros::TimerEvent&) { diagnostics_.update(); });
     ROS_INFO("harvest_perception: %s detector, intrinsics fx %.3f fy %.3f cx %.3f cy %.3f (%dx%d)",
-             config.use_darknet ? "tiny-YOLOv3 (Darknet)" : "colour/shape", config.pipeline.intrinsics.fx,
-             config.pipeline.intrinsics.fy, config.pipeline.intrinsics.cx, config.pipeline.intrinsics.cy,
-             config.pipeline.intrinsics.width, config.pipeline.intrinsics.height);
+             detectorName(config).c_str(), config.pipeline.intrinsics.fx, config.pipeline.intrinsics.fy,
+             config.pipeline.intrinsics.cx, config.pipeline.intrinsics.cy, config.pipeline.intrinsics.width,
+             config.pipeline.intrinsics.height);
   }
 
  private:
+  static std::string detectorName(const PerceptionNodeConfig& config) {
+    if (config.use_network) return "boll network (" + config.network.model_path + ")";
+    return config.use_darknet ? "tiny-YOLOv3 (Darknet)" : "colour/shape";
+  }
+
   static std::unique_ptr<BollDetector> makeDetector(const PerceptionNodeConfig& config) {
+    if (config.use_network) return std::make_unique<NetworkBollDetector>(config.network);
     if (config.use_darknet) return std::make_unique<DarknetBollDetector>(config.darknet);
     return std::make_unique<ColourBollDetector>(config.colour);
   }
@@ -191,7 +198,7 @@ class HarvestPerceptionNode {
       status.summary(diagnostic_msgs::DiagnosticStatus::OK, "ok");
     }
     reported_rejected_ = rejected;
-    status.add("detector", config_.use_darknet ? "darknet" : "colour");
+    status.add("detector", config_.use_network ? "network" : config_.use_darknet ? "darknet" : "colour");
     status.add("frames processed", processed_);
     status.add("frames rejected", rejected);
     for (const auto& [reason, count] : rejected_) status.add("rejected: " + reason, count);

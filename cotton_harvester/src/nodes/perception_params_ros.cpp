@@ -115,6 +115,28 @@ void readDarknet(Reader& r, PerceptionNodeConfig* config) {
   config->use_darknet = !d.cfg_path.empty() || !d.weights_path.empty();
 }
 
+/// `detector` and the trained network's settings (network/*).
+void readNetwork(Reader& r, PerceptionNodeConfig* config) {
+  std::string detector = "auto";
+  r.read("detector", &detector, "'auto', 'colour', 'darknet' or 'network'");
+  NetworkParams& n = config->network;
+  r.read("network/model", &n.model_path, "a path to an ONNX file (empty: the shipped models/boll_net.onnx)");
+  r.read("network/confidence_threshold", &n.decode.confidence_threshold, "a number in [0, 1]");
+  r.read("network/nms_threshold", &n.decode.nms_threshold, "a number in [0, 1]");
+  r.readChoice("network/resize", &n.resize, parseInputResize, "'linear', 'nearest' or 'none'");
+  if (n.model_path.empty()) n.model_path = defaultNetworkModelPath();
+  if (detector == "network") {
+    config->use_network = true;
+    config->use_darknet = false;
+  } else if (detector == "colour") {
+    config->use_darknet = false;
+  } else if (detector == "darknet") {
+    config->use_darknet = true;
+  } else if (detector != "auto") {
+    config->detector_error = "~detector: expected 'auto', 'colour', 'darknet' or 'network' (got '" + detector + "'); ";
+  }
+}
+
 /// Where a detection is in 3D and whether it is taken: depth, boll geometry, plausibility, reach, the nearest.
 void readLocation(Reader& r, PerceptionParams* p) {
   r.read("depth/window_px", &p->locator.window_px, "an odd integer >= 1 [px]");
@@ -159,6 +181,11 @@ std::string validate(const PerceptionNodeConfig& config) {
     const std::string darknet_errors = validate(config.darknet);
     if (!darknet_errors.empty()) errors += "darknet: " + darknet_errors;
   }
+  errors += config.detector_error;
+  if (config.use_network) {
+    const std::string network_errors = validate(config.network);
+    if (!network_errors.empty()) errors += "network: " + network_errors;
+  }
   if (!(config.max_stamp_diff_s >= 0.0) || !std::isfinite(config.max_stamp_diff_s))
     errors += "~max_stamp_diff_s: expected a number >= 0; ";
   if (!std::isfinite(config.arm_extension_zero_x_m)) errors += "~arm_prior/extension_zero_x_m: expected a number; ";
@@ -178,6 +205,7 @@ bool loadPerceptionNodeConfigOrThrow(const ros::NodeHandle& pnh, PerceptionNodeC
   readEndEffector(r, &config->pipeline.end_effector);
   readColour(r, &config->colour);
   readDarknet(r, config);
+  readNetwork(r, config);
   readLocation(r, &config->pipeline);
   readNodeSettings(r, config);
   r.finish();

@@ -6,6 +6,7 @@
 
 #include "cotton_harvester/perception/colour_boll_detector.h"
 #include "cotton_harvester/perception/darknet_boll_detector.h"
+#include "cotton_harvester/perception/network_boll_detector.h"
 #include "cotton_harvester/perception/perception_pipeline.h"
 
 namespace cotton_harvester {
@@ -15,7 +16,12 @@ struct PerceptionNodeConfig {
   perception::PerceptionParams pipeline;
   perception::ColourBollParams colour;
   perception::DarknetParams darknet;
-  bool use_darknet = false;        ///< true when darknet/cfg is set
+  bool use_darknet = false;  ///< true when darknet/cfg is set
+  perception::NetworkParams network;
+  /// `detector: network`: the trained boll network (network/model, default the shipped models/boll_net.onnx).
+  /// `colour` or `darknet` choose those; `auto` (default): darknet when darknet/cfg is set, else colour.
+  bool use_network = false;
+  std::string detector_error;      ///< a `detector` value that names no detector
   bool use_camera_info = false;    ///< take the intrinsics from camera_info instead of camera/*
   double max_stamp_diff_s = 0.05;  ///< image and cloud stamps further apart are not paired [s]
   bool publish_debug_image = true;
