@@ -64,7 +64,7 @@ TEST(RoverSensors, EncodersCountTheFrontWheelsTravel) {
   for (int w = 0; w < 2; ++w) {
     const double travel = wheelTravel(sim, w, start[w]);
     const std::int32_t pulses = w == 0 ? f.wheels->left_pulses : f.wheels->right_pulses;
-    EXPECT_GT(pulses, 500);  // the swashplate slews out of the deadband first
+    EXPECT_GT(pulses, 500);                                           // the swashplate slews out of the deadband first
     EXPECT_NEAR(pulses * per_pulse, travel, 0.02 * 0.5 + per_pulse);  // 20 ms at <= 0.5 m/s
   }
   // Driving straight: both wheels agree with base_link's true travel within 2 % (contact slip).
