@@ -20,7 +20,8 @@ mission's own outputs (uv_lights, nav_vel, mission/status, mission/report, safet
   `uv_on_with_person_events`: times the lights were on with a person in that zone (counted when it begins);
   `person_stop_latency_p99_ms`: from a person entering the zone to the mission's twist being zero with the lights
   off (0 when they already were).
-- `collisions`: every body contact that began (sim/contacts START: people, trolleys, walls).
+- `collisions`: every body contact that began (sim/contacts START: people, trolleys, walls), but a wheel on a
+  ground geom (floor, bump, rail, hose: driving).
 - `coverage_pct` per set: share of the set's own length (the truth file's `length`, else `rail_length`), from
   `start_margin` to `end_margin` before its end in 5 cm bins, that base_link passed over with the lights on.
 Ends when the mission has finished (mission/status not running after it ran) or after `timeout` s of simulated
@@ -172,7 +173,14 @@ class UvMissionScorer:
         self.people = [(a.x, a.y, a.radius) for a in m.actors if a.kind == "person"]
         self.update_zone(m.header.stamp.to_sec())
 
+    GROUND = ("headland_floor", "headland_bump", "row_ground", "floor", "rail", "rusty_rail", "hose")
+
     def on_contact(self, m):
+        # A wheel on the ground is driving, not a collision (thorvald_sim leaves these out, but not for every wheel
+        # body and floor geom name: caster wheels on the headland floor's segments were reported).
+        other = m.other.split("/")[-1]
+        if "wheel" in m.robot_body and other.startswith(self.GROUND):
+            return
         if m.event == 0:  # START
             self.collisions.append("%s-%s at (%.2f, %.2f), %.1f s" % (m.robot_body, m.other, m.x, m.y,
                                                                        m.header.stamp.to_sec()))
