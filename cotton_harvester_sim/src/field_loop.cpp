@@ -155,6 +155,35 @@ double calibrateMetresPerPulse(const FieldLoopConfig& c) {
   return (*last - *first).head<2>().norm() / (0.5 * (last_pulses - first_pulses));
 }
 
+// One sensor frame into one filter; the watched filter's GNSS steps and errors go to the outage watch.
+void feedFilter(const RoverSensorFrame& f, RoverFusion& fu, OutageWatch* watch, double now, const RoverPose2d& truth,
+                const RoverPose2d& start) {
+  if (f.wheels) fu.onWheels(*f.wheels);
+  for (const ImuReading& imu : f.imu) fu.onImu(imu);
+  for (const GnssReading& g : f.gnss) {
+    const RoverPose2d before = fu.estimate(g.solution.time_s);
+    fu.onGnss(g);
+    const RoverPose2d after = fu.estimate(g.solution.time_s);
+    if (watch) watch->step(g.solution.time_s, std::hypot(after.x - before.x, after.y - before.y));
+  }
+  if (watch && (f.wheels || !f.gnss.empty()))
+    watch->observe(now, errorOf(fu.estimate(now), truth, start).norm(), fu.health(now).localization_ok, fu.gnssFused());
+}
+
+Table1Row table1Row(RoverFusion& fu, double t_end, const RoverPose2d& truth, const RoverPose2d& start) {
+  Table1Row row;
+  row.set = fu.set();
+  const Eigen::Vector2d e = errorOf(fu.estimate(t_end), truth, start);
+  row.error_x_m = std::abs(e.x());
+  row.error_y_m = std::abs(e.y());
+  row.error_m = e.norm();
+  const Eigen::Vector2d s = fu.positionSigma();
+  row.sigma_x_m = s.x();
+  row.sigma_y_m = s.y();
+  row.localization_ok = fu.health(t_end).localization_ok;
+  return row;
+}
+
 }  // namespace
 
 FieldLoopResult runFieldLoop(const FieldLoopConfig& c) {
@@ -207,40 +236,14 @@ FieldLoopResult runFieldLoop(const FieldLoopConfig& c) {
     sim.advance(dt);
     const RoverSensorFrame f = sensors.poll();
     if (f.wheels) last_wheels = f.wheels;
-    for (size_t i = 0; i < filters.size(); ++i) {
-      RoverFusion& fu = *filters[i];
-      if (f.wheels) fu.onWheels(*f.wheels);
-      for (const ImuReading& imu : f.imu) fu.onImu(imu);
-      for (const GnssReading& g : f.gnss) {
-        const RoverPose2d before = fu.estimate(g.solution.time_s);
-        fu.onGnss(g);
-        const RoverPose2d after = fu.estimate(g.solution.time_s);
-        if (watch && static_cast<int>(i) == watched)
-          watch->step(g.solution.time_s, std::hypot(after.x - before.x, after.y - before.y));
-      }
-      if (watch && static_cast<int>(i) == watched && (f.wheels || !f.gnss.empty())) {
-        const double tn = sim.time();
-        watch->observe(tn, errorOf(fu.estimate(tn), sensors.truthPose(), start).norm(), fu.health(tn).localization_ok,
-                       fu.gnssFused());
-      }
-    }
+    for (size_t i = 0; i < filters.size(); ++i)
+      feedFilter(f, *filters[i], static_cast<int>(i) == watched && watch ? &*watch : nullptr, sim.time(),
+                 sensors.truthPose(), start);
   }
   FieldLoopResult out;
   const double t_end = sim.time();
   const RoverPose2d truth = sensors.truthPose();
-  for (auto& fu : filters) {
-    Table1Row row;
-    row.set = fu->set();
-    const Eigen::Vector2d e = errorOf(fu->estimate(t_end), truth, start);
-    row.error_x_m = std::abs(e.x());
-    row.error_y_m = std::abs(e.y());
-    row.error_m = e.norm();
-    const Eigen::Vector2d s = fu->positionSigma();
-    row.sigma_x_m = s.x();
-    row.sigma_y_m = s.y();
-    row.localization_ok = fu->health(t_end).localization_ok;
-    out.rows.push_back(row);
-  }
+  for (auto& fu : filters) out.rows.push_back(table1Row(*fu, t_end, truth, start));
   if (watch) out.outage = watch->figures();
   out.metres_per_pulse = fp.metres_per_pulse;
   out.loop_length_m = driver.travelled();
