@@ -29,8 +29,9 @@ rosrun thorvald_base cycle_bench --cycles 5000
 echo "== the greenhouse robot's UV cycle in MuJoCo: 2 rail sets of 5 m (it maps the headland first; a few minutes)"
 uv_rc=0
 rosrun greenhouse_rail_nav uv_mission_bench --rail-sets 2 --rail-length 5 --out "$src/demo_output/uv_mission" || uv_rc=$?
-echo "== the cotton rover's potted harvest in MuJoCo: six plants, three bolls each (Table 2)"
-rosrun cotton_harvester_sim harvest_bench --potted-runs 1 --field-runs 0 --png cotton_path.png --debug-image cotton_frame.png
+echo "== the cotton rover's potted harvest in MuJoCo: six plants, three bolls each (Table 2), ideal sensors and plants"
+rosrun cotton_harvester_sim harvest_bench --realism ideal --potted-runs 1 --field-runs 0 --png cotton_path.png \
+  --debug-image cotton_frame.png
 echo "== done: plots in demo_output/ (odometry_mujoco.png, odometry_joint_sim.png, uv_mission/, cotton_path.png," \
   "cotton_frame.png)"
 if [ "$uv_rc" -ne 0 ]; then

@@ -63,7 +63,7 @@ struct RoverSimParams {
   RoverGeometry geometry;
   control::HydrostaticDriveParams drive;  ///< swashplate PWM -> pump flow with the deadband and lag
   double timestep_s = 0.002;
-  double wheel_damping = 3000.0;       ///< wheel velocity servo gain [N m s/rad] (hydraulic motors are stiff)
+  double wheel_damping = 3000.0;  ///< wheel velocity servo gain [N m s/rad] (hydraulic motors are stiff)
   /// false: all four wheels turn at the pump's speed, as before (they scrub when the rover is articulated); true: the
   /// hydraulic motors share the flow as a differential would, each wheel at the speed of its track on the turning
   /// circle that the articulation angle gives (the axles' centres at the pump's speed).
