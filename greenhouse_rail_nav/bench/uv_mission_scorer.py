@@ -22,8 +22,17 @@ mission's own outputs (uv_lights, nav_vel, mission/status, mission/report, safet
   off (0 when they already were).
 - `collisions`: every body contact that began (sim/contacts START: people, trolleys, walls), but a wheel on a
   ground geom (floor, bump, rail, hose: driving).
-- `coverage_pct` per set: share of the set's own length (the truth file's `length`, else `rail_length`), from
-  `start_margin` to `end_margin` before its end in 5 cm bins, that base_link passed over with the lights on.
+- `coverage_pct` per set (the issue's coverage): share of the row's length that got at least the set dose, in 5 cm
+  bins (RowDoseBins, the same model as uv_dose's RowDose): the lamps' power spread over their lit stretch
+  (config/uv_lamps.yaml, the one lamp geometry of uv_dose, uv_mission and this scorer) for the time each bin spends
+  under it with the lamps on (the lamps' state below: the simulated relay's, or `uv_lights`), from the truth pose of
+  base_link on the set's rails. The row is the plant rows' stretch beside the set: thorvald_sim's
+  greenhouse puts them from 0.5 m past the rails' start over `rail_length` (greenhouse_world.cpp; the truth file
+  gives no plant x), i.e. 0.5 m beyond the rails' far end. `coverage_rails_pct`: the same over the rails' own
+  length (the truth file's `length`, else `rail_length`). `coverage_interlock_pct`: the rails' stretch with the lamps
+  counted on only while the truth speed is within the interlock's band (`treat_speed` +- `interlock_tolerance`),
+  as uv_interlock would switch the relay on the real robot. `coverage_base_link_pct`: the former figure, the share of
+  the rails from `start_margin` to `end_margin` before their end that base_link passed over with the lights on.
 Ends when the mission has finished (mission/status not running after it ran) or after `timeout` s of simulated
 time, and prints `RESULT {json}`. Run as a node (sim_uv_mission.launch scorer:=true) or imported by the rostest."""
 import json
@@ -53,6 +62,68 @@ def rpy(q):
     return roll, pitch, yaw
 
 
+def load_lamps(path):
+    """The lamps' geometry and the set dose (config/uv_lamps.yaml)."""
+    with open(path) as f:
+        y = yaml.safe_load(f)
+    return {k: float(y[k]) for k in ("lamp_power", "lamp_length", "lamp_offset", "target_dose")}
+
+
+def default_lamps_file():
+    import os
+    return os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "config", "uv_lamps.yaml")
+
+
+class RowDoseBins:
+    """The UV dose along one row [J/m] in `bin_m` bins from `row_from` to `row_to` (set coordinates along its rails,
+    m): base_link moving from `s0` to `s1` in `dt` s with the lamps on spreads lamp_power * dt evenly over the lit
+    stretch [s + offset - length / 2, s + offset + length / 2] (sub-steps of a fifth of a bin)."""
+
+    def __init__(self, lamps, row_from, row_to, bin_m=0.05):
+        self.lamps, self.row_from, self.bin_m = lamps, row_from, bin_m
+        self.n = max(0, int(math.ceil((row_to - row_from) / bin_m - 1e-9)))
+        self.row_len = max(0.0, row_to - row_from)
+        self.dose = [0.0] * self.n
+
+    def add(self, s0, s1, dt, on):
+        if not on or dt <= 0.0 or self.n == 0:
+            return
+        half, per_m = 0.5 * self.lamps["lamp_length"], self.lamps["lamp_power"] / self.lamps["lamp_length"]
+        k = max(1, int(math.ceil(abs(s1 - s0) / (0.2 * self.bin_m))))
+        for j in range(k):
+            c = s0 + (s1 - s0) * (j + 0.5) / k + self.lamps["lamp_offset"] - self.row_from
+            lo, hi = c - half, c + half
+            for i in range(max(0, int(math.floor(lo / self.bin_m))), min(self.n - 1, int(math.floor(hi / self.bin_m))) + 1):
+                overlap = min(hi, (i + 1) * self.bin_m) - max(lo, i * self.bin_m)
+                if overlap > 0.0:
+                    self.dose[i] += per_m * (dt / k) * overlap / self.bin_m
+
+    def coverage_pct(self):
+        """Share of the row's length with at least the set dose [%]."""
+        if self.n == 0:
+            return 100.0
+        target = self.lamps["target_dose"] - 1e-9
+        covered = sum(min(self.bin_m, self.row_len - i * self.bin_m) for i in range(self.n) if self.dose[i] >= target)
+        return round(100.0 * covered / self.row_len, 1)
+
+    def uncovered(self):
+        """Stretches below the set dose, [from, to] in set coordinates [m], merged."""
+        out = []
+        for i in range(self.n):
+            if self.dose[i] >= self.lamps["target_dose"] - 1e-9:
+                continue
+            a = self.row_from + i * self.bin_m
+            b = min(self.row_from + self.row_len, a + self.bin_m)
+            if out and abs(out[-1][1] - a) < 1e-9:
+                out[-1][1] = b
+            else:
+                out.append([a, b])
+        return [[round(a, 2), round(b, 2)] for a, b in out]
+
+
+PLANTS_FROM_RAIL_START = 0.5  # thorvald_sim greenhouse_world.cpp: plant rows start 0.5 m past the rails' start
+
+
 def parse_report(text):
     rows = []
     lines = [l for l in text.strip().splitlines() if l.strip()]
@@ -70,11 +141,21 @@ def parse_report(text):
 
 class UvMissionScorer:
     def __init__(self, truth_file, treat_speed=0.5, lateral_tol=0.04, drop=0.01, tilt=0.02, start_margin=1.0,
-                 end_margin=1.5, settle=0.5, zone_radius=1.5, scenario="none"):
+                 end_margin=1.5, settle=0.5, zone_radius=1.5, scenario="none", lamps_file="",
+                 interlock_tolerance=0.1):
         with open(truth_file) as f:
             self.truth = yaml.safe_load(f)
         self.sets = self.truth["rail_sets"]
         self.rail_length = float(self.truth["rail_length"])
+        self.lamps = load_lamps(lamps_file or default_lamps_file())
+        self.interlock_tolerance = interlock_tolerance
+        # per set: the dose over the plants' row, over the rails, and over the rails as the interlock would light them
+        self.row_dose, self.rails_dose, self.interlock_dose = {}, {}, {}
+        for s in self.sets:
+            x0 = PLANTS_FROM_RAIL_START
+            self.row_dose[s["index"]] = RowDoseBins(self.lamps, x0, x0 + self.rail_length)
+            self.rails_dose[s["index"]] = RowDoseBins(self.lamps, 0.0, self.set_length(s))
+            self.interlock_dose[s["index"]] = RowDoseBins(self.lamps, 0.0, self.set_length(s))
         self.zone_radius, self.scenario = zone_radius, scenario
         self.people = []  # (x, y, radius) of every person at the latest sim/actors
         self.pose = None  # (t, x, y, yaw) of base_link, truth
@@ -209,6 +290,7 @@ class UvMissionScorer:
         self.update_zone(t)
         if self.last is not None:
             dt = t - self.last[0]
+            self.add_dose(self.last, (t, p.x, p.y))
             if dt > 0.0 and self.lights:
                 self.lights_on_s += dt
                 idx, along = self.on_rails(p.x, p.y)
@@ -227,6 +309,21 @@ class UvMissionScorer:
                 if (self.cruise_since is not None and t - self.cruise_since >= self.settle):
                     self.speeds.append(math.hypot(p.x - self.last[1], p.y - self.last[2]) / dt)
         self.last = (t, p.x, p.y)
+
+    def add_dose(self, a, b):
+        """The lamps' dose between two truth samples (t, x, y) of base_link, on the rails of the set it is on."""
+        dt = b[0] - a[0]
+        if dt <= 0.0 or not self.lights:
+            return
+        idx, s1 = self.on_rails(b[1], b[2])
+        if idx is None:
+            return
+        st = [q for q in self.sets if q["index"] == idx][0]
+        s0, _ = self.in_set(st, a[1], a[2])
+        self.row_dose[idx].add(s0, s1, dt, True)
+        self.rails_dose[idx].add(s0, s1, dt, True)
+        speed = math.hypot(b[1] - a[1], b[2] - a[2]) / dt
+        self.interlock_dose[idx].add(s0, s1, dt, abs(speed - self.treat_speed) <= self.interlock_tolerance)
 
     def on_lights(self, m):
         self.lights = m.data
@@ -300,11 +397,14 @@ class UvMissionScorer:
         for idx, (lo, hi) in sorted(self.on_set_span.items()):
             if lo <= self.start_margin and hi >= length[idx] - self.end_margin:
                 treated_truth.append(idx)
-        coverage = {}
+        coverage_base_link = {}
         for s in self.sets:
             want = range(int(math.ceil(self.start_margin / 0.05)), int((length[s["index"]] - self.end_margin) / 0.05))
             lit = self.lit_bins.get(s["index"], set())
-            coverage[str(s["index"])] = round(100.0 * sum(1 for b in want if b in lit) / max(1, len(want)), 1)
+            coverage_base_link[str(s["index"])] = round(100.0 * sum(1 for b in want if b in lit) / max(1, len(want)), 1)
+        coverage = {str(k): d.coverage_pct() for k, d in sorted(self.row_dose.items())}
+        coverage_rails = {str(k): d.coverage_pct() for k, d in sorted(self.rails_dose.items())}
+        coverage_interlock = {str(k): d.coverage_pct() for k, d in sorted(self.interlock_dose.items())}
         lat = sorted(self.latencies)
         p99 = lat[min(len(lat) - 1, int(math.ceil(0.99 * len(lat))) - 1)] * 1000.0 if lat else 0.0
         n_sets = len(self.sets)
@@ -354,6 +454,14 @@ class UvMissionScorer:
             "collisions_first": self.collisions[:5],
             "coverage_pct": coverage,
             "coverage_min_pct": min(coverage.values()) if coverage else 0.0,
+            "coverage_uncovered_m": {str(k): d.uncovered() for k, d in sorted(self.row_dose.items())},
+            "coverage_row_m": [PLANTS_FROM_RAIL_START, round(PLANTS_FROM_RAIL_START + self.rail_length, 3)],
+            "coverage_rails_pct": coverage_rails,
+            "coverage_rails_uncovered_m": {str(k): d.uncovered() for k, d in sorted(self.rails_dose.items())},
+            "coverage_interlock_pct": coverage_interlock,
+            "coverage_base_link_pct": coverage_base_link,
+            "coverage_base_link_min_pct": min(coverage_base_link.values()) if coverage_base_link else 0.0,
+            "lamps": self.lamps,
         }
 
 
@@ -367,7 +475,8 @@ def make_scorer(truth_file, wait_s=120.0, **kwargs):
 def main():
     rospy.init_node("uv_mission_scorer")
     s = make_scorer(rospy.get_param("~truth_file"), treat_speed=rospy.get_param("~treat_speed", 0.5),
-                    zone_radius=rospy.get_param("~zone_radius", 1.5), scenario=rospy.get_param("~scenario", "none"))
+                    zone_radius=rospy.get_param("~zone_radius", 1.5), scenario=rospy.get_param("~scenario", "none"),
+                    lamps_file=rospy.get_param("~lamps_file", ""))
     timeout = float(rospy.get_param("~timeout", 900.0))
     s.subscribe()
     s.wait(timeout)

@@ -45,7 +45,8 @@ class SimUvPeople(unittest.TestCase):
         self.assertLessEqual(out["person_stop_latency_p99_ms"], 200.0)
         self.assertEqual(sorted(out["treated_by_report"]), list(range(n_sets)), "treated by the mission's report")
         self.assertEqual(out["treated_by_truth"], list(range(n_sets)), "lights on over every rail (truth)")
-        self.assertGreaterEqual(out["coverage_min_pct"], 99.0, "coverage per set: %r" % out["coverage_pct"])
+        self.assertGreaterEqual(out["coverage_base_link_min_pct"], 99.0,
+                                "base_link over the rails with the lights on: %r" % out["coverage_base_link_pct"])
         self.assertEqual(out["wheel_past_edge"], 0)
 
 

@@ -1,0 +1,100 @@
+#!/usr/bin/python3
+"""The bench scorer's coverage (bench/uv_mission_scorer.py): the dose along a row in 5 cm bins from the lamps' lit
+stretch (config/uv_lamps.yaml) and base_link's truth pose; a run that lights all of a row, none of it, half of it.
+No ROS master needed."""
+import os
+import sys
+import tempfile
+import unittest
+
+from thorvald_testing import load_package_module
+
+scorer = load_package_module("greenhouse_rail_nav", "bench/uv_mission_scorer.py")
+LAMPS = scorer.load_lamps(scorer.default_lamps_file())
+REAR = LAMPS["lamp_offset"] - 0.5 * LAMPS["lamp_length"]  # the lit stretch's rear edge along base_link's x
+FRONT = LAMPS["lamp_offset"] + 0.5 * LAMPS["lamp_length"]
+
+
+def drive(row, s_from, s_to, speed=0.5, on=lambda s: True, dt=0.02):
+    """base_link from s_from to s_to at `speed`, the lamps on where on(s)."""
+    s = s_from
+    while s < s_to - 1e-12:
+        nxt = min(s_to, s + speed * dt)
+        row.add(s, nxt, (nxt - s) / speed, on(s))
+        s = nxt
+
+
+class RowDoseBinsTest(unittest.TestCase):
+    def test_the_placeholder_lamps_give_120_j_per_m_at_half_a_metre_per_second(self):
+        self.assertAlmostEqual(LAMPS["lamp_power"] / 0.5, 120.0)
+        self.assertAlmostEqual(LAMPS["target_dose"], 100.0)
+
+    def test_lit_over_the_whole_row_at_the_treatment_speed_covers_all(self):
+        row = scorer.RowDoseBins(LAMPS, 0.5, 5.5)
+        drive(row, 0.5 - FRONT - 0.1, 5.5 - REAR + 0.1)
+        self.assertEqual(row.coverage_pct(), 100.0)
+        self.assertEqual(row.uncovered(), [])
+        self.assertTrue(all(abs(d - 120.0) < 1.0 for d in row.dose), (min(row.dose), max(row.dose)))
+
+    def test_lights_off_covers_none(self):
+        row = scorer.RowDoseBins(LAMPS, 0.0, 5.0)
+        drive(row, -1.0, 6.0, on=lambda s: False)
+        self.assertEqual(row.coverage_pct(), 0.0)
+        self.assertEqual(row.uncovered(), [[0.0, 5.0]])
+
+    def test_lit_until_half_way_covers_the_first_half_less_the_lamps_last_stretch(self):
+        # Lights off once the lit stretch's rear edge is at 2.5 m: the bins still under the lamps then got less than
+        # the set dose (120 J/m needs the whole 0.75 m stretch to pass; 100 J/m 0.625 m of it).
+        row = scorer.RowDoseBins(LAMPS, 0.0, 5.0)
+        drive(row, -FRONT - 0.1, 6.0 - REAR, on=lambda s: s + REAR < 2.5)
+        self.assertAlmostEqual(row.coverage_pct(), 100.0 * (2.5 + 0.125) / 5.0, delta=1.1)
+        self.assertEqual(len(row.uncovered()), 1)
+        self.assertAlmostEqual(row.uncovered()[0][1], 5.0)
+
+    def test_too_fast_is_not_covered(self):
+        row = scorer.RowDoseBins(LAMPS, 0.0, 5.0)
+        drive(row, -FRONT - 0.1, 5.0 - REAR + 0.1, speed=0.7)  # 60 W / 0.7 m/s: 86 J/m
+        self.assertEqual(row.coverage_pct(), 0.0)
+
+    def test_stopping_with_the_lamps_front_edge_at_the_end_leaves_the_end_short(self):
+        # Braking at 0.5 m/s^2 to a stop with the lamps' front edge at the row's end, lights off then: the last
+        # ~0.39 m (sqrt(2 d / a) s under the lamps < 1.25 s) miss the set dose.
+        row = scorer.RowDoseBins(LAMPS, 0.0, 5.0)
+        drive(row, -FRONT - 0.1, 5.0 - FRONT - 0.25)
+        s, v, dt = 5.0 - FRONT - 0.25, 0.5, 0.001
+        while v > 0.0:
+            nv = max(0.0, v - 0.5 * dt)
+            row.add(s, s + 0.5 * (v + nv) * dt, dt, True)
+            s, v = s + 0.5 * (v + nv) * dt, nv
+        self.assertAlmostEqual(s + FRONT, 5.0, delta=0.01)
+        self.assertAlmostEqual(row.coverage_pct(), 100.0 * (5.0 - 0.39) / 5.0, delta=1.1)
+
+
+class ScorerCoverageTest(unittest.TestCase):
+    def test_the_scorer_bins_the_truth_path_of_each_set(self):
+        with tempfile.TemporaryDirectory() as d:
+            truth = os.path.join(d, "truth.yaml")
+            with open(truth, "w") as f:
+                f.write("rail_length: 5.0\nrail_sets:\n  - {index: 0, x: 0.03, y: 0.0, yaw: 0.0}\n"
+                        "  - {index: 1, x: 0.03, y: 1.6, yaw: 0.0}\n")
+            sc = scorer.UvMissionScorer(truth)
+            sc.lights = True
+            t, x = 0.0, 0.03
+            while x < 5.0:  # set 0 driven over its whole rails with the lights on, set 1 never
+                sc.add_dose((t, x, 0.0), (t + 0.02, x + 0.01, 0.0))
+                t, x = t + 0.02, x + 0.01
+            out = sc.result()
+        self.assertEqual(out["coverage_row_m"], [0.5, 5.5])
+        self.assertEqual(out["coverage_pct"]["1"], 0.0)
+        self.assertEqual(out["coverage_rails_pct"]["1"], 0.0)
+        # The lit stretch's rear edge reached 4.97 + REAR in set coordinates: the rails' row up to 0.125 m past it.
+        self.assertAlmostEqual(out["coverage_rails_pct"]["0"], 100.0 * (4.97 + REAR + 0.125) / 5.0, delta=1.1)
+        self.assertAlmostEqual(out["coverage_pct"]["0"], 100.0 * (4.97 + REAR + 0.125 - 0.5) / 5.0, delta=1.1)
+        self.assertEqual(out["coverage_interlock_pct"]["0"], out["coverage_rails_pct"]["0"])
+        self.assertEqual(out["coverage_min_pct"], 0.0)
+
+
+if __name__ == "__main__":
+    import rosunit
+
+    rosunit.unitrun("greenhouse_rail_nav", "test_uv_scorer_coverage", "__main__")
