@@ -138,12 +138,14 @@ void GreenhouseVariation::validate() const {
 GreenhouseVariation greenhouseVariationProfile(const std::string& name) {
   GreenhouseVariation v;
   if (name == "none") return v;
-  if (name != "harsh") throw std::invalid_argument("world_variation: expected none or harsh, got '" + name + "'");
+  if (name != "harsh" && name != "pipes")
+    throw std::invalid_argument("world_variation: expected none, pipes or harsh, got '" + name + "'");
   v.pipe_end_offset_m = 0.02;
   v.pipe_gap_probability = 0.1;
   v.pipe_gap_m = 0.01;
   v.rust_probability = 0.2;
-  v.headland_slope_deg = 1.0;  // with 1 deg bumps: at most 2 deg anywhere on the headland
+  if (name == "pipes") return v;  // the pipes alone: a headland as drawn
+  v.headland_slope_deg = 1.0;     // with 1 deg bumps: at most 2 deg anywhere on the headland
   v.headland_bumps = 6;
   v.bump_slope_deg = 1.0;
   v.hoses = 2;

@@ -56,6 +56,17 @@ TEST(GreenhouseVariation, OffIsTheIdealGreenhouseWhateverTheSeed) {
   const ts::GreenhouseVariation none = ts::greenhouseVariationProfile("none");
   EXPECT_FALSE(none.active());
   EXPECT_TRUE(ts::greenhouseVariationProfile("harsh").active());
+  // "pipes": the pipe variations of "harsh" alone, the headland and the sets as drawn.
+  const ts::GreenhouseVariation pipes = ts::greenhouseVariationProfile("pipes"),
+                                harsh = ts::greenhouseVariationProfile("harsh");
+  EXPECT_TRUE(pipes.active());
+  EXPECT_EQ(pipes.pipe_end_offset_m, harsh.pipe_end_offset_m);
+  EXPECT_EQ(pipes.pipe_gap_probability, harsh.pipe_gap_probability);
+  EXPECT_EQ(pipes.rust_probability, harsh.rust_probability);
+  EXPECT_EQ(pipes.headland_slope_deg, 0.0);
+  EXPECT_EQ(pipes.headland_bumps + pipes.hoses + pipes.crates + pipes.trolleys, 0);
+  EXPECT_EQ(pipes.rail_length_jitter_m, 0.0);
+  EXPECT_EQ(pipes.set_spacing_jitter_m, 0.0);
   EXPECT_THROW(ts::greenhouseVariationProfile("mild"), std::invalid_argument);
 }
 

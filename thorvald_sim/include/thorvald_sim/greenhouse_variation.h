@@ -30,7 +30,8 @@ struct GreenhouseVariation {
   void validate() const;
 };
 
-/// The profiles a launch names: "none" (all off) and "harsh" (every variation at the realism issue's magnitudes:
+/// The profiles a launch names: "none" (all off), "pipes" (the pipes of "harsh" alone: +-2 cm bent ends, open
+/// joints, rust; headland and rail sets as drawn) and "harsh" (every variation at the realism issue's magnitudes:
 /// +-2 cm pipe ends, gaps, rust, up to 2 deg of slope and bumps, hoses, crates, trolleys, other lengths and
 /// spacings). Throws std::invalid_argument for another name.
 GreenhouseVariation greenhouseVariationProfile(const std::string& name);

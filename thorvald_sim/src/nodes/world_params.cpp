@@ -28,7 +28,7 @@ std::vector<double> numbers(XmlRpc::XmlRpcValue& v, const std::string& where, in
 
 void readVariation(thorvald_common::ParamReader& params, GreenhouseVariation* v) {
   const std::string k = "greenhouse/variation/";
-  *v = greenhouseVariationProfile(params.choice("world_variation", "none", {"none", "harsh"}));
+  *v = greenhouseVariationProfile(params.choice("world_variation", "none", {"none", "pipes", "harsh"}));
   v->seed = static_cast<unsigned>(params.integer(k + "seed", static_cast<int>(v->seed), 0));
   v->pipe_end_offset_m = params.number(k + "pipe_end_offset", v->pipe_end_offset_m, ParamRange::closed(0.0, 0.1), "m");
   v->pipe_bend_length_m =
