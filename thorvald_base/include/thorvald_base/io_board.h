@@ -29,4 +29,74 @@ class IoBoard {
   virtual IoBoardStatus status() const = 0;
 };
 
+/// How long the host waits for a relay board before its outputs' state is in doubt.
+struct IoBoardTimeouts {
+  double confirm_timeout_s = 0.25;  ///< a command not echoed by the board within this puts the state in doubt [s]
+  double silence_timeout_s = 0.35;  ///< no frame from the board for this long: board lost, state in doubt [s]
+};
+
+/// The host's verdict on a relay board's outputs, for an IoBoard implementation: unknown until the board echoes the
+/// command, when the echo does not match the command within the confirm timeout, when the board is silent, and while
+/// the board reports a fault of its own; known again only when the board echoes the command. Within the confirm
+/// timeout a changing output keeps its last verdict.
+class IoBoardVerdict {
+ public:
+  explicit IoBoardVerdict(IoBoardTimeouts timeouts = {}) : t_(timeouts) {}
+
+  void commanded(double now_s) { commanded_s_ = now_s; }  ///< the commanded outputs changed at now_s
+  void heard(double now_s) {                              ///< a frame of the board arrived at now_s
+    heard_ = true;
+    last_frame_s_ = now_s;
+  }
+  void echoed(uint8_t outputs) {  ///< the board echoed its outputs
+    echoed_ = outputs;
+    echo_heard_ = true;
+  }
+  bool answering(double now_s) const { return heard_ && now_s - last_frame_s_ <= t_.silence_timeout_s; }
+  /// Judges the outputs at now_s against `commanded`; `fault` non-empty: the board answers but its outputs are not
+  /// driven (e.g. not operational), and says why.
+  void judge(double now_s, uint8_t commanded, const std::string& fault = "") {
+    if (!answering(now_s)) {
+      unknown_ = true;
+      why_ = heard_ ? "board silent for " + std::to_string(now_s - last_frame_s_).substr(0, 5) + " s"
+                    : "board never answered";
+    } else if (!fault.empty()) {
+      unknown_ = true;
+      why_ = fault;
+    } else if (echo_heard_ && echoed_ == commanded) {
+      unknown_ = false;
+      why_.clear();
+    } else if (now_s - commanded_s_ > t_.confirm_timeout_s) {
+      unknown_ = true;
+      why_ = "outputs " + hexBits(commanded) + " commanded, board echoes " +
+             (echo_heard_ ? hexBits(echoed_) : std::string("nothing"));
+    }
+  }
+  /// The status with this verdict (answering, state_unknown, confirmed, why, age_s) and `commanded`.
+  IoBoardStatus status(double now_s, uint8_t commanded) const {
+    IoBoardStatus s;
+    s.answering = answering(now_s);
+    s.state_unknown = unknown_;
+    s.commanded = commanded;
+    s.confirmed = echoed_;
+    s.why = why_;
+    s.age_s = heard_ ? now_s - last_frame_s_ : -1.0;
+    return s;
+  }
+  bool unknown() const { return unknown_; }
+  const std::string& why() const { return why_; }
+
+  static std::string hexBits(uint8_t v) {
+    static const char* digits = "0123456789ABCDEF";
+    return std::string("0x") + digits[v >> 4] + digits[v & 0x0F];
+  }
+
+ private:
+  IoBoardTimeouts t_;
+  bool heard_ = false, echo_heard_ = false, unknown_ = true;
+  uint8_t echoed_ = 0;
+  double last_frame_s_ = -1e9, commanded_s_ = 0.0;
+  std::string why_ = "no echo from the board yet";
+};
+
 }  // namespace thorvald_base

@@ -1,11 +1,15 @@
 // thorvald_sim/SimHardware: base_driver's BaseHardware plugin for a robot whose joints MuJoCo moves. Each drive's
 // command goes to thorvald_sim on `sim/joint_commands`; thorvald_sim answers on `sim/joint_measured` with the
 // joints' measured positions and velocities, which the drives report quantised like their encoders. Topics are in
-// base_driver's namespace (the robot's). No CAN bus: relay frames are refused.
+// base_driver's namespace (the robot's). Each relay board of the robot file (`io`) is a SimIoBoard: base_driver
+// switches and confirms it as on the real robot (io/<board>/out<k>, .../state, state_unknown, 'io boards'
+// diagnostics) and its relays' real state is published as truth on `sim/io/<board>` (std_msgs/UInt8, bit k = output
+// k, latched), for scorers only. No CAN bus: relay frames are refused.
 #include <pluginlib/class_list_macros.hpp>
 #include <ros/callback_queue.h>
 #include <ros/ros.h>
 #include <sensor_msgs/JointState.h>
+#include <std_msgs/UInt8.h>
 #include <thorvald_base/base_hardware.h>
 #include <thorvald_common/ros/param_reader.h>
 
@@ -15,6 +19,7 @@
 #include <vector>
 
 #include "thorvald_sim/physics_drive.h"
+#include "thorvald_sim/sim_io_board.h"
 
 namespace thorvald_sim {
 
@@ -54,6 +59,10 @@ class SimHardware : public thorvald_base::BaseHardware {
   void readParameters(thorvald_common::ParamReader& params) override {
     timeout_s_ = params.number("sim_joint_timeout", 0.5, thorvald_common::ParamRange::aboveUpTo(0.0, 10.0), "s");
     startup_s_ = params.number("sim_startup_timeout", 60.0, thorvald_common::ParamRange::closed(0.0, 600.0), "s");
+    using thorvald_common::ParamRange;
+    io_.echo_delay_s = params.number("sim_io_echo_delay", 0.02, ParamRange::closed(0.0, 1.0), "s");
+    io_.silent_after_s = params.number("sim_io_silent_after", -1.0, ParamRange::closed(-1.0, 1e6), "s");
+    io_.stuck_after_s = params.number("sim_io_stuck_after", -1.0, ParamRange::closed(-1.0, 1e6), "s");
   }
 
   void initialize(const thorvald_base::RobotConfig& config, const std::string&, const std::string&) override {
@@ -79,6 +88,7 @@ class SimHardware : public thorvald_base::BaseHardware {
       raw_.push_back(drive.get());
       drives_.push_back(std::move(drive));
     }
+    for (const auto& io : config.io) addIoBoard(io);
     measured_.assign(raw_.size(), false);
     sub_ = nh_.subscribe("sim/joint_measured", 5, &SimHardware::onMeasured, this);
     // base_driver latches a stop on a drive that is offline: wait for the simulator's first measurement.
@@ -95,6 +105,7 @@ class SimHardware : public thorvald_base::BaseHardware {
 
   std::vector<std::unique_ptr<thorvald_base::MotorDrive>> takeDrives() override { return std::move(drives_); }
   std::vector<std::unique_ptr<thorvald_base::Battery>> takeBatteries() override { return {}; }
+  std::vector<std::unique_ptr<thorvald_base::IoBoard>> takeIoBoards() override { return std::move(boards_); }
   void poll(double) override { queue_.callAvailable(); }
   std::vector<thorvald_base::CanFrameData> takeRelayFrames() override { return {}; }
   bool sendRelayFrame(const thorvald_base::CanFrameData&, std::string* why) override {
@@ -104,7 +115,8 @@ class SimHardware : public thorvald_base::BaseHardware {
   std::vector<std::pair<std::string, std::string>> diagnostics() const override {
     return {{"hardware", "thorvald_sim physics (SimHardware)"},
             {"joint measurements received", std::to_string(messages_)},
-            {"rejected measurements", std::to_string(rejected_)}};
+            {"rejected measurements", std::to_string(rejected_)},
+            {"simulated relay boards", std::to_string(board_count_)}};
   }
   bool busOk() const override {
     for (const auto* d : raw_)
@@ -114,10 +126,25 @@ class SimHardware : public thorvald_base::BaseHardware {
 
  private:
   double timeout_s_ = 0.5, startup_s_ = 60.0;
+  SimIoBoardSettings io_;
+  std::vector<std::unique_ptr<thorvald_base::IoBoard>> boards_;  ///< owned by base_driver after takeIoBoards
+  size_t board_count_ = 0;
   struct JointOf {
     size_t drive;
     bool wheel;
   };
+
+  void addIoBoard(const thorvald_base::IoConfig& io) {
+    auto board = std::make_unique<SimIoBoard>(io, io_);
+    ros::Publisher truth = nh_.advertise<std_msgs::UInt8>("sim/io/" + io.name, 1, true);
+    board->on_outputs = [truth](uint8_t outputs) {
+      std_msgs::UInt8 msg;
+      msg.data = outputs;
+      truth.publish(msg);
+    };
+    boards_.push_back(std::move(board));
+    ++board_count_;
+  }
 
   bool allMeasured() const {
     for (bool m : measured_)
