@@ -32,6 +32,10 @@ std::string RailRunParams::validate() const {
   if (!(slow_fraction > 0.0 && slow_fraction < 1.0)) e << "slow_fraction must be in (0, 1); ";
   if (!(slow_speed_mps > 0.0 && slow_speed_mps <= return_speed_mps)) e << "slow_speed must be in (0, return_speed]; ";
   if (!(max_rail_length_m > 0.0)) e << "max_rail_length must be > 0 [m]; ";
+  if (!(rail_end_margin_m >= 0.0 && rail_end_margin_m <= 5.0)) e << "rail_end_margin must be in [0, 5] [m]; ";
+  if (!(wall_guard_range_m > 0.0)) e << "wall_guard_range must be > 0 [m]; ";
+  if (!(lamp_length_m > 0.0 && lamp_length_m <= 5.0)) e << "lamp_length must be in (0, 5] [m]; ";
+  if (!(std::fabs(lamp_offset_m) <= 5.0)) e << "lamp_offset must be in [-5, 5] [m]; ";
   return e.str();
 }
 
@@ -40,16 +44,57 @@ double rampTowards(double current, double target, double accel, double dt) {
   const double step = accel * std::max(dt, 0.0);
   return std::clamp(target, current - step, current + step);
 }
+
+/// Ramps up to the treatment speed, braking to stop after `to_go_m` (infinite: no stop ahead).
+double speedToStop(const RailRunParams& p, double current, double to_go_m, double dt_s) {
+  double target = p.treat_speed_mps;
+  if (std::isfinite(to_go_m)) target = to_go_m <= 0.0 ? 0.0 : std::min(target, std::sqrt(2.0 * p.accel_mps2 * to_go_m));
+  // Braking is never limited by the ramp: the distance to go already includes the braking profile.
+  return target < current ? target : rampTowards(current, target, p.accel_mps2, dt_s);
+}
 }  // namespace
 
 double inboundSpeed(const RailRunParams& p, double current, double wall_range_m, double dt_s) {
-  double target = p.treat_speed_mps;
-  if (std::isfinite(wall_range_m)) {
-    const double to_go = wall_range_m - p.end_wall_range_m;
-    target = to_go <= 0.0 ? 0.0 : std::min(target, std::sqrt(2.0 * p.accel_mps2 * to_go));
-  }
-  // Braking is never limited by the ramp: the wall distance already includes the braking profile.
-  return target < current ? target : rampTowards(current, target, p.accel_mps2, dt_s);
+  const double inf = std::numeric_limits<double>::infinity();
+  return speedToStop(p, current, std::isfinite(wall_range_m) ? wall_range_m - p.end_wall_range_m : inf, dt_s);
+}
+
+double rowStopPosition(const RailRunParams& p, double row_length_m) {
+  const double lamps_past = row_length_m - (p.lamp_offset_m - 0.5 * p.lamp_length_m);  // rear edge at the end
+  return std::min(lamps_past, row_length_m - p.rail_end_margin_m);
+}
+
+double inboundSpeedToRowEnd(const RailRunParams& p, double current, double row_position_m, double row_length_m,
+                            double wall_range_m, double dt_s) {
+  double to_go = rowStopPosition(p, row_length_m) - row_position_m;
+  if (std::isfinite(wall_range_m)) to_go = std::min(to_go, wall_range_m - p.wall_guard_range_m);
+  return speedToStop(p, current, to_go, dt_s);
+}
+
+RowLitCoverage::RowLitCoverage(const RailRunParams& p, double row_length_m, double bin_m)
+    : rear_m_(p.lamp_offset_m - 0.5 * p.lamp_length_m),
+      front_m_(p.lamp_offset_m + 0.5 * p.lamp_length_m),
+      row_length_m_(std::max(0.0, row_length_m)),
+      bin_m_(bin_m),
+      lit_(static_cast<std::size_t>(std::ceil(row_length_m_ / bin_m - 1e-9)), false) {}
+
+void RowLitCoverage::add(double from_m, double to_m, bool on) {
+  if (!on || lit_.empty() || !std::isfinite(from_m) || !std::isfinite(to_m)) return;
+  // The lit stretch swept from the lower position's rear edge to the higher one's front edge, within the row.
+  const double lo = std::max(0.0, std::min(from_m, to_m) + rear_m_);
+  const double hi = std::min(row_length_m_, std::max(from_m, to_m) + front_m_);
+  if (hi <= lo) return;
+  const auto first = static_cast<std::size_t>(std::floor(lo / bin_m_));
+  const auto last = std::min(lit_.size() - 1, static_cast<std::size_t>(std::floor(hi / bin_m_ - 1e-9)));
+  for (std::size_t i = first; i <= last; ++i) lit_[i] = true;
+}
+
+double RowLitCoverage::fraction() const {
+  if (lit_.empty()) return 1.0;
+  double lit = 0.0;
+  for (std::size_t i = 0; i < lit_.size(); ++i)
+    if (lit_[i]) lit += std::min(bin_m_, row_length_m_ - static_cast<double>(i) * bin_m_);
+  return lit / row_length_m_;
 }
 
 double returnSpeed(const RailRunParams& p, double current, double reversed_m, double driven_in_m, double dt_s) {

@@ -60,6 +60,19 @@ class UvMission::Impl {
   /// Distance from base_link to the current set's far end when base_link is `entered_m` past the pose entering
   /// began at [m]; 0 when the set's length is unknown.
   double rowEnd(double entered_m) const;
+  /// The current set's length is known (the rail-set file's `length:` or the mission's rail_length).
+  bool rowKnown() const { return current_ && current_->rail_length_m > 0.0; }
+  /// base_link along the current set's row from its start when `entered_m` past the pose entering began at [m].
+  double rowPosition(double entered_m) const { return current_->rail_length_m - rowEnd(entered_m); }
+  /// Treatment: base_link moved from `from_m` to `to_m` past where treatment began with the lights `on` (lit_, and
+  /// the row's share under the lamps when its length is known).
+  void addLit(double from_m, double to_m, bool on) {
+    lit_.add(from_m, to_m, on);
+    if (rowKnown()) row_lit_.add(rowPosition(entered_m_ + from_m), rowPosition(entered_m_ + to_m), on);
+  }
+  /// The share of the set counted for min_lit_fraction: of its row under the lamps when its length is known, else of
+  /// the rails driven.
+  double litFraction() const { return rowKnown() ? row_lit_.fraction() : lit_.fraction(); }
   /// After a hold on the rails: reverse over the stretch braked through with the lights off, to the last point lit
   /// (relight_overlap_m before it); false when that failed (why in skip_reason_) or was preempted.
   bool backToLit(tsm::ExecutionContext& ctx, double along_m, bool* preempted);
@@ -95,6 +108,9 @@ class UvMission::Impl {
   /// pose read, `speed` holds the cruise speed measured.
   std::string driveAlongRails(tsm::ExecutionContext& ctx, const thorvald_base::Pose2D& rail_start, double t_start,
                               thorvald_base::Pose2D* pose, CruiseSpeedMeter* speed);
+  /// The speed `v` on the way in, `along` past where treatment began; true when stopped at the end (the row's end
+  /// when its length is known, or the far wall's guard; else where the far wall says the rail ends).
+  bool inboundStep(double along, double dt, double* v);
   /// Why the treatment must stop at this tick (empty: it goes on); reads the odometry pose into `pose`.
   std::string railRunFault(thorvald_base::Pose2D* pose);
   std::string comeBack(tsm::ExecutionContext& ctx);
@@ -128,8 +144,9 @@ class UvMission::Impl {
   double entered_m_ = 0.0;
   double driven_in_m_ = 0.0;
   ZoneHold zone_hold_;
-  std::string zone_why_;  // what was last in the zone
-  LitCoverage lit_;       // the current set's rails lit, from where treatment began
+  std::string zone_why_;    // what was last in the zone
+  LitCoverage lit_;         // the current set's rails lit, from where treatment began
+  RowLitCoverage row_lit_;  // the current set's row under the lamps with the lights on (its length known)
 };
 
 }  // namespace greenhouse_rail_nav

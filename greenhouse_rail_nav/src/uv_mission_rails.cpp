@@ -114,6 +114,7 @@ std::string UvMission::Impl::treat(tsm::ExecutionContext& ctx) {
   const double lights_since = io_.now();
   CruiseSpeedMeter speed;
   lit_ = LitCoverage();
+  row_lit_ = RowLitCoverage(p_.rail_run, rowKnown() ? current_->rail_length_m : 0.0);
   setZone(ZonePhase::kRow, rowEnd(entered_m_));
   if (!holdWhileStopped(ctx)) return tsm::kPreempted;
   io_.setLights(true);
@@ -125,11 +126,11 @@ std::string UvMission::Impl::treat(tsm::ExecutionContext& ctx) {
   driven_in_m_ = entered_m_ + (pose.position() - rail_start.position()).dot(rail_start.heading());
   report_.rail_length_m = driven_in_m_ - entered_m_;
   speed.stats(&report_.speed_mean_mps, &report_.speed_std_mps);
-  report_.lit_pct = 100.0 * lit_.fraction();
-  treat_complete_ = outcome == "end_of_rail" && lit_.fraction() >= p_.min_lit_fraction;
+  report_.lit_pct = 100.0 * litFraction();
+  treat_complete_ = outcome == "end_of_rail" && litFraction() >= p_.min_lit_fraction;
   std::ostringstream o;
   o << "UV lights off after " << report_.rail_length_m << " m on the rails (mean speed " << report_.speed_mean_mps
-    << " m/s, " << report_.lit_pct << " % lit)";
+    << " m/s, " << report_.lit_pct << (rowKnown() ? " % of the row" : " %") << " lit)";
   log(o.str());
   if (outcome == "end_of_rail" && !treat_complete_) {
     skip_reason_ = "not every metre was lit (" + std::to_string(report_.lit_pct) + " %)";
@@ -153,7 +154,7 @@ std::string UvMission::Impl::driveAlongRails(tsm::ExecutionContext& ctx, const t
   while (io_.ok()) {
     if (ctx.preemptRequested()) return tsm::kPreempted;
     double along_now = (pose->position() - rail_start.position()).dot(rail_start.heading());
-    lit_.add(along_last, along_now, lights);
+    addLit(along_last, along_now, lights);
     along_last = along_now;
     std::string why;
     setZone(ZonePhase::kRow, rowEnd(entered_m_ + along_now));
@@ -163,7 +164,7 @@ std::string UvMission::Impl::driveAlongRails(tsm::ExecutionContext& ctx, const t
       if (!holdWhileStopped(ctx)) return tsm::kPreempted;
       if (io_.odomPose(pose)) {  // braked on with the lights off
         const double a = (pose->position() - rail_start.position()).dot(rail_start.heading());
-        lit_.add(along_now, a, false);
+        addLit(along_now, a, false);
         along_now = a;
       }
       bool preempted = false;
@@ -194,14 +195,33 @@ std::string UvMission::Impl::driveAlongRails(tsm::ExecutionContext& ctx, const t
       log(skip_reason_);
       return "failed";
     }
-    const double end_range = io_.zone().end_range_m;
-    v = inboundSpeed(p_.rail_run, v, end_range, dt);
-    // The far wall says the rail ends here (the zone's end range agrees with the set's length).
-    if (v == 0.0 && along > 0.5 && end_range <= p_.rail_run.end_wall_range_m) break;
+    if (inboundStep(along, dt, &v)) {
+      addLit(along_last, along, lights);
+      break;
+    }
     io_.commandTwist(v, railSteering(yaw_ref, pose->yaw));
     io_.waitTick();
   }
   return "end_of_rail";
+}
+
+bool UvMission::Impl::inboundStep(double along, double dt, double* v) {
+  const double end_range = io_.zone().end_range_m;
+  if (!rowKnown()) {
+    *v = inboundSpeed(p_.rail_run, *v, end_range, dt);
+    // The far wall says the rail ends here (the zone's end range agrees with the set's length).
+    return *v == 0.0 && along > 0.5 && end_range <= p_.rail_run.end_wall_range_m;
+  }
+  // The set's length known: on until the lamps have lit the row to its end, the far wall a guard.
+  const double at = rowPosition(entered_m_ + along), length = current_->rail_length_m;
+  *v = inboundSpeedToRowEnd(p_.rail_run, *v, at, length, end_range, dt);
+  const bool guard = end_range <= p_.rail_run.wall_guard_range_m;
+  if (*v != 0.0 || !(guard || at >= rowStopPosition(p_.rail_run, length) - 1e-3)) return false;
+  std::ostringstream o;
+  o << (guard ? "the far wall's guard stopped the robot: " : "at the row's end: ") << "base_link " << at
+    << " m from the row's start of " << length << " m";
+  log(o.str());
+  return true;
 }
 
 UvMission::Impl::Loop UvMission::Impl::reverseToEntry(tsm::ExecutionContext& ctx, std::string* why) {

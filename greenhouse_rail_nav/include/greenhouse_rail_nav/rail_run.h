@@ -12,7 +12,9 @@ double forwardRange(const std::vector<float>& ranges, double angle_min_rad, doub
 
 /// The drive along one rail set (greenhouse paper §V-A3): forward at the treatment speed until the lidar's
 /// distance to the far wall says the end of the rail is reached, then back, slowing down after
-/// `slow_fraction` of the driven length until the range finders sense the floor.
+/// `slow_fraction` of the driven length until the range finders sense the floor. With the set's length known (the
+/// rail-set file's `length:`) the robot drives on until the lamps have lit the row to its end (as far as the drive
+/// wheels may go on the pipes), the far wall a guard only.
 struct RailRunParams {
   double treat_speed_mps = 0.5;      ///< the paper's UV dose needs 0.5 m/s [m/s]
   double accel_mps2 = 0.5;           ///< [m/s^2]
@@ -21,6 +23,16 @@ struct RailRunParams {
   double slow_fraction = 0.9;        ///< slow down after this fraction of the driven length on the way back
   double slow_speed_mps = 0.12;      ///< [m/s]
   double max_rail_length_m = 150.0;  ///< a run longer than this is stopped as an error [m]
+  /// Length known: the drive axle stops at least this far before the rails' far end, where the drive rail wheels
+  /// still stand on the pipes (the lamps' front edge then 3 cm short of it with the placeholder lamps) [m].
+  double rail_end_margin_m = 0.08;
+  /// Length known: the far wall's guard; stop wherever the lidar sees the far wall this close, whatever odometry says
+  /// (the lidar 0.45 m ahead of the axle, the frame's front range finders 0.52 m: 0.53 m clear of the wall) [m].
+  double wall_guard_range_m = 0.6;
+  /// The lamps' lit stretch along the row: `lamp_length_m` centred `lamp_offset_m` along base_link's x
+  /// (config/uv_lamps.yaml, the one lamp geometry of uv_dose, the mission and the bench's scorer) [m].
+  double lamp_length_m = 0.75;
+  double lamp_offset_m = -0.325;
 
   std::string validate() const;
 };
@@ -28,6 +40,33 @@ struct RailRunParams {
 /// Speed [m/s] (>= 0, the caller sets the sign) on the way in: ramps up to the treatment speed, and brakes
 /// so that it stops when the far wall reaches end_wall_range_m. `wall_range_m` may be NaN (no wall seen yet).
 double inboundSpeed(const RailRunParams& p, double current_speed_mps, double wall_range_m, double dt_s);
+
+/// Where base_link stops along a row of known length, from the row's start [m]: where the lamps' lit stretch has
+/// passed the row's end, but no nearer the rails' end than rail_end_margin.
+double rowStopPosition(const RailRunParams& p, double row_length_m);
+
+/// Speed [m/s] (>= 0) on the way in along a row of known length with base_link at `row_position_m` from its start:
+/// ramps up to the treatment speed and brakes to stop at rowStopPosition, or earlier where the far wall comes within
+/// wall_guard_range of the lidar (`wall_range_m` NaN: not seen).
+double inboundSpeedToRowEnd(const RailRunParams& p, double current_speed_mps, double row_position_m,
+                            double row_length_m, double wall_range_m, double dt_s);
+
+/// Which share of a row of known length the lamps' lit stretch passed over with the lights on, in bins of `bin_m`:
+/// base_link's motion along the row is reported tick by tick with the lights' state.
+class RowLitCoverage {
+ public:
+  RowLitCoverage() = default;
+  RowLitCoverage(const RailRunParams& p, double row_length_m, double bin_m = 0.05);
+  /// base_link moved from `from_m` to `to_m` along the row (from its start) [m] with the lights `on`.
+  void add(double from_m, double to_m, bool on);
+  /// Share of [0, row length] lit, in [0, 1] (1 for an empty row).
+  double fraction() const;
+  double rowLength() const { return row_length_m_; }
+
+ private:
+  double rear_m_ = 0.0, front_m_ = 0.0, row_length_m_ = 0.0, bin_m_ = 0.05;
+  std::vector<bool> lit_;
+};
 
 /// Speed magnitude [m/s] on the way back after `reversed_m` of `driven_in_m`.
 double returnSpeed(const RailRunParams& p, double current_speed_mps, double reversed_m, double driven_in_m,

@@ -2,9 +2,24 @@
 
 namespace greenhouse_rail_nav {
 
-/// Reads the robot interface's and the mission's motion parameters (in this order; defaults from their structs).
 namespace {
 
+/// The run to a row's end of known length and the lamps (config/uv_lamps.yaml): the treatment speed must give at
+/// least the set dose.
+void readRowEndParams(thorvald_common::ParamReader& params, RailRunParams* r) {
+  using R = thorvald_common::ParamRange;
+  r->rail_end_margin_m = params.number("rail_end_margin", r->rail_end_margin_m, R::closed(0.0, 5.0), "m");
+  r->wall_guard_range_m = params.number("wall_guard_range", r->wall_guard_range_m, R::aboveUpTo(0.0, 10.0), "m");
+  r->lamp_length_m = params.number("lamp_length", r->lamp_length_m, R::aboveUpTo(0.0, 5.0), "m");
+  r->lamp_offset_m = params.number("lamp_offset", r->lamp_offset_m, R::closed(-5.0, 5.0), "m");
+  const double power = params.number("lamp_power", 60.0, R::aboveUpTo(0.0, 10000.0), "W");
+  const double dose = params.number("target_dose", 100.0, R::aboveUpTo(0.0, 1e6), "J/m");
+  if (power / r->treat_speed_mps < dose - 1e-9)
+    throw thorvald_common::ParamError("uv_mission: treat_speed " + std::to_string(r->treat_speed_mps) +
+                                      " m/s gives less than the set dose target_dose (lamp_power / treat_speed)");
+}
+
+/// Reads the robot interface's and the mission's motion parameters (in this order; defaults from their structs).
 void readMotionParams(thorvald_common::ParamReader& params, NodeSettings* s) {
   using R = thorvald_common::ParamRange;
   MissionIoConfig& io = s->io;
@@ -25,6 +40,7 @@ void readMotionParams(thorvald_common::ParamReader& params, NodeSettings* s) {
       params.number("return_speed", p.rail_run.return_speed_mps, R::aboveUpTo(0.0, 1.5), "m/s");
   p.rail_run.end_wall_range_m = params.number("end_wall_range", p.rail_run.end_wall_range_m, R::above(0.0), "m");
   p.rail_run.slow_fraction = params.number("slow_fraction", p.rail_run.slow_fraction, R::closed(0.1, 0.99));
+  readRowEndParams(params, &p.rail_run);
 }
 
 /// Reads the mission's steps' parameters (in this order; defaults from UvMissionParams).
