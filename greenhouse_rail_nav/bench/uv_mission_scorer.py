@@ -361,7 +361,15 @@ class UvMissionScorer:
 
     def subscribe(self):
         rospy.Subscriber("ground_truth/odom", Odometry, self.on_truth, queue_size=50)
-        rospy.Subscriber("uv_lights", Bool, self.on_lights)
+        # The lamps' state: the relay board's truth (~lamps_relay, e.g. sim/io/io0: SimHardware's std_msgs/UInt8, bit
+        # ~lamps_output), or the mission's uv_lights command where no relay is simulated (~lamps_relay "").
+        relay = rospy.get_param("~lamps_relay", "")
+        if relay:
+            from std_msgs.msg import UInt8
+            bit = int(rospy.get_param("~lamps_output", 0))
+            rospy.Subscriber(relay, UInt8, lambda m: self.on_lights(Bool(data=bool((m.data >> bit) & 1))))
+        else:
+            rospy.Subscriber("uv_lights", Bool, self.on_lights)
         rospy.Subscriber("nav_vel", Twist, self.on_cmd)
         rospy.Subscriber("safety/lock", Bool, lambda m: self.on_lock("safety/lock", m))
         rospy.Subscriber("bumper/lock", Bool, lambda m: self.on_lock("bumper/lock", m))
