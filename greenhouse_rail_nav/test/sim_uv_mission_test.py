@@ -4,31 +4,19 @@ simulator's truth by bench/uv_mission_scorer.py: map_analyzer must mark every ra
 the mission must treat each of them (by its report and by the truth: lights on over the rails), the lights must be
 on only while the drive wheels are on the rails, no wheel may pass an edge (truth) nor any range finder see one
 under a wheel, the speed with the lights on must be near 0.5 m/s, and the mission must end with `done`."""
-import importlib.machinery
-import importlib.util
 import json
-import os
 import sys
 import unittest
 
-import rospkg
 import rospy
 import rostest
 from geometry_msgs.msg import PoseArray
-
-
-def load_scorer():
-    path = os.path.join(rospkg.RosPack().get_path("greenhouse_rail_nav"), "bench", "uv_mission_scorer.py")
-    loader = importlib.machinery.SourceFileLoader("uv_mission_scorer", path)
-    spec = importlib.util.spec_from_loader("uv_mission_scorer", loader)
-    module = importlib.util.module_from_spec(spec)
-    loader.exec_module(module)
-    return module
+from thorvald_testing import load_package_module
 
 
 class SimUvMission(unittest.TestCase):
     def test_mission_treats_every_good_rail_set(self):
-        scorer_module = load_scorer()
+        scorer_module = load_package_module("greenhouse_rail_nav", "bench/uv_mission_scorer.py")
         scorer = scorer_module.make_scorer(rospy.get_param("~truth_file"), wait_s=120.0)
         scorer.subscribe()
         n_sets = len(scorer.sets)

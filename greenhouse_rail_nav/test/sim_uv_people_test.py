@@ -3,33 +3,22 @@
 simulator's truth by bench/uv_mission_scorer.py: the lights are never on with the person in the protected zone, the
 robot never touches them (nor anything else), it holds short of them and says so on mission/safety, and every set,
 the person's too, is treated once they have left (by the mission's report and by the truth)."""
-import importlib.machinery
-import importlib.util
 import json
-import os
 import sys
 import unittest
 
-import rospkg
 import rospy
 import rostest
 from std_msgs.msg import String
-
-
-def load_scorer():
-    path = os.path.join(rospkg.RosPack().get_path("greenhouse_rail_nav"), "bench", "uv_mission_scorer.py")
-    loader = importlib.machinery.SourceFileLoader("uv_mission_scorer", path)
-    spec = importlib.util.spec_from_loader("uv_mission_scorer", loader)
-    module = importlib.util.module_from_spec(spec)
-    loader.exec_module(module)
-    return module
+from thorvald_testing import load_package_module
 
 
 class SimUvPeople(unittest.TestCase):
     def test_stops_short_of_a_person_in_the_row_and_treats_the_set_after_they_leave(self):
         safety = []
         rospy.Subscriber("mission/safety", String, lambda m: safety.append(m.data))
-        scorer = load_scorer().make_scorer(rospy.get_param("~truth_file"), wait_s=120.0, scenario="person in a row")
+        scorer_module = load_package_module("greenhouse_rail_nav", "bench/uv_mission_scorer.py")
+        scorer = scorer_module.make_scorer(rospy.get_param("~truth_file"), wait_s=120.0, scenario="person in a row")
         scorer.subscribe()
         n_sets = len(scorer.sets)
         finished = scorer.wait(rospy.get_param("~timeout"), wall_timeout_s=rospy.get_param("~wall_timeout"))

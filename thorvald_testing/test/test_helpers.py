@@ -3,11 +3,12 @@
 import os
 import signal
 import sys
+import tempfile
 import time
 import unittest
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "src"))
-from thorvald_testing import PtyProcess, run_until_line, wait_for  # noqa: E402
+from thorvald_testing import PtyProcess, load_package_module, load_source, run_until_line, wait_for  # noqa: E402
 
 
 class WaitFor(unittest.TestCase):
@@ -68,6 +69,25 @@ class Pty(unittest.TestCase):
             self.assertLess(seconds, 5.0)
         finally:
             proc.close()
+
+
+class LoadModule(unittest.TestCase):
+    def test_a_source_file_without_the_py_extension_is_a_fresh_module(self):
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "a_bench")
+            with open(path, "w") as f:
+                f.write("COUNT = [0]\n\ndef answer():\n    COUNT[0] += 1\n    return 42\n")
+            first = load_source(path)
+            self.assertEqual(first.__name__, "a_bench")
+            self.assertEqual(first.answer(), 42)
+            second = load_source(path, name="other")
+            self.assertEqual(second.__name__, "other")
+            self.assertEqual(second.COUNT, [0], "each load runs the file afresh")
+            self.assertNotIn("a_bench", sys.modules)
+
+    def test_a_file_of_a_package_found_by_rospack(self):
+        waiting = load_package_module("thorvald_testing", "src/thorvald_testing/waiting.py")
+        self.assertTrue(callable(waiting.wait_for))
 
 
 if __name__ == "__main__":
