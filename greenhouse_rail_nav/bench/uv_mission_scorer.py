@@ -20,6 +20,9 @@ mission's own outputs (uv_lights, nav_vel, mission/status, mission/report, safet
   `uv_on_with_person_events`: times the lights were on with a person in that zone (counted when it begins);
   `person_stop_latency_p99_ms`: from a person entering the zone to the mission's twist being zero with the lights
   off (0 when they already were).
+- `person_holds`, `phantom_person_holds`: the mission's holds for a person (mission/safety "holding: a person ... at
+  (x, y) m", base_link), counted when each begins; a phantom when no person (truth) was within `phantom_radius` of
+  that point then.
 - `collisions`: every body contact that began (sim/contacts START: people, trolleys, walls), but a wheel on a
   ground geom (floor, bump, rail, hose: driving).
 - `coverage_pct` per set (the issue's coverage): share of the row's length that got at least the set dose, in 5 cm
@@ -37,6 +40,7 @@ Ends when the mission has finished (mission/status not running after it ran) or 
 time, and prints `RESULT {json}`. Run as a node (sim_uv_mission.launch scorer:=true) or imported by the rostest."""
 import json
 import math
+import re
 import sys
 import time
 
@@ -167,6 +171,10 @@ class UvMissionScorer:
         self.collisions = []
         self.lit_bins = {}  # set index -> set of 5 cm bins passed with the lights on
         self.person_min_m = float("inf")  # closest any person's body came to base_link
+        self.person_holds = 0
+        self.phantom_holds = []  # (t, x, y) in the world of the holds for a person where nobody was
+        self.holding_person = False
+        self.phantom_radius = 1.0
         self.treat_speed, self.lateral_tol, self.drop, self.tilt = treat_speed, lateral_tol, drop, tilt
         self.start_margin, self.end_margin, self.settle = start_margin, end_margin, settle
         self.lights = False
@@ -249,6 +257,24 @@ class UvMissionScorer:
             self.uv_person_events += 1
             rospy.logwarn("uv_mission_scorer: lights on with a person in the zone at %.2f s" % t)
         self.uv_person_now, self.in_zone = uv, zone
+
+    def on_safety(self, m):
+        """A hold for a person begins: was anybody there (truth)?"""
+        found = re.search(r"a person [^(]*\(([-0-9.]+), ([-0-9.]+)\) m", m.data)
+        if not m.data.startswith("holding") or not found:
+            self.holding_person = False
+            return
+        if self.holding_person or self.pose is None:
+            return
+        self.holding_person = True
+        self.person_holds += 1
+        t, x, y, yaw = self.pose
+        bx, by = float(found.group(1)), float(found.group(2))
+        wx, wy = x + math.cos(yaw) * bx - math.sin(yaw) * by, y + math.sin(yaw) * bx + math.cos(yaw) * by
+        if all(math.hypot(px - wx, py - wy) > self.phantom_radius for px, py, _ in self.people):
+            self.phantom_holds.append((round(t, 2), round(wx, 2), round(wy, 2)))
+            rospy.logwarn("uv_mission_scorer: held for a person at (%.2f, %.2f) where nobody is (%s)" %
+                          (wx, wy, m.data))
 
     def on_actors(self, m):
         self.people = [(a.x, a.y, a.radius) for a in m.actors if a.kind == "person"]
@@ -376,6 +402,7 @@ class UvMissionScorer:
         rospy.Subscriber("surface_monitor/state", SurfaceState, self.on_surface)
         rospy.Subscriber("mission/status", MachineStatus, self.on_status)
         rospy.Subscriber("mission/report", String, self.on_report)
+        rospy.Subscriber("mission/safety", String, self.on_safety)
         if ActorArray is not None:
             rospy.Subscriber(rospy.get_param("~actors_topic", "/sim/actors"), ActorArray, self.on_actors)
             rospy.Subscriber(rospy.get_param("~contacts_topic", "/sim/contacts"), BodyContact,
@@ -457,6 +484,9 @@ class UvMissionScorer:
             "person_zone_entries": len(self.latencies),
             "person_stop_latency_p99_ms": round(p99, 1),
             "person_stop_latency_max_ms": round(lat[-1] * 1000.0, 1) if lat else 0.0,
+            "person_holds": self.person_holds,
+            "phantom_person_holds": len(self.phantom_holds),
+            "phantom_person_holds_first": self.phantom_holds[:5],
             "collisions": len(self.collisions),
             "person_min_distance_m": round(self.person_min_m, 2) if self.people else None,
             "collisions_first": self.collisions[:5],

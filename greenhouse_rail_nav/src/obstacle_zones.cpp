@@ -1,5 +1,6 @@
 #include "greenhouse_rail_nav/obstacle_zones.h"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -13,6 +14,11 @@ std::string ZoneParams::validate() const {
   if (!(person_min_width_m >= 0.0 && person_max_width_m > person_min_width_m))
     e << "person widths must be 0 <= min < max [m]; ";
   if (!(person_min_depth_m >= 0.0)) e << "person_min_depth must be >= 0 [m]; ";
+  if (!(person_max_fit_rms_m > 0.0)) e << "person_max_fit_rms must be > 0 [m]; ";
+  if (!(person_fit_outlier_m > 0.0)) e << "person_fit_outlier must be > 0 [m]; ";
+  if (!(person_min_inliers > 0.0 && person_min_inliers <= 1.0)) e << "person_min_inliers must be in (0, 1]; ";
+  if (person_confirm_scans < 1) e << "person_confirm_scans must be >= 1; ";
+  if (!(person_confirm_radius_m > 0.0)) e << "person_confirm_radius must be > 0 [m]; ";
   if (!(headland_radius_m >= 0.0)) e << "headland_radius must be >= 0 [m]; ";
   if (!(map_clearance_m >= 0.0)) e << "map_clearance must be >= 0 [m]; ";
   if (!(row_half_width_m > 0.0)) e << "row_half_width must be > 0 [m]; ";
@@ -58,15 +64,76 @@ PointCluster summarise(const std::vector<ScanPoint>& pts, const ZoneParams& p, d
     a_min = std::min(a_min, a), a_max = std::max(a_max, a);
   }
   c.width = range * (a_max - a_min);
-  // How far the points bulge from the chord between the first and the last: a person's body is round, the face of
-  // a trolley or a crate is flat.
-  const double cx = pts.back().x - pts.front().x, cy = pts.back().y - pts.front().y, chord = std::hypot(cx, cy);
-  for (const ScanPoint& q : pts)
-    if (chord > 1e-6)
-      c.depth = std::max(c.depth, std::fabs(cx * (q.y - pts.front().y) - cy * (q.x - pts.front().x)) / chord);
-  c.person = c.width >= p.person_min_width_m && c.width <= p.person_max_width_m && c.depth >= p.person_min_depth_m;
+  if (c.width < p.person_min_width_m || c.width > p.person_max_width_m) return c;
+  // A person's body is round and bulges towards the lidar; the face of a trolley or a crate is flat, its corner two
+  // straight faces, and the mixed pixels at an edge lie behind it: a circle must fit, its outliers left out.
+  c.person = c.points < kMinFitPoints || fitRoundBody(pts, p, origin_x, &c);
   return c;
 }
+
+struct Circle {
+  double x = 0.0, y = 0.0, r = 0.0;
+};
+
+/// Least-squares circle through the points with use[i] (algebraic fit on coordinates about their mean).
+bool fitCircle(const std::vector<ScanPoint>& pts, const std::vector<bool>& use, Circle* out) {
+  double mx = 0.0, my = 0.0;
+  int n = 0;
+  for (size_t i = 0; i < pts.size(); ++i)
+    if (use[i]) mx += pts[i].x, my += pts[i].y, ++n;
+  if (n < kMinFitPoints) return false;
+  mx /= n, my /= n;
+  Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  for (size_t i = 0; i < pts.size(); ++i) {
+    if (!use[i]) continue;
+    const Eigen::Vector3d row(2.0 * (pts[i].x - mx), 2.0 * (pts[i].y - my), 1.0);
+    a += row * row.transpose();
+    b += row * (std::pow(pts[i].x - mx, 2) + std::pow(pts[i].y - my, 2));
+  }
+  const Eigen::Vector3d s = a.ldlt().solve(b);
+  const double r2 = s(2) + s(0) * s(0) + s(1) * s(1);
+  if (!s.allFinite() || !(r2 > 0.0)) return false;
+  *out = {s(0) + mx, s(1) + my, std::sqrt(r2)};
+  return true;
+}
+
+}  // namespace
+
+bool fitRoundBody(const std::vector<ScanPoint>& pts, const ZoneParams& p, double origin_x, PointCluster* c) {
+  std::vector<bool> use(pts.size(), true);
+  Circle k;
+  for (int pass = 0; pass < 3; ++pass) {
+    if (!fitCircle(pts, use, &k)) return false;
+    for (size_t i = 0; i < pts.size(); ++i)
+      use[i] = std::fabs(std::hypot(pts[i].x - k.x, pts[i].y - k.y) - k.r) <= p.person_fit_outlier_m;
+  }
+  int n = 0;
+  double sq = 0.0, near = 1e18, a_min = 1e9, a_max = -1e9;
+  ScanPoint first, last;
+  for (size_t i = 0; i < pts.size(); ++i) {
+    if (!use[i]) continue;
+    const ScanPoint& q = pts[i];
+    ++n;
+    sq += std::pow(std::hypot(q.x - k.x, q.y - k.y) - k.r, 2);
+    near = std::min(near, std::hypot(q.x - origin_x, q.y));
+    const double a = std::atan2(q.y, q.x - origin_x);
+    if (a < a_min) a_min = a, first = q;
+    if (a > a_max) a_max = a, last = q;
+  }
+  if (n < kMinFitPoints) return false;
+  c->fit_radius = k.r;
+  c->fit_rms = std::sqrt(sq / n);
+  c->fit_inliers = static_cast<double>(n) / pts.size();
+  // The arc's bulge from the chord between its extreme inliers; none when the centre is on the lidar's side.
+  const double half_chord = 0.5 * std::hypot(last.x - first.x, last.y - first.y);
+  const bool convex = std::hypot(k.x - origin_x, k.y) > near;
+  c->depth = convex ? k.r - std::sqrt(std::max(0.0, k.r * k.r - half_chord * half_chord)) : 0.0;
+  return c->fit_rms <= p.person_max_fit_rms_m && c->fit_inliers >= p.person_min_inliers &&
+         c->depth >= p.person_min_depth_m;
+}
+
+namespace {
 
 /// Median range from the lidar of the points within half_angle of its axis; NaN without any.
 double forwardMedian(const std::vector<ScanPoint>& points, double lidar_x, double half_angle) {
@@ -152,7 +219,7 @@ ZoneVerdict evaluateZone(const std::vector<ScanPoint>& points, double lidar_x, c
         std::ostringstream o;
         o.precision(2);
         o << std::fixed << "something " << r << " m behind the robot";
-        v.blocked = true;
+        v.blocked = v.behind = true;
         v.why = o.str();
       }
     }
@@ -173,6 +240,37 @@ ZoneVerdict evaluateZone(const std::vector<ScanPoint>& points, double lidar_x, c
     }
   }
   return v;
+}
+
+void PersonConfirmation::apply(ZonePhase phase, ZoneVerdict* v) {
+  if (phase == ZonePhase::kRow || scans_ <= 1) {
+    seen_.clear();
+    return;
+  }
+  std::vector<ScanPoint> now;
+  for (size_t i = 0; i < v->clusters.size(); ++i)
+    if (v->in_zone[i] && v->clusters[i].person) now.push_back({v->clusters[i].x, v->clusters[i].y});
+  auto seenIn = [&](const std::vector<ScanPoint>& scan, const PointCluster& c) {
+    for (const ScanPoint& q : scan)
+      if (std::hypot(q.x - c.x, q.y - c.y) <= radius_m_) return true;
+    return false;
+  };
+  bool any = false;
+  for (size_t i = 0; i < v->clusters.size(); ++i) {
+    if (!v->in_zone[i] || !v->clusters[i].person) continue;
+    bool confirmed = static_cast<int>(seen_.size()) >= scans_ - 1;
+    for (const auto& scan : seen_) confirmed = confirmed && seenIn(scan, v->clusters[i]);
+    v->in_zone[i] = confirmed;
+    if (confirmed && !any) {
+      any = true;
+      if (!v->behind) v->why = where("a person near the robot", v->clusters[i]);
+    }
+  }
+  v->person = any;
+  v->blocked = any || v->behind;
+  if (!v->blocked) v->why.clear();
+  seen_.push_back(now);
+  if (static_cast<int>(seen_.size()) > scans_ - 1) seen_.erase(seen_.begin());
 }
 
 bool ZoneHold::update(bool blocked, double t_s) {

@@ -2,11 +2,16 @@
 // and the protected zone (obstacle_zones.h: a person or an obstacle near the robot, in the row ahead or behind it
 // while reversing). While holding, the robot stands with its lights off; on the rails it then comes back over the
 // stretch it braked through with the lights off before they go on again.
+#include <cmath>
 #include <sstream>
 
 #include "uv_mission_impl.h"
 
 namespace greenhouse_rail_nav {
+
+namespace {
+constexpr double kHoldNoteS = 30.0;  // a long hold is logged again this often [s]
+}  // namespace
 
 std::string UvMission::holdReason() const {
   std::lock_guard<std::mutex> l(hold_mutex_);
@@ -45,6 +50,10 @@ bool UvMission::Impl::holdWhileStopped(tsm::ExecutionContext& ctx) {
   ++report_.pauses;
   log("paused: " + why);
   setHoldReason(why);
+  // A hold lasts as long as the zone is not clear, also for a stationary obstacle that is no person: say so
+  // periodically, with what it waits for and where.
+  const double since = io_.now();
+  double next_note = since + kHoldNoteS;
   while (io_.ok() && mustHold(&why)) {
     if (ctx.preemptRequested()) {
       setHoldReason("");
@@ -52,6 +61,12 @@ bool UvMission::Impl::holdWhileStopped(tsm::ExecutionContext& ctx) {
     }
     stop();
     setHoldReason(why);
+    if (io_.now() >= next_note) {
+      std::ostringstream o;
+      o << "still paused after " << std::lround(io_.now() - since) << " s: " << why;
+      log(o.str());
+      next_note += kHoldNoteS;
+    }
     io_.waitTick();
   }
   setHoldReason("");

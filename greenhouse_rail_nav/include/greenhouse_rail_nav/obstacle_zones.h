@@ -13,8 +13,18 @@ struct ZoneParams {
   int min_cluster_points = 3;        ///< fewer points: noise, ignored
   double person_min_width_m = 0.25;  ///< a cluster this wide across the beams ...
   double person_max_width_m = 0.9;   ///< ... up to this is a person's size
-  /// ... and its points bulge this far from their chord (a round body, not a trolley's or a crate's flat face) [m]
+  /// ... and a circle fits its points (a round body, not a trolley's or a crate's flat face or corner): the fitted arc
+  /// bulges towards the lidar this far from its chord [m] ...
   double person_min_depth_m = 0.05;
+  /// ... with this RMS distance of its points from the circle at most, the points farther than
+  /// person_fit_outlier_m from it (mixed pixels at the edges, noise spikes) left out [m] ...
+  double person_max_fit_rms_m = 0.02;
+  double person_fit_outlier_m = 0.05;
+  double person_min_inliers = 0.8;  ///< ... and at least this share of its points within person_fit_outlier_m of it
+  /// Near the robot (not in the row), a person counts once seen in this many consecutive scans within
+  /// person_confirm_radius_m of where they were: a lidar plane that pitches onto a low tube for one scan is nobody
+  int person_confirm_scans = 3;
+  double person_confirm_radius_m = 0.3;  ///< [m]
   /// Headland: a person (cluster not in the map) within this of base_link is in the zone (the lamps' radius) [m].
   double headland_radius_m = 1.5;
   double map_clearance_m = 0.2;  ///< headland: a point this close to an occupied map cell is the map [m]
@@ -40,15 +50,28 @@ struct PointCluster {
   double x = 0.0, y = 0.0;  ///< centroid in base_link [m]
   double near_x = 0.0;      ///< smallest x of its points [m]
   double width = 0.0;       ///< across the lidar's beams [m]
-  double depth = 0.0;       ///< largest distance of its points from the chord between its first and last [m]
+  /// Round-body fit (person_* parameters): the circle through its points without the outliers; depth is the fitted
+  /// arc's bulge from its chord, towards the lidar (0 when the circle's centre is on the lidar's side: a concave shape)
+  double depth = 0.0;        ///< [m]
+  double fit_radius = 0.0;   ///< [m]
+  double fit_rms = 0.0;      ///< of the inliers [m]
+  double fit_inliers = 0.0;  ///< share of the points within person_fit_outlier_m of the circle
   int points = 0;
-  bool person = false;  ///< of a person's size
+  bool person = false;  ///< of a person's size and shape
 };
 
 /// Groups points given in scan order: a point joins the cluster of the one before it when closer than
 /// cluster_gap_m. Clusters of fewer than min_cluster_points are dropped. A cluster's width is measured across the
 /// beams of a lidar at (origin_x, 0) (the angle it spans times its mean range), so that a streak of mixed pixels
-/// along the beams at an edge is not taken for a body.
+/// along the beams at an edge is not taken for a body. A cluster of a person's width is a person when a circle fits
+/// it (fitRoundBody); with fewer than kMinFitPoints points its shape cannot be told and it counts as one.
+constexpr int kMinFitPoints = 5;
+
+/// Fits a circle to `pts` (algebraic least squares, twice more without the points farther than person_fit_outlier_m
+/// from the last circle) and fills c's depth and fit_* fields; the lidar at (origin_x, 0). Returns whether the fit
+/// shows a round body bulging towards the lidar: RMS, inlier share and depth within the person_* parameters.
+bool fitRoundBody(const std::vector<ScanPoint>& pts, const ZoneParams& p, double origin_x, PointCluster* c);
+
 std::vector<PointCluster> clusterScan(const std::vector<ScanPoint>& points, const ZoneParams& p, double origin_x = 0.0);
 
 /// What the mission is doing, which decides the zone.
@@ -71,6 +94,7 @@ struct ZoneContext {
 struct ZoneVerdict {
   bool blocked = false;  ///< something in the protected zone
   bool person = false;   ///< a person-sized cluster in it
+  bool behind = false;   ///< reversing: the rear range finders see something
   std::string why;       ///< what and where, for the status and the log (empty when clear)
   /// Row: the lidar's range to the far end where it agrees with the set's length; NaN when nothing is seen ahead or
   /// what is seen is short of the end (an obstacle) [m].
@@ -88,6 +112,22 @@ using KnownPoint = std::function<bool(double x, double y)>;
 ZoneVerdict evaluateZone(const std::vector<ScanPoint>& points, double lidar_x, const ZoneContext& ctx,
                          const ZoneParams& p, const KnownPoint& known = {},
                          const std::vector<double>& rear_ranges = {});
+
+/// Confirms the people near the robot (headland, idle, reverse; not the row, where anything short of the end blocks
+/// at once) over consecutive scans: a person cluster in the zone stays in it only when person clusters were in the
+/// zone within person_confirm_radius_m of it in each of the person_confirm_scans - 1 scans before.
+class PersonConfirmation {
+ public:
+  explicit PersonConfirmation(const ZoneParams& p)
+      : scans_(p.person_confirm_scans), radius_m_(p.person_confirm_radius_m) {}
+  /// Takes the latest scan's verdict in `phase`: clears the people not yet confirmed and the block they made.
+  void apply(ZonePhase phase, ZoneVerdict* v);
+
+ private:
+  int scans_;
+  double radius_m_;
+  std::vector<std::vector<ScanPoint>> seen_;  ///< people in the zone in the latest scans, oldest first
+};
 
 /// Follows a zone over time: blocked at once, clear only after clear_time_s without anything in it.
 class ZoneHold {

@@ -19,6 +19,7 @@
 #include <thorvald_common/ros/param_reader.h>
 #include <thorvald_state_machine/ros/status_publisher.h>
 
+#include <cmath>
 #include <limits>
 #include <mutex>
 #include <string>
@@ -258,16 +259,23 @@ void runMission(ros::NodeHandle& nh, ros::NodeHandle& pnh, const NodeSettings& s
   ros::Publisher safety_pub = nh.advertise<std_msgs::String>("mission/safety", 1, true);
   diagnostic_updater::Updater diagnostics(nh, pnh);
   diagnostics.setHardwareID("uv_mission");
+  ros::Time hold_since;  // zero while not holding
   diagnostics.add("uv_mission safety", [&](diagnostic_updater::DiagnosticStatusWrapper& stat) {
     const std::string why = mission.holdReason();
-    if (why.empty())
+    if (why.empty()) {
       stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "not holding");
-    else
-      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "holding: " + why);
+      return;
+    }
+    // A long hold is an error for the operator: a person who stays, or something no one moves (check the zone).
+    const double held_s = hold_since.isZero() ? 0.0 : (ros::Time::now() - hold_since).toSec();
+    stat.summary(held_s > 60.0 ? diagnostic_msgs::DiagnosticStatus::ERROR : diagnostic_msgs::DiagnosticStatus::WARN,
+                 "holding: " + why);
+    stat.add("holding for [s]", std::round(held_s));
   });
   std::string last_hold = "-";
   ros::Timer safety_timer = nh.createTimer(ros::Duration(0.1), [&](const ros::TimerEvent&) {
     const std::string why = mission.holdReason();
+    if (why.empty() != last_hold.empty() || last_hold == "-") hold_since = why.empty() ? ros::Time() : ros::Time::now();
     if (why != last_hold) {
       std_msgs::String m;
       m.data = why.empty() ? "clear" : "holding: " + why;

@@ -17,6 +17,14 @@ void ZoneWatch::readParams(thorvald_common::ParamReader& params, Config* c) {
   z.person_min_width_m = params.number("zone/person_min_width", z.person_min_width_m, R::closed(0.0, 2.0), "m");
   z.person_max_width_m = params.number("zone/person_max_width", z.person_max_width_m, R::aboveUpTo(0.0, 5.0), "m");
   z.person_min_depth_m = params.number("zone/person_min_depth", z.person_min_depth_m, R::closed(0.0, 1.0), "m");
+  z.person_max_fit_rms_m =
+      params.number("zone/person_max_fit_rms", z.person_max_fit_rms_m, R::aboveUpTo(0.0, 0.5), "m");
+  z.person_fit_outlier_m =
+      params.number("zone/person_fit_outlier", z.person_fit_outlier_m, R::aboveUpTo(0.0, 1.0), "m");
+  z.person_min_inliers = params.number("zone/person_min_inliers", z.person_min_inliers, R::aboveUpTo(0.0, 1.0));
+  z.person_confirm_scans = params.integer("zone/person_confirm_scans", z.person_confirm_scans, 1, 40);
+  z.person_confirm_radius_m =
+      params.number("zone/person_confirm_radius", z.person_confirm_radius_m, R::aboveUpTo(0.0, 2.0), "m");
   z.headland_radius_m = params.number("zone/headland_radius", z.headland_radius_m, R::closed(0.0, 10.0), "m");
   z.map_clearance_m = params.number("zone/map_clearance", z.map_clearance_m, R::closed(0.0, 1.0), "m");
   z.row_half_width_m = params.number("zone/row_half_width", z.row_half_width_m, R::aboveUpTo(0.0, 2.0), "m");
@@ -29,7 +37,8 @@ void ZoneWatch::readParams(thorvald_common::ParamReader& params, Config* c) {
   c->relay_boards = params.texts("relay_boards", c->relay_boards, 0, 16, true);
 }
 
-ZoneWatch::ZoneWatch(ros::NodeHandle& nh, const Config& c, tf2_ros::Buffer& tf) : cfg_(c), tf_(tf) {
+ZoneWatch::ZoneWatch(ros::NodeHandle& nh, const Config& c, tf2_ros::Buffer& tf)
+    : cfg_(c), tf_(tf), confirm_(std::make_unique<PersonConfirmation>(c.zone)) {
   rear_range_.assign(c.rear_sensors.size(), NAN);
   rear_stamp_.assign(c.rear_sensors.size(), ros::Time());
   relay_unknown_.assign(c.relay_boards.size(), -1);
@@ -159,6 +168,7 @@ void ZoneWatch::onScan(const sensor_msgs::LaserScan& m) {
   {
     std::lock_guard<std::mutex> l(mutex_);  // map_ stays as it is while `known` reads it
     v = evaluateZone(pts, lidar_x, ctx, cfg_.zone, known, rear);
+    confirm_->apply(ctx.phase, &v);
     verdict_ = v;
     evaluated_ = ros::Time::now();
   }

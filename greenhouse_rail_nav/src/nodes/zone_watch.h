@@ -12,6 +12,7 @@
 #include <tf2_ros/buffer.h>
 #include <thorvald_common/ros/param_reader.h>
 
+#include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -56,7 +57,8 @@ class ZoneWatch {
   std::mutex mutex_;
   ZoneContext ctx_;
   ZoneVerdict verdict_;
-  ros::Time evaluated_;  // when verdict_ was taken
+  std::unique_ptr<PersonConfirmation> confirm_;  // people over consecutive scans
+  ros::Time evaluated_;                          // when verdict_ was taken
   thorvald_map::OccupancyGrid map_;
   bool have_map_ = false;
   std::vector<double> rear_range_;
