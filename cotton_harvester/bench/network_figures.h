@@ -16,6 +16,7 @@ struct NetworkFigures {
   int trained_found = 0, trained_labels = 0, trained_false = 0;
   int heldout_frames = 0;                      ///< 0: no held-out folder given
   ScoreSummary network, colour;                ///< all held-out frames
+  ScoreSummary network_centre, colour_centre;  ///< the same, LocatedBoll::centre within the limit of the centre
   ScoreSummary network_day[2], colour_day[2];  ///< [0] overcast, [1] sunny
   ScoreSummary fig8[3];                        ///< the network with linear, nearest and no interpolation of the input
   bool fig8_run = false;
@@ -25,9 +26,11 @@ struct NetworkFigures {
 void checkTrained(const NetworkParams& params, const std::string& frames_dir, NetworkFigures* figures);
 
 /// Scores the colour and network pipelines (default parameters but the detector) on every frame of `dir`; with
-/// fig8 also the network with each input resize. Returns an empty string or what went wrong.
+/// fig8 also the network with each input resize. top_fraction: the bolls' visible top in radii in front of their
+/// centre, in the truth and the pipelines (PerceptionParams::boll_top_fraction). Returns an empty string or what went
+/// wrong.
 std::string scoreHeldout(const std::string& dir, const NetworkParams& params, bool fig8, double max_error_m,
-                         NetworkFigures* figures);
+                         double top_fraction, NetworkFigures* figures);
 
 /// The tables of the figures.
 void printNetworkFigures(const NetworkFigures& figures, double max_error_m);

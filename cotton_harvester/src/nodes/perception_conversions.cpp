@@ -38,6 +38,13 @@ BollArray toBollArray(const perception::FrameResult& result, const std_msgs::Hea
     boll.reachable = located.reachable;
     boll.u = static_cast<int32_t>(std::lround(located.detection.centroid.x));
     boll.v = static_cast<int32_t>(std::lround(located.detection.centroid.y));
+    boll.centre.x = located.centre.x;
+    boll.centre.y = located.centre.y;
+    boll.centre.z = located.centre.z;
+    boll.radius = static_cast<float>(located.radius_m);
+    boll.depth_source = located.depth_source == perception::BollDepthSource::kSurface  ? Boll::DEPTH_SURFACE
+                        : located.depth_source == perception::BollDepthSource::kWindow ? Boll::DEPTH_WINDOW
+                                                                                       : Boll::DEPTH_IMAGE_SIZE;
     message.bolls.push_back(boll);
   }
   message.nearest_reachable = result.nearest_reachable;

@@ -148,6 +148,8 @@ void readLocation(Reader& r, PerceptionParams* p) {
   r.read("geometry/boll_radius_max_m", &p->geometry.boll_radius_max_m, "a number >= boll_radius_min_m [m]");
   r.read("geometry/boll_height_min_m", &p->geometry.boll_height_min_m, "a number >= 0 [m]");
   r.read("geometry/boll_height_max_m", &p->geometry.boll_height_max_m, "a number >= boll_height_min_m [m]");
+  r.read("geometry/boll_radius_typical_m", &p->geometry.boll_radius_typical_m, "a number in [min, max] radius [m]");
+  r.read("size_fallback", &p->size_fallback, "true or false");
 
   r.read("check_plausibility", &p->check_plausibility, "true or false");
   r.read("boll_min_dome_fraction", &p->boll_min_dome_fraction, "a number in [0, 1] (0: no dome test)");

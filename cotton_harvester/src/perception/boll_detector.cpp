@@ -13,6 +13,9 @@ std::string validate(const BollGeometry& g) {
   if (!(g.boll_radius_min_m > 0.0 && g.boll_radius_max_m >= g.boll_radius_min_m && g.boll_radius_max_m < 0.5))
     error << "boll_radius_min_m/boll_radius_max_m must satisfy 0 < min <= max < 0.5 [m] (got " << g.boll_radius_min_m
           << ", " << g.boll_radius_max_m << "); ";
+  if (!(g.boll_radius_typical_m >= g.boll_radius_min_m && g.boll_radius_typical_m <= g.boll_radius_max_m))
+    error << "boll_radius_typical_m must lie in [boll_radius_min_m, boll_radius_max_m] (got " << g.boll_radius_typical_m
+          << "); ";
   if (!(g.boll_height_min_m >= 0.0 && g.boll_height_max_m >= g.boll_height_min_m &&
         g.boll_height_max_m + g.boll_radius_max_m < g.camera_height_m))
     error << "boll_height_min_m/boll_height_max_m must satisfy 0 <= min <= max and the highest boll below the camera "

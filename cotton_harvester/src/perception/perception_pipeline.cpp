@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <opencv2/imgproc.hpp>
+
 namespace cotton_harvester {
 namespace perception {
 
@@ -33,6 +35,63 @@ std::string toString(FrameStatus status) {
   return "?";
 }
 
+std::string toString(BollDepthSource source) {
+  switch (source) {
+    case BollDepthSource::kSurface:
+      return "surface";
+    case BollDepthSource::kWindow:
+      return "window";
+    case BollDepthSource::kImageSize:
+      return "image_size";
+  }
+  return "?";
+}
+
+cv::Point3d centreBehindSurface(const cv::Point3d& surface, double radius_m) {
+  const double norm = std::sqrt(surface.dot(surface));
+  if (!(norm > 0.0)) return surface;
+  return surface * ((norm + radius_m) / norm);
+}
+
+std::optional<LocatedPoint> locateBoxDisc(const cv::Mat& cloud, const BollDetection& detection,
+                                          const CameraIntrinsics& intrinsics, const LocatorParams& params) {
+  const double radius_px = imageRadiusPx(detection);
+  if (!(radius_px > 1.0)) return std::nullopt;
+  const cv::Point2d centre(detection.box.x + 0.5 * detection.box.width, detection.box.y + 0.5 * detection.box.height);
+  std::vector<cv::Point> outline;
+  cv::ellipse2Poly(cv::Point(static_cast<int>(std::lround(centre.x)), static_cast<int>(std::lround(centre.y))),
+                   cv::Size(static_cast<int>(0.8 * radius_px) + 1, static_cast<int>(0.8 * radius_px) + 1), 0, 0, 360,
+                   10, outline);
+  return locateBollSurface(cloud, outline, centre, radius_px, intrinsics, params);
+}
+
+double imageRadiusPx(const BollDetection& detection) {
+  if (detection.radius_px > 0.0) return detection.radius_px;
+  return 0.25 * (detection.box.width + detection.box.height);
+}
+
+std::optional<LocatedBoll> locateBySize(const BollDetection& detection, const CameraIntrinsics& k,
+                                        const BollGeometry& g, double ground_depth_m, DepthModel model) {
+  const double radius_px = imageRadiusPx(detection);
+  const cv::Point2d& pixel = detection.radius_px > 0.0 ? detection.centre : detection.centroid;
+  if (!(radius_px > 0.0) || !std::isfinite(pixel.x) || !std::isfinite(pixel.y)) return std::nullopt;
+  // A sphere of radius R at centre range D subtends the half angle asin(R / D); its image radius is about f R / D.
+  const double focal = 0.5 * (k.fx + k.fy);
+  const double ground = std::isfinite(ground_depth_m) ? ground_depth_m : g.camera_height_m;
+  const double unit_z =
+      1.0 / std::sqrt(1.0 + std::pow((pixel.x - k.cx) / k.fx, 2) + std::pow((pixel.y - k.cy) / k.fy, 2));
+  const double z_centre = std::clamp(focal * g.boll_radius_typical_m / radius_px * unit_z,
+                                     std::max(0.05, ground - g.boll_height_max_m), ground - g.boll_height_min_m);
+  LocatedBoll boll;
+  boll.detection = detection;
+  boll.radius_m = g.boll_radius_typical_m;
+  boll.centre = backProject(k, pixel, z_centre / unit_z, DepthModel::kRay);
+  boll.range_m = z_centre / unit_z - boll.radius_m;
+  boll.position = backProject(k, pixel, boll.range_m, model);
+  boll.depth_source = BollDepthSource::kImageSize;
+  return boll;
+}
+
 std::string validate(const PerceptionParams& params) {
   std::string error;
   const auto add = [&error](const std::string& prefix, const std::string& message) {
@@ -45,6 +104,8 @@ std::string validate(const PerceptionParams& params) {
   add("geometry: ", validate(params.geometry));
   if (!(params.boll_min_dome_fraction >= 0.0 && params.boll_min_dome_fraction <= 1.0))
     error += "boll_min_dome_fraction must be in [0, 1] (got " + std::to_string(params.boll_min_dome_fraction) + "); ";
+  if (!(params.boll_top_fraction >= 0.0 && params.boll_top_fraction <= 1.0))
+    error += "boll_top_fraction must be in [0, 1] (got " + std::to_string(params.boll_top_fraction) + "); ";
   if (!(params.boll_dome_sigmas >= 0.0 && params.boll_dome_sigmas <= 10.0))
     error += "boll_dome_sigmas must be in [0, 10] (got " + std::to_string(params.boll_dome_sigmas) + "); ";
   return error;
@@ -235,20 +296,43 @@ void PerceptionPipeline::findEndEffectorAndArm(const cv::Mat& bgr, const cv::Mat
 void PerceptionPipeline::locateBolls(const std::vector<BollDetection>& detections, const cv::Mat& cloud,
                                      FrameResult* result) const {
   const double ground_depth_m = detections.empty() ? 0.0 : groundDepth(cloud);
+  const double focal = 0.5 * (params_.intrinsics.fx + params_.intrinsics.fy);
+  const BollGeometry& g = params_.geometry;
   for (const BollDetection& detection : detections) {
     // A detector that estimates the boll's disc: its depth from the visible surface, at its centre. Otherwise (or
     // without enough valid points under the outline) the window around the centroid.
     std::optional<LocatedPoint> located;
+    BollDepthSource source = BollDepthSource::kSurface;
     if (params_.locator.boll_surface && detection.radius_px > 0.0 && !detection.outline.empty())
       located = locateBollSurface(cloud, detection.outline, detection.centre, detection.radius_px, params_.intrinsics,
                                   params_.locator);
-    if (!located) located = locate(cloud, detection.centroid, params_.intrinsics, params_.locator);
     if (!located) {
-      ++result->bolls_without_depth;
+      located = locate(cloud, detection.centroid, params_.intrinsics, params_.locator);
+      source = BollDepthSource::kWindow;
+    }
+    // A box detector's boll whose centre has no depth (a passive stereo camera matches nothing on a uniform or
+    // saturated lint face): the visible surface under the disc inscribed in its box.
+    if (!located && params_.locator.boll_surface && !(detection.radius_px > 0.0)) {
+      located = locateBoxDisc(cloud, detection, params_.intrinsics, params_.locator);
+      source = BollDepthSource::kSurface;
+    }
+    if (!located) {
+      std::optional<LocatedBoll> sized;
+      if (params_.size_fallback)
+        sized = locateBySize(detection, params_.intrinsics, g, ground_depth_m, params_.locator.depth_model);
+      if (!sized) {
+        ++result->bolls_without_depth;
+        result->dropped.push_back({detection, true, cv::Point3d()});
+        continue;
+      }
+      sized->reachable = isReachable(sized->position, params_.reach);
+      result->bolls.push_back(*sized);
+      ++result->bolls_size_fallback;
       continue;
     }
     if (params_.check_plausibility && !plausible(detection, *located, ground_depth_m)) {
       ++result->bolls_implausible;
+      result->dropped.push_back({detection, false, located->position});
       continue;
     }
     LocatedBoll boll;
@@ -258,6 +342,12 @@ void PerceptionPipeline::locateBolls(const std::vector<BollDetection>& detection
     boll.reachable = isReachable(located->position, params_.reach);
     boll.dome_m = located->dome_m;
     boll.dome_sigma_m = located->dome_sigma_m;
+    boll.depth_source = source;
+    boll.valid_points = located->valid_points;
+    // The boll's radius from its image radius at its range (a sphere's disc subtends asin(R / D), D = range + R).
+    const double sin_a = std::min(0.5, imageRadiusPx(detection) / focal);
+    boll.radius_m = std::clamp(located->range_m * sin_a / (1.0 - sin_a), g.boll_radius_min_m, g.boll_radius_max_m);
+    boll.centre = centreBehindSurface(boll.position, params_.boll_top_fraction * boll.radius_m);
     result->bolls.push_back(boll);
   }
 }

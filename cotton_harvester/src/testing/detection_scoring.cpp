@@ -29,7 +29,10 @@ FrameScore scoreFrame(const FrameResult& result, const SceneLayout& truth, const
       ++score.true_positives;
       const cv::Point3d error = result.bolls[d].position - truth.bolls[b].surface;
       score.errors_3d_m.push_back(std::sqrt(error.dot(error)));
+      const cv::Point3d centre_error = result.bolls[d].centre - truth.bolls[b].centre;
+      score.centre_errors_3d_m.push_back(std::sqrt(centre_error.dot(centre_error)));
       score.matched_bolls.push_back(b);
+      score.matched_detections.push_back(d);
     } else {
       ++score.matched_hidden;
     }
@@ -62,6 +65,7 @@ void ScoreSummary::add(const FrameScore& score) {
   false_positives += score.false_positives;
   false_negatives += score.false_negatives;
   errors_3d_m.insert(errors_3d_m.end(), score.errors_3d_m.begin(), score.errors_3d_m.end());
+  centre_errors_3d_m.insert(centre_errors_3d_m.end(), score.centre_errors_3d_m.begin(), score.centre_errors_3d_m.end());
   end_effector_expected += score.end_effector_expected;
   end_effector_found += score.end_effector_expected && score.end_effector_found;
   end_effector_false += score.end_effector_false;

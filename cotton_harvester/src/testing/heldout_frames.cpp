@@ -26,7 +26,7 @@ std::vector<std::string> listHeldoutFrames(const std::string& dir) {
   return names;
 }
 
-bool parseHeldoutTruth(const std::string& text, const CameraIntrinsics& k, HeldoutFrame* frame) {
+bool parseHeldoutTruth(const std::string& text, const CameraIntrinsics& k, HeldoutFrame* frame, double top_fraction) {
   std::istringstream lines(text);
   std::string line;
   frame->truth = SceneLayout{};
@@ -45,7 +45,7 @@ bool parseHeldoutTruth(const std::string& text, const CameraIntrinsics& k, Heldo
         return false;
       b.radius_m = b.radius_px * b.centre.z / k.fx;
       const double norm = std::sqrt(b.centre.dot(b.centre));
-      b.surface = b.centre - b.centre * (b.radius_m / norm);
+      b.surface = b.centre - b.centre * (top_fraction * b.radius_m / norm);
       frame->truth.bolls.push_back(b);
     } else if (kind == "end_effector") {
       TrueEndEffector e;
@@ -60,7 +60,7 @@ bool parseHeldoutTruth(const std::string& text, const CameraIntrinsics& k, Heldo
 }
 
 bool loadHeldoutFrame(const std::string& dir, const std::string& name, const CameraIntrinsics& k, HeldoutFrame* frame,
-                      std::string* error) {
+                      std::string* error, double top_fraction) {
   const fs::path root(dir);
   frame->name = name;
   frame->bgr = cv::imread((root / "images" / (name + ".png")).string(), cv::IMREAD_COLOR);
@@ -73,7 +73,7 @@ bool loadHeldoutFrame(const std::string& dir, const std::string& name, const Cam
     *error = "frame '" + name + "' in '" + dir + "': colour, 16-bit depth or truth missing or of other sizes";
     return false;
   }
-  if (!parseHeldoutTruth(text.str(), k, frame)) {
+  if (!parseHeldoutTruth(text.str(), k, frame, top_fraction)) {
     *error = "frame '" + name + "': malformed truth";
     return false;
   }
@@ -90,13 +90,16 @@ bool loadHeldoutFrame(const std::string& dir, const std::string& name, const Cam
   return true;
 }
 
-FrameScore withinDistance(FrameScore score, double max_error_m) {
-  std::vector<double> errors;
-  std::vector<size_t> matched;
+FrameScore withinDistance(FrameScore score, double max_error_m, bool of_centre) {
+  std::vector<double> errors, centre_errors;
+  std::vector<size_t> matched, detections;
   for (size_t i = 0; i < score.errors_3d_m.size(); ++i) {
-    if (score.errors_3d_m[i] <= max_error_m) {
+    const double centre_error = i < score.centre_errors_3d_m.size() ? score.centre_errors_3d_m[i] : 0.0;
+    if ((of_centre ? centre_error : score.errors_3d_m[i]) <= max_error_m) {
       errors.push_back(score.errors_3d_m[i]);
+      centre_errors.push_back(centre_error);
       matched.push_back(score.matched_bolls[i]);
+      if (i < score.matched_detections.size()) detections.push_back(score.matched_detections[i]);
       continue;
     }
     --score.true_positives;
@@ -105,7 +108,9 @@ FrameScore withinDistance(FrameScore score, double max_error_m) {
     score.missed_bolls.push_back(score.matched_bolls[i]);
   }
   score.errors_3d_m = errors;
+  score.centre_errors_3d_m = centre_errors;
   score.matched_bolls = matched;
+  score.matched_detections = detections;
   return score;
 }
 

@@ -34,6 +34,8 @@ struct BollGeometry {
   double camera_height_m = 2.20;    ///< camera above the ground (paper §2.1) [m]
   double boll_radius_min_m = 0.02;  ///< smallest open boll [m]
   double boll_radius_max_m = 0.05;  ///< largest open boll [m]
+  /// A typical open boll [m], in [min, max]: the size fallback's ranging (PerceptionParams::size_fallback).
+  double boll_radius_typical_m = 0.035;
   double boll_height_min_m = 0.15;  ///< lowest boll centre above the ground [m]
   double boll_height_max_m = 1.30;  ///< highest boll centre above the ground [m]
 };

@@ -46,16 +46,43 @@ struct PerceptionParams {
   /// distant boll, few valid points) is kept [-] (>= 0).
   double boll_dome_sigmas = 1.0;
   NearestBy nearest_by = NearestBy::kCamera;
+  /// Detections without depth (too few valid cloud points under them) are located from their image radius, the
+  /// typical boll radius and the camera's height (locateBySize) and marked BollDepthSource::kImageSize, instead of
+  /// being dropped. Off by default: such a point is only good to +-(boll_radius_max_m - boll_radius_min_m) /
+  /// (2 boll_radius_typical_m) of its range.
+  bool size_fallback = false;
+  /// How far behind the visible surface point a boll's centre lies, in boll radii (LocatedBoll::centre): 1 for a
+  /// sphere; a boll whose lint stands lower than it is wide (the datasheet world's core and lobes: 0.6) less [0, 1].
+  double boll_top_fraction = 1.0;
 };
 
 /// Returns an empty string when valid, otherwise every bad field.
 std::string validate(const PerceptionParams& params);
 
-/// A boll located in 3D.
+/// Where a located boll's depth came from.
+enum class BollDepthSource {
+  kSurface,    ///< the cloud points of its visible surface under its outline (locateBollSurface)
+  kWindow,     ///< the cloud window around its image centroid (locate)
+  kImageSize,  ///< no depth: its image radius, the typical boll radius and the camera height (locateBySize)
+};
+
+std::string toString(BollDepthSource source);
+
+/// A boll located in 3D. The 3D convention: `position` is the boll's VISIBLE SURFACE point nearest the camera on the
+/// ray through its centre (what the cloud measures; the arm's nozzle goes there); `centre` is the boll's centre, one
+/// boll radius (radius_m) deeper along the same ray.
 struct LocatedBoll {
   BollDetection detection;
-  cv::Point3d position;  ///< camera frame [m]
-  double range_m = 0.0;  ///< eq. 6 [m]
+  cv::Point3d position;  ///< visible surface point, camera frame [m]
+  double range_m = 0.0;  ///< eq. 6 of `position` [m]
+  /// The boll's centre: position + boll_top_fraction * radius_m along the unit ray through position, camera frame
+  /// [m].
+  cv::Point3d centre;
+  /// The boll's radius used for `centre` [m]: from its image radius (the disc's, or half the box's mean side) at its
+  /// range, clamped to the geometry's boll radii; the typical radius with kImageSize.
+  double radius_m = 0.0;
+  BollDepthSource depth_source = BollDepthSource::kSurface;
+  int valid_points = 0;  ///< valid cloud points its depth came from (0 with kImageSize) [-]
   bool reachable = false;
   /// LocatedPoint::dome_m and dome_sigma_m (NaN: not measured) [m].
   double dome_m = std::numeric_limits<double>::quiet_NaN();
@@ -94,6 +121,14 @@ struct FrameResult {
   int bolls_detected = 0;          ///< 2D detections before 3D location
   int bolls_without_depth = 0;     ///< detections dropped for lack of valid cloud points
   int bolls_implausible = 0;       ///< detections dropped in 3D: on the ground or of a size no boll has
+  int bolls_size_fallback = 0;     ///< bolls in `bolls` located by their image size (BollDepthSource::kImageSize)
+  /// The detections that were dropped, and why (for scoring where a detected boll is lost).
+  struct Dropped {
+    BollDetection detection;
+    bool no_depth = false;  ///< true: too few valid cloud points; false: implausible in 3D (ground, size or dome)
+    cv::Point3d position;   ///< where it was located when implausible [m]
+  };
+  std::vector<Dropped> dropped;
   std::optional<EndEffectorObservation> end_effector_image;  ///< end-effector in the image
   std::optional<LocatedPoint> end_effector;                  ///< end-effector in 3D, when its depth is known
   cv::Mat end_effector_mask;  ///< CV_8U, 255 on the segmented end-effector (empty when not found)
@@ -103,6 +138,27 @@ struct FrameResult {
   int end_effector_candidates = 0;
   int end_effector_candidates_refused = 0;
 };
+
+/// The centre of a boll whose visible surface point nearest the camera is `surface` [m] and whose radius is radius_m:
+/// radius_m further along the ray through `surface`.
+cv::Point3d centreBehindSurface(const cv::Point3d& surface, double radius_m);
+
+/// The size fallback: a boll seen with image radius radius_px [px] at `pixel`, with no depth. Its centre range is
+/// where a boll of the typical radius has that image radius, clamped to where boll centres can be (between
+/// boll_height_min_m and boll_height_max_m above a ground camera_height_m below the camera; ground_depth_m instead of
+/// camera_height_m when finite). Returns the located boll with position = its surface point, centre, radius_m =
+/// the typical radius, depth_source kImageSize; std::nullopt when radius_px <= 0 or the pixel is not finite.
+std::optional<LocatedBoll> locateBySize(const BollDetection& detection, const CameraIntrinsics& intrinsics,
+                                        const BollGeometry& geometry, double ground_depth_m, DepthModel model);
+
+/// A box detection (no disc estimated) located from the visible surface under the disc inscribed in its box (0.8 of
+/// half its mean side around the box's centre; locateBollSurface): used when the window at its centroid has too few
+/// valid points. std::nullopt as locateBollSurface.
+std::optional<LocatedPoint> locateBoxDisc(const cv::Mat& cloud, const BollDetection& detection,
+                                          const CameraIntrinsics& intrinsics, const LocatorParams& params);
+
+/// The image radius of a detection [px]: its disc's when estimated, else half the mean side of its box.
+double imageRadiusPx(const BollDetection& detection);
 
 /// Step 6 of Algorithm 1: the index of the nearest reachable boll (-1: none reachable). Nearest by range from the
 /// lens, or with NearestBy::kEndEffector and a located end-effector by 3D distance from it; the first of equals.
