@@ -9,9 +9,11 @@
 //   rosrun cotton_harvester perception_bench [--frames N] [--other-resolution-frames N] [--dnn-frames N] [--seed S]
 //                                            [--list-misses] [--network-model FILE] [--heldout-dir DIR] [--fig8]
 //                                            [--gap] [--noise-curve N] [--noise-curve-network]
+//                                            [--heldout-top-fraction F]
 // --gap (with --heldout-dir): where the held-out bolls are lost between 2D and 3D, the 3D error along and across the
 // ray, by share of the boll with depth, with and without the size fallback. --noise-curve N: recall and 3D error
-// against passive-stereo depth noise on N synthetic frames a level.
+// against passive-stereo depth noise on N synthetic frames a level. Held-out bolls are scored against their visible
+// top, 0.6 radii in front of their centre (the datasheet boll; --heldout-top-fraction 1: a sphere's surface).
 
 #include <algorithm>
 #include <chrono>
