@@ -26,6 +26,7 @@ class SimIoBoardTest(unittest.TestCase):
         diagnostics = Latest("/diagnostics", DiagnosticArray)
         out0 = rospy.Publisher("/r1/io/io0/out0", Bool, queue_size=1, latch=True)
         wait_for(lambda: unknown.msg is not None and not unknown.msg.data, 30.0, "io0 confirmed")
+        wait_for(lambda: None not in (truth.msg, state.msg), 5.0, "the relay's truth and confirmed state")
         self.assertEqual(truth.msg.data, 0)
         self.assertFalse(state.msg.data)
         out0.publish(Bool(data=True))

@@ -83,6 +83,12 @@ class IoBoardVerdict {
     s.age_s = heard_ ? now_s - last_frame_s_ : -1.0;
     return s;
   }
+  /// Puts the state in doubt for a reason of the host's own (e.g. its bus is off), until the next judge().
+  void doubt(const std::string& why) {
+    unknown_ = true;
+    why_ = why;
+  }
+  bool everHeard() const { return heard_; }  ///< a frame of the board has arrived
   bool unknown() const { return unknown_; }
   const std::string& why() const { return why_; }
 

@@ -32,7 +32,7 @@ class Cia401Board : public CanDevice, public thorvald_base::IoBoard {
   void start(double now_s) override;
   void handle(const CanFrame& frame, double now_s) override;
   void tick(double now_s) override;
-  bool operational() const override { return answering() && !unknown_; }
+  bool operational() const override { return answering() && !verdict_.unknown(); }
   unsigned long malformed() const override { return malformed_; }
 
   // thorvald_base::IoBoard
@@ -53,11 +53,10 @@ class Cia401Board : public CanDevice, public thorvald_base::IoBoard {
   std::string name_;
   int node_;
   IoBoardTiming timing_;
-  uint8_t commanded_ = 0, echoed_ = 0;
+  thorvald_base::IoBoardVerdict verdict_;  ///< echo and silence judged as for every relay board
+  uint8_t commanded_ = 0;
   uint8_t nmt_state_ = kHeartbeatBootUp;
-  bool heard_ = false, echo_heard_ = false, unknown_ = true;
-  std::string why_ = "no echo from the board yet";
-  double now_s_ = 0.0, last_frame_s_ = -1e9, last_sent_s_ = -1e9, commanded_s_ = 0.0, last_nmt_s_ = -1e9;
+  double now_s_ = 0.0, last_sent_s_ = -1e9, last_nmt_s_ = -1e9;
   unsigned long malformed_ = 0;
 };
 
