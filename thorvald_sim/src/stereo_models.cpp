@@ -74,8 +74,8 @@ namespace {
 
 /// Pixels whose left-image point the right camera (at +baseline along x) sees: its column there u - fx B / z is in
 /// the image and no pixel further right in the row lands left of it (a nearer surface would cover it).
-std::vector<char> visibleInRight(const std::vector<float>& z_m, int width, int height, double fxb) {
-  std::vector<char> seen(z_m.size(), 0);
+void visibleInRight(const std::vector<float>& z_m, int width, int height, double fxb, std::vector<char>* seen) {
+  seen->assign(z_m.size(), 0);
   for (int v = 0; v < height; ++v) {
     double min_right = std::numeric_limits<double>::infinity();
     for (int u = width - 1; u >= 0; --u) {
@@ -83,63 +83,77 @@ std::vector<char> visibleInRight(const std::vector<float>& z_m, int width, int h
       const float z = z_m[i];
       if (!(z > 0.0f)) continue;
       const double xr = u - fxb / z;
-      seen[i] = xr >= 0.0 && !(min_right < xr - 1e-6);
+      (*seen)[i] = xr >= 0.0 && !(min_right < xr - 1e-6);
       min_right = std::min(min_right, xr);
     }
   }
-  return seen;
 }
 
 /// Pixels with texture to match: the grey level's std dev over the window at least min_sigma, no channel saturated.
-std::vector<char> textured(const std::vector<uint8_t>& rgb, int width, int height, const PassiveStereoModel& m) {
+/// The integral images stay in `w` from frame to frame.
+void textured(const std::vector<uint8_t>& rgb, int width, int height, const PassiveStereoModel& m,
+              PassiveStereoScratch* w) {
   const size_t n = static_cast<size_t>(width) * height;
   const int w1 = width + 1;
-  std::vector<double> sum(static_cast<size_t>(w1) * (height + 1), 0.0), sq(sum.size(), 0.0);  // integral images
-  for (int v = 0; v < height; ++v)
-    for (int u = 0; u < width; ++u) {
-      const uint8_t* px = &rgb[3 * (static_cast<size_t>(v) * width + u)];
+  std::vector<double>&sum = w->sum, &sq = w->sq;  // integral images: row 0 and column 0 stay 0
+  sum.assign(static_cast<size_t>(w1) * (height + 1), 0.0), sq.assign(sum.size(), 0.0);
+  for (int v = 0; v < height; ++v) {
+    const uint8_t* px = &rgb[3 * static_cast<size_t>(v) * width];
+    for (int u = 0; u < width; ++u, px += 3) {
       const double g = (px[0] + px[1] + px[2]) / 3.0;
       const size_t k = static_cast<size_t>(v + 1) * w1 + u + 1;
       sum[k] = g + sum[k - 1] + sum[k - w1] - sum[k - w1 - 1];
       sq[k] = g * g + sq[k - 1] + sq[k - w1] - sq[k - w1 - 1];
     }
-  std::vector<char> ok(n, 0);
+  }
+  w->ok.assign(n, 0);
   const int half = std::max(0, m.texture_window_px / 2);
   const double min_var = m.min_texture_sigma * m.min_texture_sigma;
-  for (int v = 0; v < height; ++v)
-    for (int u = 0; u < width; ++u) {
-      const size_t i = static_cast<size_t>(v) * width + u;
-      const uint8_t* px = &rgb[3 * i];
+  for (int v = 0; v < height; ++v) {
+    const int v0 = std::max(0, v - half), v1 = std::min(height, v + half + 1);
+    const double* s0 = &sum[static_cast<size_t>(v0) * w1];
+    const double* s1 = &sum[static_cast<size_t>(v1) * w1];
+    const double* q0 = &sq[static_cast<size_t>(v0) * w1];
+    const double* q1 = &sq[static_cast<size_t>(v1) * w1];
+    const uint8_t* px = &rgb[3 * static_cast<size_t>(v) * width];
+    char* ok = &w->ok[static_cast<size_t>(v) * width];
+    for (int u = 0; u < width; ++u, px += 3) {
       if (std::max({px[0], px[1], px[2]}) >= m.saturation_level) continue;
       const int u0 = std::max(0, u - half), u1 = std::min(width, u + half + 1);
-      const int v0 = std::max(0, v - half), v1 = std::min(height, v + half + 1);
-      auto box = [&](const std::vector<double>& s) {
-        return s[static_cast<size_t>(v1) * w1 + u1] - s[static_cast<size_t>(v0) * w1 + u1] -
-               s[static_cast<size_t>(v1) * w1 + u0] + s[static_cast<size_t>(v0) * w1 + u0];
-      };
-      const double cnt = static_cast<double>(u1 - u0) * (v1 - v0), mean = box(sum) / cnt;
-      ok[i] = box(sq) / cnt - mean * mean >= min_var;
+      const double cnt = static_cast<double>(u1 - u0) * (v1 - v0);
+      const double mean = (s1[u1] - s0[u1] - s1[u0] + s0[u0]) / cnt;
+      ok[u] = (q1[u1] - q0[u1] - q1[u0] + q0[u0]) / cnt - mean * mean >= min_var;
     }
-  return ok;
+  }
 }
 
 }  // namespace
 
 std::vector<float> passiveStereoDepth(const std::vector<float>& z_m, const std::vector<uint8_t>& rgb, int width,
                                       int height, double fx_px, const PassiveStereoModel& m, std::mt19937& rng) {
+  std::vector<float> out;
+  PassiveStereoScratch scratch;
+  passiveStereoDepth(z_m, rgb, width, height, fx_px, m, rng, &out, &scratch);
+  return out;
+}
+
+void passiveStereoDepth(const std::vector<float>& z_m, const std::vector<uint8_t>& rgb, int width, int height,
+                        double fx_px, const PassiveStereoModel& m, std::mt19937& rng, std::vector<float>* out,
+                        PassiveStereoScratch* scratch) {
   const size_t n = static_cast<size_t>(width) * height;
-  std::vector<float> out(n, kNan);
-  if (z_m.size() != n || rgb.size() != 3 * n) return out;
+  out->assign(n, kNan);
+  if (z_m.size() != n || rgb.size() != 3 * n) return;
   const double fxb = fx_px * m.baseline_m;
-  const std::vector<char> seen = visibleInRight(z_m, width, height, fxb);
-  const std::vector<char> ok = textured(rgb, width, height, m);
+  visibleInRight(z_m, width, height, fxb, &scratch->seen);
+  textured(rgb, width, height, m, scratch);
+  const char* seen = scratch->seen.data();
+  const char* ok = scratch->ok.data();
   PixelNoise noise(rng);
   for (size_t i = 0; i < n; ++i) {
     if (!seen[i] || !ok[i]) continue;
     const double z = z_m[i];
-    out[i] = static_cast<float>(z + z * z * m.disparity_sigma_px / fxb * noise.normal(noise.next()));
+    (*out)[i] = static_cast<float>(z + z * z * m.disparity_sigma_px / fxb * noise.normal(noise.next()));
   }
-  return out;
 }
 
 }  // namespace thorvald_sim

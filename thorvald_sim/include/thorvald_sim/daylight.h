@@ -48,6 +48,37 @@ struct ShadowMap {
 ShadowMap renderShadowMap(CameraRenderer* renderer, const mjData* data, const Daylight& light,
                           const Eigen::Vector3d& centre, double half_extent_m, int size, int own_root_body);
 
+/// renderShadowMap for a camera that moves over a still scene: the map is rendered over a region `margin_m` wider
+/// on every side than asked, at the same pixel size (in tiles when it is taller than the renderer's buffer), and
+/// kept while it still holds: the same sun and own robot, the asked square within it, and no geom (other than the
+/// own robot's) moved by more than 0.5 mm or turned by more than 5 mrad, or shown or hidden, since it was
+/// rendered. A kept map gives the same shadows up to its pixel grid: where a shadow edge crosses a pixel the
+/// lit/shaded choice of a surface point may differ from a map centred on the asked region.
+class ShadowMapCache {
+ public:
+  explicit ShadowMapCache(double margin_m = 0.5) : margin_m_(margin_m) {}
+  /// The map for the square of half side `half_extent_m` around `centre` at `size` pixels across (as
+  /// renderShadowMap); `model` is the renderer's.
+  const ShadowMap& get(CameraRenderer* renderer, const mjModel* model, const mjData* data, const Daylight& light,
+                       const Eigen::Vector3d& centre, double half_extent_m, int size, int own_root_body);
+  /// Maps rendered so far (the rest were kept).
+  long renders() const { return renders_; }
+
+ private:
+  bool holds(const mjModel* model, const mjData* data, const Daylight& light, const Eigen::Vector3d& centre,
+             double half_extent_m, int size, int own_root_body) const;
+  void remember(const mjModel* model, const mjData* data, int own_root_body);
+
+  double margin_m_;
+  ShadowMap map_;
+  Daylight light_;
+  Eigen::Vector3d centre_ = Eigen::Vector3d::Zero();
+  double half_extent_m_ = 0, size_ = 0;
+  int own_root_body_ = -1;
+  std::vector<double> geoms_;  ///< per geom not of the own robot: position, rotation matrix, alpha
+  long renders_ = 0;
+};
+
 /// Whether the world point `p` is lit by the sun in `shadow` (true when outside the map).
 bool litBySun(const ShadowMap& shadow, const Eigen::Vector3d& p, double bias_m);
 

@@ -61,11 +61,21 @@ struct PassiveStereoModel {
   int saturation_level = 250;        ///< no match where a colour channel is at or above this
 };
 
+/// Buffers passiveStereoDepth reuses from frame to frame (per camera; contents are scratch).
+struct PassiveStereoScratch {
+  std::vector<char> seen, ok;
+  std::vector<double> sum, sq;
+};
+
 /// What stereo matching gives for the true depth `z_m` (row-major width x height, NaN: none) and the left colour
 /// image `rgb` (rgb8, same size): no depth where the left pixel is hidden from the right camera (left-right
 /// occlusion, or outside the right image), on textureless or saturated pixels; elsewhere z plus noise
 /// sigma_z = z^2 * disparity_sigma / (fx * baseline).
 std::vector<float> passiveStereoDepth(const std::vector<float>& z_m, const std::vector<uint8_t>& rgb, int width,
                                       int height, double fx_px, const PassiveStereoModel& model, std::mt19937& rng);
+/// The same into `out`, with the buffers of `scratch` (no allocation once they have grown to the image).
+void passiveStereoDepth(const std::vector<float>& z_m, const std::vector<uint8_t>& rgb, int width, int height,
+                        double fx_px, const PassiveStereoModel& model, std::mt19937& rng, std::vector<float>* out,
+                        PassiveStereoScratch* scratch);
 
 }  // namespace thorvald_sim
