@@ -46,4 +46,16 @@ bool atTreatmentSpeed(double speed_mps, double treat_speed_mps, double tolerance
   return std::isfinite(speed_mps) && std::fabs(std::fabs(speed_mps) - treat_speed_mps) <= tolerance_mps;
 }
 
+SpeedWindow::SpeedWindow(double treat_speed_mps, double tolerance_mps, double on_tolerance_mps)
+    : treat_mps_(treat_speed_mps), tolerance_mps_(tolerance_mps), on_tolerance_mps_(on_tolerance_mps) {
+  if (!(on_tolerance_mps >= 0.0 && on_tolerance_mps <= tolerance_mps)) {
+    throw std::invalid_argument("speed window: the on tolerance must be in [0, tolerance]");
+  }
+}
+
+bool SpeedWindow::update(double speed_mps) {
+  permits_ = atTreatmentSpeed(speed_mps, treat_mps_, permits_ ? tolerance_mps_ : on_tolerance_mps_);
+  return permits_;
+}
+
 }  // namespace greenhouse_rail_nav

@@ -9,6 +9,7 @@
 
 using greenhouse_rail_nav::atTreatmentSpeed;
 using greenhouse_rail_nav::InterlockDecision;
+using greenhouse_rail_nav::SpeedWindow;
 using greenhouse_rail_nav::UvInterlock;
 
 namespace {
@@ -112,6 +113,57 @@ TEST(UvInterlock, TreatmentSpeedWithinTolerance) {
   EXPECT_FALSE(atTreatmentSpeed(0.0, 0.5, 0.1)) << "standing still";
   EXPECT_FALSE(atTreatmentSpeed(0.61, 0.5, 0.1));
   EXPECT_FALSE(atTreatmentSpeed(std::nan(""), 0.5, 0.1));
+}
+
+TEST(SpeedWindow, OnFromTheInnerBandOffBelowTheOuter) {
+  SpeedWindow w(0.5, 0.1, 0.05);
+  EXPECT_FALSE(w.update(0.0));
+  EXPECT_FALSE(w.update(0.42)) << "accelerating: not yet within the on tolerance";
+  EXPECT_FALSE(w.update(0.449));
+  EXPECT_TRUE(w.update(0.451));
+  EXPECT_TRUE(w.update(0.5));
+  EXPECT_TRUE(w.update(0.41)) << "slowing: kept until it leaves the outer tolerance";
+  EXPECT_FALSE(w.update(0.39));
+  EXPECT_FALSE(w.update(0.42)) << "back above 0.4 m/s is not enough to come on again";
+  EXPECT_TRUE(w.update(-0.47)) << "either direction";
+  EXPECT_FALSE(w.update(0.61));
+  EXPECT_FALSE(w.update(0.58));
+  EXPECT_TRUE(w.update(0.54));
+  EXPECT_FALSE(w.update(std::nan("")));
+  EXPECT_FALSE(w.update(0.41)) << "NaN resets the hold";
+}
+
+TEST(SpeedWindow, NoFlickerAtTheBandsEdge) {
+  // The recorded relay flicker: the speed wavering round 0.4 m/s while braking switched the relay off/on/off.
+  SpeedWindow w(0.5, 0.1, 0.05);
+  int switches = 0;
+  bool last = false;
+  const double trace[] = {0.3, 0.38, 0.44, 0.46, 0.5, 0.5, 0.43, 0.399, 0.401, 0.398, 0.402, 0.35, 0.2};
+  for (double v : trace) {
+    const bool on = w.update(v);
+    switches += on != last ? 1 : 0;
+    last = on;
+  }
+  EXPECT_EQ(switches, 2) << "on once, off once";
+  EXPECT_FALSE(last);
+}
+
+TEST(SpeedWindow, SafetyInputsStillSwitchOffAtOnce) {
+  // The speed window's hold keeps only the speed input permitting; any other input blocks the lamps the same tick.
+  Rig r;
+  SpeedWindow w(0.5, 0.1, 0.05);
+  r.allPermit(0.0);
+  w.update(0.5);
+  r.interlock.update(r.speed, w.update(0.41), 0.01);
+  ASSERT_TRUE(r.interlock.decide(0.01).lamps_on);
+  r.interlock.update(r.detected, false, 0.02, "a person is detected");
+  EXPECT_FALSE(r.interlock.decide(0.02).lamps_on);
+}
+
+TEST(SpeedWindow, RefusesAnOnToleranceWiderThanTheBand) {
+  EXPECT_THROW(SpeedWindow(0.5, 0.1, 0.2), std::invalid_argument);
+  EXPECT_THROW(SpeedWindow(0.5, 0.1, -0.01), std::invalid_argument);
+  EXPECT_NO_THROW(SpeedWindow(0.5, 0.1, 0.1));
 }
 
 }  // namespace

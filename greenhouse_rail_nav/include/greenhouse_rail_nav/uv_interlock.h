@@ -45,4 +45,21 @@ class UvInterlock {
 /// lamps may be on in either direction along the rails).
 bool atTreatmentSpeed(double speed_mps, double treat_speed_mps, double tolerance_mps);
 
+/// The interlock's treatment-speed input with hysteresis: it permits once |speed| comes within `on_tolerance` of the
+/// treatment speed and keeps permitting until |speed| leaves `tolerance` (on_tolerance <= tolerance), so a speed
+/// wavering at the band's edge does not switch the relay off and on. Only the speed input holds: every other input
+/// (person, lock, people_present, rails, staleness) still switches the lamps off at once.
+class SpeedWindow {
+ public:
+  /// Throws std::invalid_argument unless 0 <= on_tolerance <= tolerance.
+  SpeedWindow(double treat_speed_mps, double tolerance_mps, double on_tolerance_mps);
+  /// The latest speed [m/s] (either direction); returns whether it permits the lamps. NaN or inf never permits.
+  bool update(double speed_mps);
+  bool permits() const { return permits_; }
+
+ private:
+  double treat_mps_, tolerance_mps_, on_tolerance_mps_;
+  bool permits_ = false;
+};
+
 }  // namespace greenhouse_rail_nav

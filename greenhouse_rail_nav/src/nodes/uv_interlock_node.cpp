@@ -1,5 +1,6 @@
 // uv_interlock: sits between the mission's uv_lights request and the lamps' relay, independent of the mission. The
-// relay command is on only while the mission asks for light, the robot is on the rails at treatment speed, nobody is
+// relay command is on only while the mission asks for light, the robot is on the rails at treatment speed (from within
+// speed_on_tolerance of it, kept until it leaves speed_tolerance: no flicker at the band's edge), nobody is
 // detected or present and no safety lock or base stop is engaged, every input fresh. Any input that stops permitting
 // switches the relay off in its own callback; a stale input does at the next check (check_rate).
 #include <diagnostic_updater/diagnostic_updater.h>
@@ -9,6 +10,7 @@
 #include <thorvald_common/ros/param_reader.h>
 #include <thorvald_common/ros/run_node.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -28,6 +30,9 @@ class UvInterlockNode {
     thorvald_common::ParamReader params(pnh);
     treat_speed_mps_ = params.number("treat_speed", 0.5, ParamRange::aboveUpTo(0.0, 2.0), "m/s");
     speed_tolerance_mps_ = params.number("speed_tolerance", 0.1, ParamRange::closed(0.0, 1.0), "m/s");
+    // Hysteresis: the speed permits from within speed_on_tolerance, and until it leaves speed_tolerance.
+    const double on_tolerance = params.number("speed_on_tolerance", 0.05, ParamRange::closed(0.0, 1.0), "m/s");
+    speed_window_ = SpeedWindow(treat_speed_mps_, speed_tolerance_mps_, std::min(on_tolerance, speed_tolerance_mps_));
     const double check_rate = params.number("check_rate", 50.0, ParamRange::aboveUpTo(0.0, 1000.0), "Hz");
     const auto timeout = [&](const std::string& name, double fallback) {
       return params.number(name, fallback, ParamRange::closed(0.0, 60.0), "s");
@@ -63,7 +68,7 @@ class UvInterlockNode {
         "odometry/base_raw", 5,
         [this, speed](const nav_msgs::Odometry::ConstPtr& m) {
           const double v = m->twist.twist.linear.x;
-          report(speed, atTreatmentSpeed(v, treat_speed_mps_, speed_tolerance_mps_),
+          report(speed, speed_window_.update(v),
                  "speed " + std::to_string(v).substr(0, 6) + " m/s, treatment speed " +
                      std::to_string(treat_speed_mps_).substr(0, 4) + " m/s");
         },
@@ -140,6 +145,7 @@ class UvInterlockNode {
   UvInterlock interlock_;
   InterlockDecision last_;
   double treat_speed_mps_ = 0.5, speed_tolerance_mps_ = 0.1;
+  SpeedWindow speed_window_{0.5, 0.1, 0.05};
   int published_ = -1;
   std::vector<ros::Subscriber> subs_;
   ros::Publisher relay_pub_;
