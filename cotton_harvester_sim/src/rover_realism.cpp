@@ -91,11 +91,11 @@ void RoverSim::datasheetCamera(const thorvald_sim::RenderedView& view, const tho
       ahead.z() < -1e-3 ? (pose.origin.z() - row_truth_.plant_bases.front().z()) / -ahead.z() : 2.0;
   const Eigen::Vector3d centre = pose.origin + to_ground * ahead;
   const bool shadows = params_.parts.shadows && daylight_.sunny;
-  const thorvald_sim::ShadowMap shadow =
-      shadows ? thorvald_sim::renderShadowMap(renderer_.get(), data_.get(), daylight_, centre, 2.1, 720, rear_body_)
-              : thorvald_sim::ShadowMap();
-  if (params_.parts.daylight)
-    thorvald_sim::shadeDaylight(view, pose, k, daylight_, shadows ? &shadow : nullptr, texture_, rgb);
+  // Rendered again only when the camera leaves the region it covers, the plants move or the day changes.
+  const thorvald_sim::ShadowMap* shadow =
+      shadows ? &shadows_.get(renderer_.get(), model_.get(), data_.get(), daylight_, centre, 2.1, 720, rear_body_)
+              : nullptr;
+  if (params_.parts.daylight) thorvald_sim::shadeDaylight(view, pose, k, daylight_, shadow, texture_, rgb);
   if (!params_.parts.passive_stereo) {
     depth_z->clear();  // the caller measures ideal's active-stereo depth instead
     return;
@@ -105,8 +105,8 @@ void RoverSim::datasheetCamera(const thorvald_sim::RenderedView& view, const tho
     const float z = view.depth_m[i];
     true_depth_[i] = std::isfinite(z) && z >= 0.3f && z <= 20.0f ? z : std::nanf("");
   }
-  *depth_z =
-      thorvald_sim::passiveStereoDepth(true_depth_, rgb->rgb, view.width, view.height, k.fx, params_.stereo, rng_);
+  thorvald_sim::passiveStereoDepth(true_depth_, rgb->rgb, view.width, view.height, k.fx, params_.stereo, rng_, depth_z,
+                                   &stereo_scratch_);
 }
 
 }  // namespace sim

@@ -212,6 +212,64 @@ TEST(CottonRealism, SunCastsHardShadowsOvercastDoesNot) {
   EXPECT_NEAR(pixel(b, shade_point), pixel(b, open_point), 3);   // overcast: no hard shadow
 }
 
+// ShadowMapCache: the map is rendered again only when the asked region leaves it, a geom moves or is hidden, or the
+// day changes; a kept map, and one rendered in bands (taller than the renderer's buffer), shade as a fresh one does.
+TEST(CottonRealism, ShadowMapIsKeptUntilTheSceneOrTheRegionChanges) {
+  auto scene = [](int offheight) {
+    return "<mujoco><visual><global offwidth=\"720\" offheight=\"" + std::to_string(offheight) +
+           "\"/><quality offsamples=\"0\"/></visual><worldbody>"
+           "<geom name=\"ground\" type=\"plane\" size=\"5 5 0.1\" rgba=\"0.5 0.5 0.5 1\"/>"
+           "<geom name=\"roof\" type=\"box\" pos=\"0 0 0.3\" size=\"0.1 0.1 0.01\" rgba=\"0.5 0.5 0.5 1\"/>"
+           "</worldbody></mujoco>";
+  };
+  const ts::ModelPtr m = ts::compileXml(scene(720), "shadow cache test");
+  const ts::ModelPtr low = ts::compileXml(scene(300), "shadow cache test, low buffer");
+  ts::DataPtr d(mj_makeData(m.get())), dl(mj_makeData(low.get()));
+  mj_forward(m.get(), d.get());
+  mj_forward(low.get(), dl.get());
+  ts::CameraRenderer renderer(m.get()), low_renderer(low.get());
+  const ts::Daylight sun = ts::sunnyDaylight(M_PI / 3, 0.0);
+  const ts::ShadowMap fresh = ts::renderShadowMap(&renderer, d.get(), sun, Eigen::Vector3d::Zero(), 1.0, 512, -1);
+  ts::ShadowMapCache cache, banded;
+  const ts::ShadowMap& kept = cache.get(&renderer, m.get(), d.get(), sun, Eigen::Vector3d::Zero(), 1.0, 512, -1);
+  const ts::ShadowMap& bands =
+      banded.get(&low_renderer, low.get(), dl.get(), sun, Eigen::Vector3d::Zero(), 1.0, 512, -1);
+  EXPECT_GT(kept.view.width, 512);  // the margin around the asked square
+  EXPECT_EQ(bands.view.height, kept.view.height);
+  int shaded = 0, differ_kept = 0, differ_bands = 0;
+  for (double x = -0.9; x <= 0.9; x += 0.01)
+    for (double y = -0.9; y <= 0.9; y += 0.01) {
+      const Eigen::Vector3d p(x, y, 0.0);
+      const bool lit = ts::litBySun(fresh, p, sun.shadow_bias_m);
+      shaded += !lit;
+      differ_kept += ts::litBySun(kept, p, sun.shadow_bias_m) != lit;
+      differ_bands += ts::litBySun(bands, p, sun.shadow_bias_m) != lit;
+    }
+  EXPECT_GT(shaded, 300);      // the roof's shadow: 0.2 m x 0.2 m at 1 cm steps
+  EXPECT_LE(differ_kept, 2);   // the same pixel grid; only the depth range (z-buffer steps of microns) differs
+  EXPECT_LE(differ_bands, 2);  // the same pixel grid; a band's edge may round one pixel differently
+  // Kept while the asked square moves within the margin; rendered again beyond it.
+  cache.get(&renderer, m.get(), d.get(), sun, Eigen::Vector3d(0.2, 0.1, 0.0), 1.0, 512, -1);
+  EXPECT_EQ(cache.renders(), 1);
+  cache.get(&renderer, m.get(), d.get(), sun, Eigen::Vector3d(1.5, 0.0, 0.0), 1.0, 512, -1);
+  EXPECT_EQ(cache.renders(), 2);
+  // A geom that moves, one that is hidden, another sun: rendered again.
+  m->geom_pos[3 * 1] += 0.05;
+  mj_forward(m.get(), d.get());
+  cache.get(&renderer, m.get(), d.get(), sun, Eigen::Vector3d(1.5, 0.0, 0.0), 1.0, 512, -1);
+  EXPECT_EQ(cache.renders(), 3);
+  cache.get(&renderer, m.get(), d.get(), sun, Eigen::Vector3d(1.5, 0.0, 0.0), 1.0, 512, -1);
+  EXPECT_EQ(cache.renders(), 3);
+  m->geom_rgba[4 * 1 + 3] = 0.0f;
+  cache.get(&renderer, m.get(), d.get(), sun, Eigen::Vector3d(1.5, 0.0, 0.0), 1.0, 512, -1);
+  EXPECT_EQ(cache.renders(), 4);
+  cache.get(&renderer, m.get(), d.get(), ts::sunnyDaylight(M_PI / 4, 0.0), Eigen::Vector3d(1.5, 0, 0), 1.0, 512, -1);
+  EXPECT_EQ(cache.renders(), 5);
+  EXPECT_FALSE(
+      cache.get(&renderer, m.get(), d.get(), ts::overcastDaylight(M_PI / 4, 0.0), Eigen::Vector3d::Zero(), 1.0, 512, -1)
+          .valid);
+}
+
 TEST(CottonRealism, DatasheetDepthHasHolesOnTheTexturelessHousing) {
   sim::RoverSimParams p = sim::pottedConfig(2).sim;
   p.row.plants = 2;

@@ -234,6 +234,8 @@ class RoverSim {
   std::vector<int> leaf_joints_;     ///< datasheet: the leaves' hinges
   thorvald_sim::Daylight daylight_;  ///< datasheet
   std::vector<float> true_depth_;
+  thorvald_sim::ShadowMapCache shadows_;               ///< datasheet: the sun's view, kept while the plants stay still
+  thorvald_sim::PassiveStereoScratch stereo_scratch_;  ///< datasheet
   // MuJoCo ids
   int front_body_ = -1, effector_body_ = -1, rear_body_ = -1;
   int wheel_joint_[4] = {-1, -1, -1, -1};
