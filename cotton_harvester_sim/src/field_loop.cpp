@@ -105,8 +105,11 @@ class OutageWatch {
     f_.ok_through_outage = f_.ok_through_outage && ok;
     if (t <= end_s_) fused_at_end_ = gnss_fused;
   }
-  void step(double t, double step_m) {
-    if (t > end_s_ && t < end_s_ + 30.0) f_.return_step_m = std::max(f_.return_step_m, step_m);
+  void step(double t, double step_m, bool fixed) {
+    if (!(t > end_s_ && t < end_s_ + 30.0)) return;
+    f_.return_step_m = std::max(f_.return_step_m, step_m);
+    if (fixed && !fixed_seen_) f_.fixed_return_step_m = step_m;
+    fixed_seen_ = fixed_seen_ || fixed;
   }
   const OutageFigures& figures() const { return f_; }
 
@@ -114,7 +117,7 @@ class OutageWatch {
   double start_s_, end_s_;
   OutageFigures f_;
   long fused_at_end_ = 0;
-  bool returned_ = false;
+  bool returned_ = false, fixed_seen_ = false;
 };
 
 /// What the rover's owner does before relying on the encoders (the paper measured its 1.8 mm per pulse): drives
@@ -164,7 +167,9 @@ void feedFilter(const RoverSensorFrame& f, RoverFusion& fu, OutageWatch* watch, 
     const RoverPose2d before = fu.estimate(g.solution.time_s);
     fu.onGnss(g);
     const RoverPose2d after = fu.estimate(g.solution.time_s);
-    if (watch) watch->step(g.solution.time_s, std::hypot(after.x - before.x, after.y - before.y));
+    if (watch)
+      watch->step(g.solution.time_s, std::hypot(after.x - before.x, after.y - before.y),
+                  g.solution.state == thorvald_sim::GnssFixState::kFixed);
   }
   if (watch && (f.wheels || !f.gnss.empty()))
     watch->observe(now, errorOf(fu.estimate(now), truth, start).norm(), fu.health(now).localization_ok, fu.gnssFused());

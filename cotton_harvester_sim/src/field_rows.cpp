@@ -4,11 +4,13 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "cotton_harvester/control/navigation_protocol.h"
+#include "cotton_harvester_sim/field_pose.h"
 
 namespace cotton_harvester {
 namespace sim {
@@ -150,28 +152,77 @@ std::string legLine(const Leg& leg, int legs_done, int legs, double now_s, const
   return line;
 }
 
-/// The drive itself: the rover's controller on the bridge's telemetry, pure pursuit on the odometry's pose.
+/// The pose the rover drives on: the fused estimate (FieldPose) or its wheel odometry from the surveyed start.
+class DrivePose {
+ public:
+  DrivePose(const FieldRowsConfig& c, const RoverSim& sim, const Pose2& start)
+      : start_(start), odometry_(c.rover.axle_to_joint_m) {
+    if (c.fused_pose) fused_ = std::make_unique<FieldPose>(sim, c.sim.seed, c.fusion, c.sensor_realism);
+  }
+  void afterStep() {
+    if (fused_) fused_->afterStep();
+  }
+  void odometry(double travel_m, double articulation_deg, double dt) {
+    odometry_.update(travel_m, articulation_deg, dt);
+  }
+  Pose2 estimate(double t) { return fused_ ? fused_->estimate(t) : compose(start_, odometry_); }
+  double speed() const { return odometry_.speed(); }
+  /// The fusion's health (always ok on the wheel odometry alone); not ok until the GNSS datum is set.
+  thorvald_navigation::FusionHealth health(double t) const {
+    if (!fused_) return {};
+    if (!fused_->ready()) {
+      thorvald_navigation::FusionHealth h;
+      h.level = thorvald_navigation::FusionHealth::kError;
+      h.localization_ok = false;
+      h.reasons.push_back("waiting for the GNSS datum (the first fixed epoch)");
+      return h;
+    }
+    return fused_->health(t);
+  }
+
+ private:
+  Pose2 start_;
+  control::ArticulatedOdometry odometry_;
+  std::unique_ptr<FieldPose> fused_;
+};
+
+/// Advances the bridge by one control period in physics steps, the sensors polled after each.
+RoverSerialBridge::Output advanceControlPeriod(const FieldRowsConfig& c, const RoverSim& sim, RoverSerialBridge& bridge,
+                                               DrivePose& pose) {
+  RoverSerialBridge::Output out;
+  const double dt = sim.params().timestep_s;
+  const long steps = std::max(1L, std::lround(c.control_period_s / dt));
+  for (long i = 0; i < steps; ++i) {
+    RoverSerialBridge::Output o = bridge.advance(dt);
+    out.navigation.insert(out.navigation.end(), o.navigation.begin(), o.navigation.end());
+    pose.afterStep();
+  }
+  return out;
+}
+
+/// The drive itself: the rover's controller on the bridge's telemetry, pure pursuit on the pose, the gate.
 void driveLegs(const FieldRowsConfig& c, RoverSim& sim, const std::vector<Leg>& legs, FieldRowsReport* report) {
   RoverSerialBridge bridge(sim, c.bridge);
   control::RoverController controller(c.rover);
-  control::ArticulatedOdometry odometry(c.rover.axle_to_joint_m);
   control::NavigationFrameParser telemetry_parser;
   control::PurePursuit pursuit(c.pursuit);
   const double a = c.rover.axle_to_joint_m;
-  const Pose2 start = truthFrontAxle(sim, a);  // the surveyed start: where the user puts the rover
+  DrivePose pose(c, sim, truthFrontAxle(sim, a));  // the surveyed start: where the user puts the rover
+  DriveGate gate(c.resume_after_s);
   FieldScorer scorer(c, report->field, report);
+  const int n = static_cast<int>(legs.size());
   size_t leg = 0;
   pursuit.setPath(legs[0].path);
   scorer.startLeg(legs[0], sim.time());
-  if (c.progress) c.progress(legLine(legs[0], 0, static_cast<int>(legs.size()), sim.time(), "start"));
+  if (c.progress) c.progress(legLine(legs[0], 0, n, sim.time(), "start"));
   bool has_telemetry = false;
   std::uint8_t sequence = 0;
   double next_sample_s = 0.0, t0 = sim.time();
   while (leg < legs.size() && sim.time() - t0 < c.time_limit_s) {
-    const RoverSerialBridge::Output out = bridge.advance(c.control_period_s);
+    const RoverSerialBridge::Output out = advanceControlPeriod(c, sim, bridge, pose);
     telemetry_parser.push(out.navigation.data(), out.navigation.size());
     for (const control::Telemetry& t : telemetry_parser.takeTelemetry()) {
-      const Pose2 estimate = compose(start, odometry);
+      const Pose2 estimate = pose.estimate(sim.time());
       const Pose2 truth = truthFrontAxle(sim, a);
       scorer.observe(truth);
       if (sim.time() >= next_sample_s) {
@@ -179,23 +230,31 @@ void driveLegs(const FieldRowsConfig& c, RoverSim& sim, const std::vector<Leg>& 
         report->truth_path.emplace_back(truth.x, truth.y);
         report->estimate_path.emplace_back(estimate.x, estimate.y);
       }
-      const control::PursuitStep step = pursuit.update(estimate, odometry.speed());
-      if (step.finished) {
-        scorer.endLeg(sim.time(), truth, estimate, true);
-        if (c.progress)
-          c.progress(legLine(legs[leg], static_cast<int>(leg), static_cast<int>(legs.size()), sim.time(), "done"));
-        if (++leg == legs.size()) break;
-        pursuit.setPath(legs[leg].path);
-        scorer.startLeg(legs[leg], sim.time());
-        if (c.progress)
-          c.progress(legLine(legs[leg], static_cast<int>(leg), static_cast<int>(legs.size()), sim.time(), "start"));
+      if (const auto change = gate.update(pose.health(sim.time()), sim.time()); change && c.progress) {
+        char line[64];
+        std::snprintf(line, sizeof line, "field_rows: t %.1f s, ", sim.time());
+        c.progress(line + *change);
       }
-      controller.setVelocity(legs[leg].turn ? c.turn_speed_mps : c.row_speed_mps, 0.0);
-      controller.setArticulationTarget(step.articulation_deg);
+      double speed = 0.0, articulation = controller.articulationDeg();
+      if (!gate.stopped()) {
+        const control::PursuitStep step = pursuit.update(estimate, pose.speed());
+        if (step.finished) {
+          scorer.endLeg(sim.time(), truth, estimate, true);
+          if (c.progress) c.progress(legLine(legs[leg], static_cast<int>(leg), n, sim.time(), "done"));
+          if (++leg == legs.size()) break;
+          pursuit.setPath(legs[leg].path);
+          scorer.startLeg(legs[leg], sim.time());
+          if (c.progress) c.progress(legLine(legs[leg], static_cast<int>(leg), n, sim.time(), "start"));
+        }
+        speed = legs[leg].turn ? c.turn_speed_mps : c.row_speed_mps;
+        articulation = step.articulation_deg;
+      }
+      controller.setVelocity(speed, 0.0);
+      controller.setArticulationTarget(articulation);
       const double before = controller.positionM();
       control::DriveCommand command = controller.update(t, c.control_period_s).command();
       if (has_telemetry)
-        odometry.update(controller.positionM() - before, controller.articulationDeg(), c.control_period_s);
+        pose.odometry(controller.positionM() - before, controller.articulationDeg(), c.control_period_s);
       has_telemetry = true;
       command.sequence = sequence++;
       const auto frame = control::encodeDriveCommand(command);
@@ -203,10 +262,12 @@ void driveLegs(const FieldRowsConfig& c, RoverSim& sim, const std::vector<Leg>& 
     }
   }
   if (leg < legs.size()) {
-    scorer.endLeg(sim.time(), truthFrontAxle(sim, a), compose(start, odometry), false);
+    scorer.endLeg(sim.time(), truthFrontAxle(sim, a), pose.estimate(sim.time()), false);
     report->error = "time limit: " + std::to_string(c.time_limit_s) + " s";
   }
   report->cross_track_rms_m = scorer.allRms();
+  report->stops = gate.stops();
+  report->stopped_s = gate.stoppedTotalS();
 }
 
 }  // namespace

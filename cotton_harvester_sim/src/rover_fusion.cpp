@@ -1,5 +1,6 @@
 #include "cotton_harvester_sim/rover_fusion.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -19,12 +20,17 @@ bool usesImu(SensorSet set, int index) {
   return index == 0 || set != SensorSet::kOdometryImu;
 }
 
-tn::GeoFix geoFix(const thorvald_sim::GnssSolution& s) {
+/// The fix with the receiver's own sigma, its variance scaled for a float or single solution's correlated error.
+tn::GeoFix geoFix(const thorvald_sim::GnssSolution& s, const RoverFusionParams& p) {
   tn::GeoFix f;
   f.lat_deg = s.latitude_deg;
   f.lon_deg = s.longitude_deg;
   f.alt_m = s.altitude_m;
-  f.covariance_enu = s.sigma_m.cwiseAbs2().asDiagonal();
+  double tau = 0.0;
+  if (s.state == thorvald_sim::GnssFixState::kFloat) tau = p.float_correlation_s;
+  if (s.state == thorvald_sim::GnssFixState::kSingle) tau = p.single_correlation_s;
+  const double scale = std::max(1.0, 2.0 * tau / p.gnss_period_s);
+  f.covariance_enu = scale * s.sigma_m.cwiseAbs2().asDiagonal();
   return f;
 }
 
@@ -59,6 +65,9 @@ RoverFusion::RoverFusion(SensorSet set, const RoverFusionParams& params,
                          const std::vector<Eigen::Vector3d>& antennas_in_base)
     : set_(set), p_(params), antennas_(antennas_in_base), odometry_(params.axle_to_joint_m) {
   ekf_.setTwoDMode(true);
+  tn::Cov15 q = tn::FusionEkf::defaultProcessNoise();
+  q(tn::kFx, tn::kFx) = q(tn::kFy, tn::kFy) = p_.position_process_noise;
+  ekf_.setProcessNoise(q);
   monitor_.addInput(kOdom, p_.input_timeout_s, true);
   for (int i = 0; i < 2; ++i)
     if (usesImu(set, i)) monitor_.addInput(kImu[i], p_.input_timeout_s, true);
@@ -121,7 +130,7 @@ void RoverFusion::onGnss(const GnssReading& g) {
   if (r >= static_cast<int>(navsat_.size())) return;
   // No fix: nothing to fuse; the input's timeout (gnss_timeout_s) says when the rover has to stop.
   if (g.solution.state < p_.min_fix_state) return;
-  const tn::GeoFix fix = geoFix(g.solution);
+  const tn::GeoFix fix = geoFix(g.solution, p_);
   const double t = g.solution.time_s;
   if (!ekf_.initialized()) return;  // the datum needs the filter's pose
   if (t > ekf_.time()) ekf_.predict(t);
@@ -154,6 +163,11 @@ RoverPose2d RoverFusion::estimate(double t) {
   if (ekf_.initialized() && t > ekf_.time()) ekf_.predict(t);
   const tn::State15& x = ekf_.state();
   return {x(tn::kFx), x(tn::kFy), x(tn::kFyaw)};
+}
+
+std::optional<tn::LatLon> RoverFusion::toLatLon(double x, double y) const {
+  if (navsat_.empty()) return std::nullopt;
+  return navsat_[0].toLatLon(x, y);
 }
 
 Eigen::Vector2d RoverFusion::positionSigma() const {

@@ -54,7 +54,7 @@ thorvald_sim::GnssModelParams roverGnssParams(thorvald_sim::Realism realism,
 RoverSensors::RoverSensors(const RoverSim& sim, const RoverSensorParams& params)
     : sim_(sim),
       params_(params),
-      datasheet_(sim.params().realism == thorvald_sim::Realism::kDatasheet),
+      datasheet_(params.realism.value_or(sim.params().realism) == thorvald_sim::Realism::kDatasheet),
       rng_(params.seed),
       pot_(params.pot) {
   if (auto bad = params_.check(); !bad.empty()) throw std::invalid_argument("rover sensors: " + bad);
@@ -82,7 +82,7 @@ RoverSensors::RoverSensors(const RoverSim& sim, const RoverSensorParams& params)
     imu.orientation = start;
   }
   for (size_t r = 0; r < antennas_in_front_.size(); ++r) {
-    thorvald_sim::GnssModelParams gp = roverGnssParams(sim_.params().realism, params_.gnss);
+    thorvald_sim::GnssModelParams gp = roverGnssParams(params_.realism.value_or(sim_.params().realism), params_.gnss);
     gp.seed = params_.gnss.seed + 7919u * r;
     gnss_.push_back(std::make_unique<thorvald_sim::GnssModel>(gp));
   }

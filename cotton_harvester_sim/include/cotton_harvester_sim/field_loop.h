@@ -45,11 +45,12 @@ struct Table1Row {
 };
 
 struct OutageFigures {
-  double drift_m = 0.0;           ///< largest |estimate - truth| from the outage's start to the first fix after it [m]
-  double return_step_m = 0.0;     ///< largest position step of one GNSS update within 30 s of the fix's return [m]
-  double error_before_m = 0.0;    ///< |estimate - truth| when the outage began [m]
-  bool ok_through_outage = true;  ///< localization_ok stayed true through the outage
-  double fix_gone_s = 0.0;        ///< how long no fix was fused [s]
+  double drift_m = 0.0;        ///< largest |estimate - truth| from the outage's start to the first fix after it [m]
+  double return_step_m = 0.0;  ///< largest position step of one GNSS update within 30 s of the fix's return [m]
+  double fixed_return_step_m = 0.0;  ///< the step at the first RTK-fixed epoch after the outage [m]
+  double error_before_m = 0.0;       ///< |estimate - truth| when the outage began [m]
+  bool ok_through_outage = true;     ///< localization_ok stayed true through the outage
+  double fix_gone_s = 0.0;           ///< how long no fix was fused [s]
 };
 
 struct FieldLoopResult {

@@ -3,11 +3,13 @@
 // The cotton rover drives a whole field in MuJoCo, row after row: pure pursuit along each row's end waypoints (what a
 // user records with the GNSS) and an omega turn on the headland into the next row, through the rover's own
 // controller (RoverController: the deadband-aware speed control and the articulation P control through the two
-// relays) talking to the simulated navigation controller (RoverSerialBridge) in its serial frames, on the pose the
-// rover node's wheel odometry integrates (encoder and potentiometer; the filter's `odometry/filtered` where it runs).
+// relays) talking to the simulated navigation controller (RoverSerialBridge) in its serial frames, on the fused pose
+// (field_pose.h: wheel odometry, both IMUs and the RTK receiver through RoverFusion, as `odometry/filtered`; or the
+// wheel odometry alone). The drive stops while the fusion's localization_ok is false and resumes when it is ok.
 // The truth is read only to score: cross-track along the rows, the turns' entries, the driven path. ROS-free.
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,6 +18,7 @@
 #include "cotton_harvester/control/pure_pursuit.h"
 #include "cotton_harvester/control/rover_controller.h"
 #include "cotton_harvester/control/row_turn_planner.h"
+#include "cotton_harvester_sim/rover_fusion.h"
 #include "cotton_harvester_sim/rover_serial_bridge.h"
 #include "cotton_harvester_sim/rover_sim.h"
 
@@ -38,6 +41,13 @@ struct FieldRowsConfig {
   double entry_tolerance_deg = 5.0;  ///< ... and this of its line
   double time_limit_s = 1800.0;      ///< simulated [s]
   std::string waypoints_path;        ///< when set: the rows' end waypoints are written there (YAML)
+  /// The pose pure pursuit follows: true the fusion's (odometry, two IMUs, RTK GNSS) in the rows' GNSS frame, false
+  /// the wheel odometry from the surveyed start.
+  bool fused_pose = true;
+  RoverFusionParams fusion;  ///< the fusion's inputs and timeouts (kinematics and encoders: the simulation's)
+  /// The localisation sensors' realism when it differs from the world's (sim.realism); empty: the world's.
+  std::optional<thorvald_sim::Realism> sensor_realism;
+  double resume_after_s = 0.5;  ///< the drive resumes once the fusion has been ok this long [s]
   /// Called on every leg's start and end with a progress line.
   std::function<void(const std::string&)> progress;
 };
@@ -75,7 +85,9 @@ struct FieldRowsReport {
   double rows_completed_pct = 0.0;
   double turn_success_pct = 0.0;
   double sim_time_s = 0.0, wall_time_s = 0.0;
-  std::string error;  ///< set when the run could not be done
+  int stops = 0;           ///< times the drive stopped on the fusion's localization_ok (the wait for the datum too)
+  double stopped_s = 0.0;  ///< simulated time stopped [s]
+  std::string error;       ///< set when the run could not be done
 };
 
 /// Drives the field. Never throws; `error` says what went wrong.

@@ -48,6 +48,15 @@ struct RoverFusionParams {
   /// Fixes below this state are not fused (an RTK rover's single fix is metres off: it would jerk the estimate
   /// when the fix returns after an outage); they count as no fix for the timeout.
   thorvald_sim::GnssFixState min_fix_state = thorvald_sim::GnssFixState::kFloat;
+  /// x and y process noise [m^2/s] (process_noise_covariance's first two): the position is integrated from the
+  /// fused speed and heading, which carry their own noise; robot_localization's default 0.05 made the filter believe
+  /// itself 1.2 m off after a 30 s outage that drifted 0.06 m, so the first fix after it was taken whole.
+  double position_process_noise = 0.002;
+  /// A float or single solution's error wanders slowly (correlated over about 15 s / 60 s, the receiver's figures):
+  /// fused every epoch as if independent, 5 Hz of them would pull the estimate onto that one error. Their variance is
+  /// scaled by 2 tau / epoch period, the white noise equivalent to the correlated error; fixed epochs are not scaled.
+  double float_correlation_s = 15.0, single_correlation_s = 60.0;
+  double gnss_period_s = 0.2;           ///< the receiver's epoch period [s]
   double gnss_gate_sigma = 5.0;         ///< odom1_pose_rejection_threshold
   double gnss_timeout_s = 35.0;         ///< ekf_localization's gps_timeout: a tree line's outage is bridged
   double input_timeout_s = 0.5;         ///< any other input
@@ -74,6 +83,9 @@ class RoverFusion {
   long gnssRefused() const { return gnss_refused_; }
   SensorSet set() const { return set_; }
   bool initialized() const { return ekf_.initialized(); }
+  /// Latitude and longitude of a point of the filter's world frame, through the first receiver's datum (nothing
+  /// before it is set).
+  std::optional<thorvald_navigation::LatLon> toLatLon(double x, double y) const;
 
  private:
   void fuse(const std::string& input, double t, const std::vector<thorvald_navigation::Measurement>& z);

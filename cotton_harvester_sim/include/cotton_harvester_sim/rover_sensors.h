@@ -45,6 +45,9 @@ struct RoverSensorParams {
   control::ArticulationParams pot;     ///< the potentiometer's calibration (counts per degree, centre)
   double pot_noise_counts = 1.0;       ///< datasheet: uniform +- ADC noise [counts]
   unsigned seed = 1;
+  /// The sensors' realism when it differs from the simulation's (a field of ideal plants, whose datasheet bodies
+  /// would only slow the physics down, driven with datasheet sensors); empty: the simulation's.
+  std::optional<thorvald_sim::Realism> realism;
   std::string check() const;  ///< empty when sound
 };
 

@@ -1,5 +1,6 @@
 #include "field_rows_experiment.h"
 
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <diagnostic_msgs/DiagnosticStatus.h>
 #include <std_msgs/String.h>
 #include <thorvald_common/ros/param_reader.h>
@@ -22,6 +23,8 @@ diagnostic_msgs::DiagnosticStatus fieldMetrics(const FieldRowsReport& r, const s
   addMetric(&s, "row_end_turn_success_pct", r.turn_success_pct);
   addMetric(&s, "cross_track_rms_m", r.cross_track_rms_m);
   addMetric(&s, "time_s", r.sim_time_s);
+  addMetric(&s, "localization_stops", static_cast<double>(r.stops));
+  addMetric(&s, "localization_stopped_s", r.stopped_s);
   return s;
 }
 
@@ -40,6 +43,7 @@ int runFieldRowsExperiment(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
     config.time_limit_s = r.number("time_limit_s", 600.0 + rows * (length / 0.25 + 120.0),
                                    thorvald_common::ParamRange::aboveUpTo(0.0, 36000.0), "s");
     config.waypoints_path = r.text("waypoints", "");
+    config.fused_pose = r.choice("pose", "fused", {"fused", "odometry"}) == "fused";
     path_png = r.text("path_png", "");
     run_name = r.text("run_name", "field_rows");
     r.finish();
@@ -49,17 +53,30 @@ int runFieldRowsExperiment(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
   }
   ros::Publisher progress_pub = nh.advertise<std_msgs::String>("harvest/field_progress", 100, true);
   ros::Publisher metrics_pub = nh.advertise<diagnostic_msgs::DiagnosticStatus>("harvest/metrics", 1, true);
-  config.progress = [&progress_pub](const std::string& line) {
+  ros::Publisher diagnostics_pub = nh.advertise<diagnostic_msgs::DiagnosticArray>("diagnostics", 10);
+  config.progress = [&progress_pub, &diagnostics_pub](const std::string& line) {
     ROS_INFO("%s", line.c_str());
     std_msgs::String msg;
     msg.data = line;
     progress_pub.publish(msg);
+    // The drive gate: stopped on the fusion's localization_ok (why), resumed when it is ok again.
+    const bool stopped = line.find("stopped: ") != std::string::npos;
+    if (!stopped && line.find("resumed: ") == std::string::npos) return;
+    diagnostic_msgs::DiagnosticArray array;
+    array.header.stamp = ros::Time::now();
+    diagnostic_msgs::DiagnosticStatus status;
+    status.name = "field_rows: drive gate";
+    status.level = stopped ? diagnostic_msgs::DiagnosticStatus::WARN : diagnostic_msgs::DiagnosticStatus::OK;
+    status.message = line;
+    array.status.push_back(status);
+    diagnostics_pub.publish(array);
   };
-  ROS_INFO("mujoco_harvest: field_rows, %d rows x %.1f m, %.4f m apart, pose from the wheel odometry",
-           config.field.rows, config.field.row_length_m, config.field.row_spacing_m);
+  ROS_INFO("mujoco_harvest: field_rows, %d rows x %.1f m, %.4f m apart, pose %s", config.field.rows,
+           config.field.row_length_m, config.field.row_spacing_m,
+           config.fused_pose ? "fused (odometry, two IMUs, RTK GNSS)" : "from the wheel odometry");
   const FieldRowsReport report = runFieldRows(config);
   for (const auto& row : report.rows)
-    ROS_INFO("field_rows: row %d %s: cross-track rms %.3f m, max %.3f m; odometry off by %.2f m at its end; %.0f s",
+    ROS_INFO("field_rows: row %d %s: cross-track rms %.3f m, max %.3f m; pose off by %.3f m at its end; %.0f s",
              row.row, row.completed ? "completed" : "NOT completed", row.cross_track_rms_m, row.cross_track_max_m,
              row.odometry_error_m, row.time_s);
   for (const auto& t : report.turns)
