@@ -64,6 +64,11 @@ class UvMission::Impl {
   bool rowKnown() const { return current_ && current_->rail_length_m > 0.0; }
   /// base_link along the current set's row from its start when `entered_m` past the pose entering began at [m].
   double rowPosition(double entered_m) const { return current_->rail_length_m - rowEnd(entered_m); }
+  /// Whether the lamps shine with the lights `requested`: the relay's confirmed state when the robot reports one.
+  bool litNow(bool requested) {
+    bool confirmed = false;
+    return requested && (!io_.lampsConfirmed(&confirmed) || confirmed);
+  }
   /// Treatment: base_link moved from `from_m` to `to_m` past where treatment began with the lights `on` (lit_, and
   /// the row's share under the lamps when its length is known).
   void addLit(double from_m, double to_m, bool on) {

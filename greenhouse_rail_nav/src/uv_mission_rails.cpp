@@ -154,7 +154,7 @@ std::string UvMission::Impl::driveAlongRails(tsm::ExecutionContext& ctx, const t
   while (io_.ok()) {
     if (ctx.preemptRequested()) return tsm::kPreempted;
     double along_now = (pose->position() - rail_start.position()).dot(rail_start.heading());
-    addLit(along_last, along_now, lights);
+    addLit(along_last, along_now, litNow(lights));
     along_last = along_now;
     std::string why;
     setZone(ZonePhase::kRow, rowEnd(entered_m_ + along_now));
@@ -196,7 +196,7 @@ std::string UvMission::Impl::driveAlongRails(tsm::ExecutionContext& ctx, const t
       return "failed";
     }
     if (inboundStep(along, dt, &v)) {
-      addLit(along_last, along, lights);
+      addLit(along_last, along, litNow(lights));
       break;
     }
     io_.commandTwist(v, railSteering(yaw_ref, pose->yaw));

@@ -40,6 +40,8 @@ class SimulatedGreenhouse : public grn::MissionIO {
   grn::UvMission* preempt_mission = nullptr;  ///< preempted once the robot has driven preempt_on_rails_x onto the rails
   double preempt_on_rails_x = -1.0;
   double person_x = 0.0, person_from = -1.0, person_to = -1.0;  ///< a person standing in set 0's row, from .. to [s]
+  /// The lamps' relay confirms "on" this long after the request, "off" at once (< 0: no confirmed state reported).
+  double relay_on_delay_s = -1.0;
   int lit_ticks_with_person = 0;  ///< control ticks with the lights on and the person ahead in the row
   double closest_to_person = std::numeric_limits<double>::infinity();  ///< [m] base_link to the person
 
@@ -115,7 +117,13 @@ class SimulatedGreenhouse : public grn::MissionIO {
   void setLights(bool on) override {
     if (on && !lights_on && std::isnan(first_lights_on_x)) first_lights_on_x = pose_.x;
     if (!on && lights_on) last_lights_off_x = pose_.x;
+    if (on && !lights_on) lights_request_t_ = t_;
     lights_on = on;
+  }
+  bool lampsConfirmed(bool* on) override {
+    if (relay_on_delay_s < 0.0) return false;
+    *on = lights_on && t_ - lights_request_t_ >= relay_on_delay_s - 1e-9;
+    return true;
   }
   void resetLocalisation(const thorvald_base::Pose2D&) override { ++localisation_resets; }
   void log(const std::string& line) override { lines.push_back(line); }
@@ -214,8 +222,9 @@ class SimulatedGreenhouse : public grn::MissionIO {
   std::mt19937 rng_;
   thorvald_base::Pose2D pose_, goal_;
   double odom_extra_x_ = 0.0;
-  thorvald_base::Pose2D odom_;  ///< the last odometry message's pose
-  double last_odom_ = -1.0;     ///< when it came
+  thorvald_base::Pose2D odom_;     ///< the last odometry message's pose
+  double last_odom_ = -1.0;        ///< when it came
+  double lights_request_t_ = 0.0;  ///< when the lights were last asked on
   double t_ = 0.0, v_ = 0.0, w_ = 0.0, v_cmd_ = 0.0, w_cmd_ = 0.0, nav_done_at_ = -1.0, last_cloud_ = -1.0;
   grn::RailObservation obs_;
   grn::SurfaceReading surface_;
@@ -273,6 +282,32 @@ TEST_P(UvMissionSeeds, TreatsEveryGoodRailSetWithLightsOnlyOnTheRails) {
 
 // Navigation errors (8 cm, 0.06 rad) and detector noise differ per seed.
 INSTANTIATE_TEST_SUITE_P(Seeds, UvMissionSeeds, ::testing::Range(1u, 21u));
+
+// A metre counts as lit only while the relay confirms the lamps on: a relay that comes on late leaves the rails' first
+// stretch unlit and the set not treated; one that follows the request within a tick leaves it treated.
+TEST(UvMission, CountsOnlyTheMetresTheRelayConfirmedLit) {
+  const std::vector<RailSetTruth> sets = {{0.0}};
+  grn::UvMissionParams p;
+  SimulatedGreenhouse late(sets, 3);
+  late.relay_on_delay_s = 1.5;
+  grn::UvMission late_mission(late, p, targetsFor(sets, -1.2));
+  late_mission.run();
+  ASSERT_FALSE(late_mission.reports().empty());
+  EXPECT_FALSE(late_mission.reports()[0].treated) << late_mission.reports()[0].result;
+  EXPECT_LT(late_mission.reports()[0].lit_pct, 99.0);
+  EXPECT_GT(late_mission.reports()[0].lit_pct, 80.0);
+  EXPECT_TRUE(late_mission.done().empty());
+
+  SimulatedGreenhouse on_time(sets, 3);
+  on_time.relay_on_delay_s = 0.02;
+  grn::UvMission on_time_mission(on_time, p, targetsFor(sets, -1.2));
+  EXPECT_EQ(on_time_mission.run(), "done");
+  ASSERT_EQ(on_time_mission.reports().size(), 1u);
+  EXPECT_TRUE(on_time_mission.reports()[0].treated) << on_time_mission.reports()[0].result;
+  EXPECT_GE(on_time_mission.reports()[0].lit_pct, 99.0);
+  if (HasFailure())
+    for (const auto& l : late.lines) std::cout << l << "\n";
+}
 
 TEST(UvMission, SearchesWhenTheCameraDoesNotSeeTheRails) {
   const std::vector<RailSetTruth> sets = {{0.0}};

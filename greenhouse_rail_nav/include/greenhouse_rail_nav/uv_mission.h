@@ -70,6 +70,9 @@ class MissionIO {
   }
   /// True while the lamps' relay board does not confirm its outputs (base_driver's io/<board>/state_unknown).
   virtual bool lightsInDoubt(std::string* /*why*/) { return false; }
+  /// The lamps' confirmed state (the relay board's echo of its output, io/<board>/out<k>/state): returns true with
+  /// `*on` when the robot reports one; false without (the mission then counts its own light request as lit).
+  virtual bool lampsConfirmed(bool* /*on*/) { return false; }
 };
 
 /// One rail set to treat: where to stand in front of it (map frame) and the analyzer's verdict.
@@ -111,7 +114,8 @@ struct UvMissionParams {
   /// People and obstacles: the protected zone, and how long it must be clear before the mission goes on.
   ZoneParams zone;
   /// A set counts as treated only when this share of its length was passed with the lights on (at no more than the
-  /// treatment speed: every metre got at least the dose).
+  /// treatment speed: every metre got at least the dose). With the lamps' confirmed state (MissionIO::lampsConfirmed)
+  /// a metre counts as lit only while the relay confirmed the lamps on, not from the mission's own request.
   double min_lit_fraction = 0.99;
   /// After a stop for the zone on the rails, reverse to the last lit point before the lights go on again (the
   /// robot brakes past it with the lights off); this much further back [m].
