@@ -65,6 +65,15 @@ class RosMissionIO : public MissionIO {
     surface_sub_ = nh.subscribe("surface_monitor/state", 5, &RosMissionIO::onSurface, this);
     scan_sub_ = nh.subscribe("scan", 2, &RosMissionIO::onScan, this);
     bumper_sub_ = nh.subscribe("bumper/lock", 5, &RosMissionIO::onBumper, this);
+    // The lamps' confirmed state only when lamps_state is remapped (to the relay's io/<board>/out<k>/state).
+    lamps_state_known_ = nh.resolveName("lamps_state") != nh.resolveName("lamps_state", false);
+    if (lamps_state_known_) {
+      lamps_sub_ = nh.subscribe("lamps_state", 5, &RosMissionIO::onLamps, this);
+      ROS_INFO("uv_mission: a metre counts as lit only while %s confirms the lamps on",
+               nh.resolveName("lamps_state").c_str());
+    } else {
+      ROS_WARN("uv_mission: no lamps_state remapped: a metre counts as lit from the mission's own uv_lights request");
+    }
     cmd_pub_ = nh.advertise<geometry_msgs::Twist>("nav_vel", 5);
     lights_pub_ = nh.advertise<std_msgs::Bool>("uv_lights", 1, true);
     initialpose_pub_ = nh.advertise<geometry_msgs::PoseWithCovarianceStamped>("initialpose", 1);
@@ -165,6 +174,12 @@ class RosMissionIO : public MissionIO {
     return v;
   }
   bool lightsInDoubt(std::string* why) override { return zones_.lightsInDoubt(why); }
+  bool lampsConfirmed(bool* on) override {
+    if (!lamps_state_known_) return false;
+    std::lock_guard<std::mutex> l(mutex_);
+    *on = lamps_on_;  // off until the relay's state was heard
+    return true;
+  }
 
  private:
   void onOdom(const nav_msgs::Odometry& m) {
@@ -204,6 +219,10 @@ class RosMissionIO : public MissionIO {
     std::lock_guard<std::mutex> l(mutex_);
     bumper_locked_ = m.data;
   }
+  void onLamps(const std_msgs::Bool& m) {
+    std::lock_guard<std::mutex> l(mutex_);
+    lamps_on_ = m.data;
+  }
 
   Config cfg_;
   ros::Rate rate_;
@@ -214,13 +233,14 @@ class RosMissionIO : public MissionIO {
   SurfaceReading surface_;
   double forward_range_ = std::numeric_limits<double>::quiet_NaN();
   bool bumper_locked_ = false, lights_ = false;
+  bool lamps_state_known_ = false, lamps_on_ = false;  // lamps_state remapped; its latest value
   bool nav_failed_now_ = false;
   std::string nav_error_;
   tf2_ros::Buffer tf_;
   tf2_ros::TransformListener tf_listener_;
   MoveBaseClient move_base_;
   ZoneWatch zones_;
-  ros::Subscriber odom_sub_, rail_sub_, surface_sub_, scan_sub_, bumper_sub_;
+  ros::Subscriber odom_sub_, rail_sub_, surface_sub_, scan_sub_, bumper_sub_, lamps_sub_;
   ros::Publisher cmd_pub_, lights_pub_, initialpose_pub_;
 };
 
