@@ -26,6 +26,7 @@ std::string ZoneParams::validate() const {
   if (!(row_ahead_m > 0.0)) e << "row_ahead must be > 0 [m]; ";
   if (!(end_half_angle_rad > 0.0 && end_half_angle_rad < 0.5)) e << "end_half_angle must be in (0, 0.5) [rad]; ";
   if (!(rear_stop_range_m >= 0.0)) e << "rear_stop_range must be >= 0 [m]; ";
+  if (!(rear_clearance_m >= 0.0)) e << "rear_clearance must be >= 0 [m]; ";
   if (!(clear_time_s >= 0.0)) e << "clear_time must be >= 0 [s]; ";
   return e.str();
 }
@@ -214,8 +215,11 @@ ZoneVerdict evaluateZone(const std::vector<ScanPoint>& points, double lidar_x, c
     return v;
   }
   if (ctx.phase == ZonePhase::kReverse) {
+    const double stop_m = ctx.reverse_left_m >= 0.0
+                              ? std::min(p.rear_stop_range_m, ctx.reverse_left_m + p.rear_clearance_m)
+                              : p.rear_stop_range_m;
     for (double r : rear_ranges) {
-      if (std::isfinite(r) && r < p.rear_stop_range_m && !v.blocked) {
+      if (std::isfinite(r) && r < stop_m && !v.blocked) {
         std::ostringstream o;
         o.precision(2);
         o << std::fixed << "something " << r << " m behind the robot";

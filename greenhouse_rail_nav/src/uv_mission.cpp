@@ -46,7 +46,11 @@ UvMission::Impl::Loop UvMission::Impl::runStep(const MotionStep& step, tsm::Exec
   motion.start(step, pose, io_.now());
   const thorvald_base::Pose2D start = pose;
   const bool translate = step.kind == MotionStep::Kind::kTranslate;
-  setZone(translate && step.amount < 0.0 ? ZonePhase::kReverse : ZonePhase::kHeadland);
+  // Reversing: the whole step is the most it still has to go (the rear range finders' hold, obstacle_zones.h).
+  if (translate && step.amount < 0.0)
+    setZone(ZonePhase::kReverse, 0.0, -step.amount);
+  else
+    setZone(ZonePhase::kHeadland);
   while (io_.ok()) {
     if (ctx.preemptRequested()) {
       stop();

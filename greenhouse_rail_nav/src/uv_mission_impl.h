@@ -51,10 +51,12 @@ class UvMission::Impl {
   /// Whether the mission must hold now, and why.
   bool mustHold(std::string* why);
   void setHoldReason(const std::string& why);
-  void setZone(ZonePhase phase, double row_end_m = 0.0) {
+  /// `row_end_m`: ZoneContext::row_end_m (row); `reverse_left_m`: ZoneContext::reverse_left_m (reverse).
+  void setZone(ZonePhase phase, double row_end_m = 0.0, double reverse_left_m = -1.0) {
     ZoneContext c;
     c.phase = phase;
     c.row_end_m = row_end_m;
+    c.reverse_left_m = reverse_left_m;
     io_.setZoneContext(c);
   }
   /// Distance from base_link to the current set's far end when base_link is `entered_m` past the pose entering

@@ -235,7 +235,11 @@ UvMission::Impl::Loop UvMission::Impl::reverseToEntry(tsm::ExecutionContext& ctx
       return Loop::kPreempted;
     }
     std::string stop_why;
-    setZone(ZonePhase::kReverse);
+    // The rest of the way at most: back to the stored pose and extra_m on past it, where the return gives up.
+    double left_m = -1.0;
+    if (io_.odomPose(&pose))
+      left_m = std::max(0.0, (pose.position() - entry_odom_.position()).dot(entry_odom_.heading()) + extra_m);
+    setZone(ZonePhase::kReverse, 0.0, left_m);
     if (mustHold(&stop_why)) {
       v = 0.0;
       if (!holdWhileStopped(ctx)) return Loop::kPreempted;

@@ -170,6 +170,24 @@ TEST(ObstacleZones, ReversingTheRearRangeFindersWatchBehind) {
   EXPECT_FALSE(grn::evaluateZone({}, kLidarX, c, p, {}, {0.6}).blocked) << "only while reversing";
 }
 
+TEST(ObstacleZones, ReversingSomethingBehindHoldsOnlyWithinTheRestOfTheWayAndTheClearance) {
+  grn::ZoneParams p;  // rear_stop_range 1.0 m, rear_clearance 0.3 m
+  grn::ZoneContext c;
+  c.phase = grn::ZonePhase::kReverse;
+  c.reverse_left_m = 0.5;  // the robot reverses at most 0.5 m more: within 0.8 m is in its way
+  EXPECT_FALSE(grn::evaluateZone({}, kLidarX, c, p, {}, {0.9, NAN}).blocked)
+      << "a trolley parked 0.9 m behind where the robot stops holds it for good";
+  EXPECT_TRUE(grn::evaluateZone({}, kLidarX, c, p, {}, {0.75, NAN}).blocked);
+  c.reverse_left_m = 0.0;
+  EXPECT_TRUE(grn::evaluateZone({}, kLidarX, c, p, {}, {NAN, 0.25}).blocked) << "closer than the clearance";
+  EXPECT_FALSE(grn::evaluateZone({}, kLidarX, c, p, {}, {NAN, 0.35}).blocked);
+  c.reverse_left_m = 5.0;  // far to go: rear_stop_range decides
+  EXPECT_TRUE(grn::evaluateZone({}, kLidarX, c, p, {}, {0.95}).blocked);
+  EXPECT_FALSE(grn::evaluateZone({}, kLidarX, c, p, {}, {1.05}).blocked);
+  c.reverse_left_m = -1.0;  // unknown
+  EXPECT_TRUE(grn::evaluateZone({}, kLidarX, c, p, {}, {0.9}).blocked);
+}
+
 TEST(ObstacleZones, TheHoldLastsUntilTheZoneWasClearForTheClearTime) {
   grn::ZoneHold hold(2.0);
   EXPECT_FALSE(hold.update(false, 0.0));

@@ -35,7 +35,11 @@ struct ZoneParams {
   double row_ahead_m = 100.0;        ///< row: obstacles farther ahead than this are not in the zone [m]
   double end_half_angle_rad = 0.05;  ///< the far end's range: median of the returns within this of the lidar's axis
   double rear_stop_range_m = 1.0;    ///< reversing: a rear range finder reading less is something behind [m]
-  double clear_time_s = 2.0;         ///< the zone must be clear this long before the mission resumes [s]
+  /// Reversing with the rest of the way known (ZoneContext::reverse_left_m): something behind holds the robot only
+  /// when nearer than that rest plus this clearance (and nearer than rear_stop_range_m), so a trolley parked just
+  /// behind where the robot stops does not hold it for good [m].
+  double rear_clearance_m = 0.3;
+  double clear_time_s = 2.0;  ///< the zone must be clear this long before the mission resumes [s]
 
   std::string validate() const;
 };
@@ -88,6 +92,9 @@ struct ZoneContext {
   /// Row: distance along base_link's x to the rail set's far end (the set's length less how far base_link is along
   /// it) [m]; <= 0: unknown, and every return ahead counts as the far end (no row obstacles).
   double row_end_m = 0.0;
+  /// Reverse: how much farther the robot reverses at most (to its stored pose, plus what it may go on to find the
+  /// floor) [m]; < 0: unknown (rear_stop_range_m alone decides).
+  double reverse_left_m = -1.0;
 };
 
 /// The zone at one scan.

@@ -31,6 +31,7 @@ void ZoneWatch::readParams(thorvald_common::ParamReader& params, Config* c) {
   z.end_tolerance_m = params.number("zone/end_tolerance", z.end_tolerance_m, R::closed(0.0, 10.0), "m");
   z.row_ahead_m = params.number("zone/row_ahead", z.row_ahead_m, R::aboveUpTo(0.0, 1000.0), "m");
   z.rear_stop_range_m = params.number("zone/rear_stop_range", z.rear_stop_range_m, R::closed(0.0, 5.0), "m");
+  z.rear_clearance_m = params.number("zone/rear_clearance", z.rear_clearance_m, R::closed(0.0, 5.0), "m");
   z.clear_time_s = params.number("zone/clear_time", z.clear_time_s, R::closed(0.0, 600.0), "s");
   c->scan_timeout_s = params.number("zone/scan_timeout", c->scan_timeout_s, R::aboveUpTo(0.0, 10.0), "s");
   c->rear_sensors = params.texts("rear_sensors", c->rear_sensors, 0, 8, true);
