@@ -20,31 +20,6 @@ double latticeValue(int64_t x, int64_t y, int64_t z) {
   return static_cast<double>(h & 0xFFFFFF) / static_cast<double>(0x800000) - 1.0;
 }
 
-/// The pixel's surface point in the optical frame (NaN where nothing is seen).
-Eigen::Vector3d pointAt(const RenderedView& view, const Intrinsics& k, int u, int v) {
-  const float z = view.depth_m[static_cast<size_t>(v) * view.width + u];
-  if (!std::isfinite(z)) return Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
-  return {z * (u - k.cx) / k.fx, z * (v - k.cy) / k.fy, z};
-}
-
-/// The surface normal at (u, v) in the optical frame from the neighbours on the same geom, facing the camera.
-Eigen::Vector3d normalAt(const RenderedView& view, const Intrinsics& k, int u, int v, const Eigen::Vector3d& p) {
-  const int g = view.geom[static_cast<size_t>(v) * view.width + u];
-  auto neighbour = [&](int du, int dv) -> Eigen::Vector3d {
-    const int nu = u + du, nv = v + dv;
-    if (nu < 0 || nv < 0 || nu >= view.width || nv >= view.height ||
-        view.geom[static_cast<size_t>(nv) * view.width + nu] != g)
-      return p;
-    const Eigen::Vector3d q = pointAt(view, k, nu, nv);
-    return q.allFinite() ? q : p;
-  };
-  const Eigen::Vector3d dx = neighbour(1, 0) - neighbour(-1, 0), dy = neighbour(0, 1) - neighbour(0, -1);
-  Eigen::Vector3d n = dy.cross(dx);
-  if (!(n.norm() > 1e-12)) return -p.normalized();
-  n.normalize();
-  return n.dot(p) > 0.0 ? -n : n;
-}
-
 }  // namespace
 
 Eigen::Vector3d Daylight::toSun() const {
@@ -252,10 +227,10 @@ class CachedValueNoise {
   double per_m_;
   bool valid_ = false;
   int64_t x_ = 0, y_ = 0, z_ = 0;
-  double corner_[2][2][2];
+  double corner_[2][2][2] = {};
 };
 
-/// The surface points of three image rows (v - 1, v, v + 1) in the optical frame, as pointAt gives them.
+/// The surface points of three image rows (v - 1, v, v + 1) in the optical frame (NaN where nothing is seen).
 class PointRows {
  public:
   PointRows(const RenderedView& view, const Intrinsics& k)
@@ -281,7 +256,8 @@ class PointRows {
   std::vector<Eigen::Vector3d> rows_;
 };
 
-/// normalAt on the points of `rows`.
+/// The surface normal at (u, v) in the optical frame from its neighbours on the same geom (points of `rows`),
+/// facing the camera.
 Eigen::Vector3d normalFromRows(const RenderedView& view, const PointRows& rows, int u, int v,
                                const Eigen::Vector3d& p) {
   const int g = view.geom[static_cast<size_t>(v) * view.width + u];
