@@ -235,10 +235,15 @@ UvMission::Impl::Loop UvMission::Impl::reverseToEntry(tsm::ExecutionContext& ctx
       return Loop::kPreempted;
     }
     std::string stop_why;
-    // The rest of the way at most: back to the stored pose and extra_m on past it, where the return gives up.
+    // The rest of the way: back to the stored pose, where the floor ends the return; only past it (the floor not
+    // sensed there yet) the rest of extra_m, where the return gives up.
     double left_m = -1.0;
-    if (io_.odomPose(&pose))
-      left_m = std::max(0.0, (pose.position() - entry_odom_.position()).dot(entry_odom_.heading()) + extra_m);
+    if (io_.odomPose(&pose)) {
+      const double to_stored = (pose.position() - entry_odom_.position()).dot(entry_odom_.heading());
+      // Back at the stored pose on the floor: done, before anything behind could hold the robot where it stops.
+      if (to_stored <= 0.0 && !surfaceStale() && io_.surface().wheels == Surface::kFloor) break;
+      left_m = to_stored > 0.0 ? to_stored : std::max(0.0, to_stored + extra_m);
+    }
     setZone(ZonePhase::kReverse, 0.0, left_m);
     if (mustHold(&stop_why)) {
       v = 0.0;
