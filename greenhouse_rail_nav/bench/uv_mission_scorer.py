@@ -5,8 +5,9 @@ mission's own outputs (uv_lights, nav_vel, mission/status, mission/report, safet
 
 - on rails: the drive wheels (base_link) beyond a set's pipe start, before its end, within `lateral_tol` of the
   set's centre line. `lights_off_rails_s`: simulated time with the lights on while not on rails.
-- wheel past an edge: base_link more than `drop` below its height on the floor at the start, or rolled or pitched
-  by more than `tilt` (a rear rail wheel leaving its pipe pitches base_link, which is on the drive axle).
+- wheel past an edge: base_link more than `drop` below its height on the floor at the start (taken 1 s after the
+  first truth message, once it has settled from its spawn), or rolled or pitched by more than `tilt` (a rear rail
+  wheel leaving its pipe pitches base_link, which is on the drive axle).
 - a set counts as treated (truth) when the lights were on while on its rails from within `start_margin` of its
   start to within `end_margin` of its end.
 - safety events: engagements of safety/lock and bumper/lock after the mission started; surface_monitor's reason
@@ -293,19 +294,26 @@ class UvMissionScorer:
                                                                        m.header.stamp.to_sec()))
             rospy.logwarn("uv_mission_scorer: contact %s" % self.collisions[-1])
 
+    SETTLE_S = 1.0  # [s] of simulated time from the first truth message
+
     # callbacks
     def on_truth(self, m):
         t = m.header.stamp.to_sec()
         p = m.pose.pose.position
         roll, pitch, yaw = rpy(m.pose.pose.orientation)
         if self.z0 is None:
-            self.z0 = p.z
             self.t_first = t
         if len(self.path) == 0 or math.hypot(p.x - self.path[-1][0], p.y - self.path[-1][1]) > 0.05:
             self.path.append((p.x, p.y))
-        self.max_tilt = max(self.max_tilt, abs(roll), abs(pitch))
-        self.max_drop = max(self.max_drop, self.z0 - p.z)
-        past = p.z < self.z0 - self.drop or abs(roll) > self.tilt or abs(pitch) > self.tilt
+        if t - self.t_first < self.SETTLE_S:
+            # The robot is spawned a little above the floor and settles onto its wheels (about 1 cm): its height
+            # on the floor is taken once it has stood there this long, before the mission moves it.
+            self.z0 = p.z
+            past = False
+        else:
+            self.max_tilt = max(self.max_tilt, abs(roll), abs(pitch))
+            self.max_drop = max(self.max_drop, self.z0 - p.z)
+            past = p.z < self.z0 - self.drop or abs(roll) > self.tilt or abs(pitch) > self.tilt
         if past and self.edge_where is None:
             self.edge_where = (round(p.x, 3), round(p.y, 3), round(p.z - self.z0, 4), round(roll, 4),
                                round(pitch, 4))
