@@ -6,8 +6,7 @@
 #include <limits>
 
 #include "greenhouse_rail_nav/rail_run.h"
-
-namespace grn = greenhouse_rail_nav;
+#include "simulated_greenhouse.h"
 
 namespace {
 
@@ -95,4 +94,77 @@ TEST(RowEnd, ParametersAreChecked) {
   EXPECT_NE(e.find("wall_guard_range"), std::string::npos) << e;
   EXPECT_NE(e.find("lamp_length"), std::string::npos) << e;
   EXPECT_NE(e.find("rail_end_margin"), std::string::npos) << e;
+}
+
+// The mission's run to the row's end against the simulated greenhouse robot.
+// The set's length known: the lamps light the row to its end; the drive axle stops rail_end_margin short of the rails'
+// end (the lamps' front edge 3 cm short of it), and the lit share counts the row, not what was driven.
+TEST(UvMissionRowEnd, LightsStayOnUntilTheLampsHaveLitTheRowToItsEnd) {
+  const std::vector<RailSetTruth> sets = {{0.0}};
+  SimulatedGreenhouse world(sets, 4);
+  world.rail_length = 5.0;
+  world.wall_past_end = 2.0;  // the guard out of the way (1 m: it stops the robot about as early, see below)
+  grn::UvMissionParams p;
+  auto targets = targetsFor(sets, -1.2);
+  targets[0].rail_length_m = world.rail_length;
+  grn::UvMission mission(world, p, targets);
+  EXPECT_EQ(mission.run(), "done");
+  ASSERT_EQ(mission.reports().size(), 1u);
+  const grn::RailSetReport& r = mission.reports()[0];
+  EXPECT_TRUE(r.treated) << r.result;
+  EXPECT_GE(r.lit_pct, 99.0);
+  const double stop = world.rail_length - p.rail_run.rail_end_margin_m;
+  // This world's detector places the rails' start with 2 cm of noise in x: the stop by odometry from it as much.
+  EXPECT_NEAR(world.last_lights_off_x, stop, 0.07) << "lights off where the lamps reached the row's end";
+  EXPECT_LT(world.max_x, world.rail_length - 0.01) << "the drive wheels stay on the pipes";
+  EXPECT_FALSE(world.wheel_past_edge);
+  EXPECT_TRUE(logSays(world, "at the row's end"));
+  if (HasFailure())
+    for (const auto& l : world.lines) std::cout << l << "\n";
+}
+
+// A far wall 0.4 m past the rails' end: the guard stops the robot with the lidar 0.6 m from the wall, short of the
+// row's end; the set is not reported treated, and the mission goes on.
+TEST(UvMissionRowEnd, TheWallGuardStopsEarlierAndTheSetIsNotTreated) {
+  const std::vector<RailSetTruth> sets = {{0.0}};
+  SimulatedGreenhouse world(sets, 4);
+  world.rail_length = 5.0;
+  world.wall_past_end = 0.4;
+  grn::UvMissionParams p;
+  auto targets = targetsFor(sets, -1.2);
+  targets[0].rail_length_m = world.rail_length;
+  grn::UvMission mission(world, p, targets);
+  EXPECT_EQ(mission.run(), "done");
+  ASSERT_EQ(mission.reports().size(), 1u);
+  const grn::RailSetReport& r = mission.reports()[0];
+  EXPECT_FALSE(r.treated);
+  EXPECT_NE(r.result.find("not every metre was lit"), std::string::npos) << r.result;
+  // Stopped with base_link 0.6 + 0.45 m before the wall: the lamps' front edge at 4.40 m of 5 m.
+  EXPECT_NEAR(r.lit_pct, 100.0 * (5.4 - 0.45 - 0.6 + 0.05) / 5.0, 1.5);
+  // Stopped with the lidar (0.45 m ahead of the axle) about wall_guard_range from the wall: never near touching it.
+  const double wall_x = world.rail_length + world.wall_past_end;
+  EXPECT_NEAR(wall_x - (world.last_lights_off_x + 0.45), p.rail_run.wall_guard_range_m, 0.05);
+  EXPECT_LT(world.max_x + 0.52, wall_x - 0.4);
+  EXPECT_TRUE(logSays(world, "the far wall's guard stopped the robot"));
+  EXPECT_FALSE(world.lights_on);
+  if (HasFailure())
+    for (const auto& l : world.lines) std::cout << l << "\n";
+}
+
+// The sim world's far wall, 1 m past the rails' end: row end or guard, the set is treated and the wheels stay on the
+// pipes.
+TEST(UvMissionRowEnd, WithTheWallAMetrePastTheRailsTheSetIsTreated) {
+  const std::vector<RailSetTruth> sets = {{0.0}};
+  for (unsigned seed : {4u, 5u, 6u}) {
+    SimulatedGreenhouse world(sets, seed);
+    world.rail_length = 5.0;
+    grn::UvMissionParams p;
+    auto targets = targetsFor(sets, -1.2);
+    targets[0].rail_length_m = world.rail_length;
+    grn::UvMission mission(world, p, targets);
+    EXPECT_EQ(mission.run(), "done");
+    ASSERT_EQ(mission.reports().size(), 1u);
+    EXPECT_TRUE(mission.reports()[0].treated) << "seed " << seed << ": " << mission.reports()[0].result;
+    EXPECT_LT(world.max_x, world.rail_length - 0.03) << "seed " << seed;
+  }
 }
