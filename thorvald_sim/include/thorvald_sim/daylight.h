@@ -83,13 +83,16 @@ class ShadowMapCache {
 bool litBySun(const ShadowMap& shadow, const Eigen::Vector3d& p, double bias_m);
 
 /// Shades `rgb` (colorFromView of `view`, same size) in place: each pixel that sees geom g becomes its colour times
-/// (1 + texture[g] * noise(world point)) times (ambient + direct * max(0, n . sun) * lit) times exposure, n the
-/// normal from the depth image's neighbours, lit from `shadow` (nullptr or invalid: lit). `texture` holds one
-/// amplitude per geom (0: a uniform, textureless surface).
+/// (1 + texture[g] * noise(world point)) times (ambient + direct * max(0, n . sun) * lit) times exposure, rounded to
+/// the nearest level, with noise = 0.6 valueNoise(p, 4 mm) + 0.4 valueNoise(p, 20 mm), n the normal from the depth
+/// image's neighbours, lit from `shadow` (nullptr or invalid: lit). `texture` holds one amplitude per geom (0: a
+/// uniform, textureless surface). Computed row by row in float (branch-free loops the compiler vectorises): within
+/// a level of the same formula in double (but where a point lies within a float's rounding of the shadow's bias).
 void shadeDaylight(const RenderedView& view, const SensorPose& pose, const Intrinsics& k, const Daylight& light,
                    const ShadowMap* shadow, const std::vector<float>& texture, ColorImage* rgb);
 
-/// Smooth value noise in [-1, 1] on a 3-D lattice of `cell_m` [m], seeded by the lattice only (deterministic).
+/// Smooth value noise in [-1, 1] on a 3-D lattice of `cell_m` [m], seeded by the lattice only (deterministic): a
+/// lattice point's value is 24 bits of a 32-bit hash of its integer coordinates.
 double valueNoise(const Eigen::Vector3d& p, double cell_m);
 
 /// Texture amplitude of a geom of the datasheet cotton row (makeCottonRowWorld) for shadeDaylight, by its name: soil
