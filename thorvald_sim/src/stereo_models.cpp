@@ -89,40 +89,39 @@ void visibleInRight(const std::vector<float>& z_m, int width, int height, double
   }
 }
 
-/// Pixels with texture to match: the grey level's std dev over the window at least min_sigma, no channel saturated.
-/// The integral images stay in `w` from frame to frame.
+/// Pixels with texture to match: the grey level's std dev over the window (clipped at the image's border) at least
+/// min_sigma, no channel saturated. With s = r + g + b (the grey level times 3), the window's n pixels, S = sum s and
+/// Q = sum s^2 (exact integers, summed by columns and slid along the row): var = (n Q - S^2) / (9 n^2).
 void textured(const std::vector<uint8_t>& rgb, int width, int height, const PassiveStereoModel& m,
               PassiveStereoScratch* w) {
   const size_t n = static_cast<size_t>(width) * height;
-  const int w1 = width + 1;
-  std::vector<double>&sum = w->sum, &sq = w->sq;  // integral images: row 0 and column 0 stay 0
-  sum.assign(static_cast<size_t>(w1) * (height + 1), 0.0), sq.assign(sum.size(), 0.0);
-  for (int v = 0; v < height; ++v) {
+  const int half = std::max(0, m.texture_window_px / 2);
+  const double min_var9 = 9.0 * m.min_texture_sigma * m.min_texture_sigma;
+  std::vector<int64_t>&col_sum = w->col_sum, &col_sq = w->col_sq;  // per column: over the window's rows
+  col_sum.assign(width, 0), col_sq.assign(width, 0);
+  auto add_row = [&](int v, int sign) {
     const uint8_t* px = &rgb[3 * static_cast<size_t>(v) * width];
     for (int u = 0; u < width; ++u, px += 3) {
-      const double g = (px[0] + px[1] + px[2]) / 3.0;
-      const size_t k = static_cast<size_t>(v + 1) * w1 + u + 1;
-      sum[k] = g + sum[k - 1] + sum[k - w1] - sum[k - w1 - 1];
-      sq[k] = g * g + sq[k - 1] + sq[k - w1] - sq[k - w1 - 1];
+      const int64_t s = px[0] + px[1] + px[2];
+      col_sum[u] += sign * s, col_sq[u] += sign * s * s;
     }
-  }
+  };
+  for (int v = 0; v < std::min(half, height); ++v) add_row(v, 1);
   w->ok.assign(n, 0);
-  const int half = std::max(0, m.texture_window_px / 2);
-  const double min_var = m.min_texture_sigma * m.min_texture_sigma;
   for (int v = 0; v < height; ++v) {
-    const int v0 = std::max(0, v - half), v1 = std::min(height, v + half + 1);
-    const double* s0 = &sum[static_cast<size_t>(v0) * w1];
-    const double* s1 = &sum[static_cast<size_t>(v1) * w1];
-    const double* q0 = &sq[static_cast<size_t>(v0) * w1];
-    const double* q1 = &sq[static_cast<size_t>(v1) * w1];
+    if (v + half < height) add_row(v + half, 1);
+    if (v - half - 1 >= 0) add_row(v - half - 1, -1);
+    const int64_t rows = std::min(height, v + half + 1) - std::max(0, v - half);
+    int64_t sum = 0, sq = 0;  // over columns [u - half, u + half] within the image
+    for (int u = 0; u < std::min(half, width); ++u) sum += col_sum[u], sq += col_sq[u];
     const uint8_t* px = &rgb[3 * static_cast<size_t>(v) * width];
     char* ok = &w->ok[static_cast<size_t>(v) * width];
     for (int u = 0; u < width; ++u, px += 3) {
+      if (u + half < width) sum += col_sum[u + half], sq += col_sq[u + half];
+      if (u - half - 1 >= 0) sum -= col_sum[u - half - 1], sq -= col_sq[u - half - 1];
       if (std::max({px[0], px[1], px[2]}) >= m.saturation_level) continue;
-      const int u0 = std::max(0, u - half), u1 = std::min(width, u + half + 1);
-      const double cnt = static_cast<double>(u1 - u0) * (v1 - v0);
-      const double mean = (s1[u1] - s0[u1] - s1[u0] + s0[u0]) / cnt;
-      ok[u] = (q1[u1] - q0[u1] - q1[u0] + q0[u0]) / cnt - mean * mean >= min_var;
+      const int64_t cnt = rows * (std::min(width, u + half + 1) - std::max(0, u - half));
+      ok[u] = static_cast<double>(cnt * sq - sum * sum) >= min_var9 * static_cast<double>(cnt * cnt);
     }
   }
 }

@@ -64,7 +64,7 @@ struct PassiveStereoModel {
 /// Buffers passiveStereoDepth reuses from frame to frame (per camera; contents are scratch).
 struct PassiveStereoScratch {
   std::vector<char> seen, ok;
-  std::vector<double> sum, sq;
+  std::vector<int64_t> col_sum, col_sq;
 };
 
 /// What stereo matching gives for the true depth `z_m` (row-major width x height, NaN: none) and the left colour
