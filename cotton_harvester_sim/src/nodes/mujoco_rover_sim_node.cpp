@@ -1,14 +1,17 @@
 // mujoco_rover_sim: the cotton rover and its row in MuJoCo as the harvest stack's nodes see a real rover. The
 // navigation and manipulation controllers answer on pseudo-terminals with the hardware's byte protocols (the `rover`
 // and `manipulator` nodes open them as serial devices), the downward camera is published as the ZED driver publishes
-// it (colour image, organised cloud, camera info), and the simulated time as /clock. It is also the run's scorer,
-// the only node that reads the simulator's truth: when the harvest machine reports that its run ended (or at the time
-// limit) it counts the bolls the vacuum took, publishes harvest/metrics, appends the CSV row and exits 0 (1 when the
-// world or the ports cannot be made). The node only wires its parts: the simulation (RoverSim), the serial devices
-// (RoverDeviceEmulator), the camera's messages (rover_camera_messages.h), what the stack reports (StackRunReport) and
-// the scorer (HarvestScorer).
+// it (colour image, organised cloud, camera info), the localisation sensors as their drivers publish them (two IMUs,
+// the encoders and potentiometer, the RTK receiver's NMEA for gpsd: rover_sensor_topics.h), and the simulated time
+// as /clock. It is also the run's scorer, the only node that reads the simulator's truth (sim/truth/base_link is
+// for tests' scoring): when the harvest machine reports that its run ended (or at the time limit) it counts the
+// bolls the vacuum took, publishes harvest/metrics, appends the CSV row and exits 0 (1 when the world or the ports
+// cannot be made). The node only wires its parts: the simulation (RoverSim), the serial devices
+// (RoverDeviceEmulator), the camera's messages (rover_camera_messages.h), the sensors' topics (RoverSensorTopics),
+// what the stack reports (StackRunReport) and the scorer (HarvestScorer). With ~harvest false it only simulates.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <string>
 #include <thread>
 #include <utility>
@@ -31,6 +34,7 @@
 #include "cotton_harvester_sim/stack_run_report.h"
 #include "harvest_metrics_status.h"
 #include "rover_camera_messages.h"
+#include "rover_sensor_topics.h"
 
 namespace cotton_harvester {
 namespace sim {
@@ -54,6 +58,10 @@ struct SimNodeConfig {
   double time_limit_s = 900.0;             ///< simulated time after the machine started
   double start_timeout_s = 120.0;          ///< wall time to wait for the harvest machine to start
   std::string metrics_csv, run_name, camera_frame;
+  /// false: no harvest machine is waited for or scored; the simulation runs until shut down or time_limit_s (a
+  /// rover driven by cmd_vel or a position target, e.g. launch/rover_localization.launch).
+  bool harvest = true;
+  SensorTopicsConfig sensors;  ///< the localisation sensors' topics (rover_sensor_topics.h)
 };
 
 SimNodeConfig readConfig(thorvald_common::ParamReader& r) {
@@ -84,6 +92,8 @@ SimNodeConfig readConfig(thorvald_common::ParamReader& r) {
   c.metrics_csv = r.text("metrics_csv", "");
   c.run_name = r.text("run_name", "mujoco_rover_sim");
   c.camera_frame = r.text("camera_frame", "camera");
+  c.harvest = r.flag("harvest", c.harvest);
+  c.sensors = readSensorTopicsConfig(r, static_cast<unsigned>(seed));
   return c;
 }
 
@@ -93,7 +103,8 @@ class MujocoRoverSimNode {
       : config_(config),
         sim_(config.run.sim),
         devices_(sim_, config.bridge, config.manipulator_link, config.navigation_link),
-        scorer_(reachableBolls(sim_, config.run.machine.row_length_m), sim_.roverPosition()) {
+        scorer_(reachableBolls(sim_, config.run.machine.row_length_m), sim_.roverPosition()),
+        sensors_(nh, sim_, config.sensors) {
     ROS_INFO("mujoco_rover_sim: manipulation controller on %s, navigation controller on %s",
              config_.manipulator_link.c_str(), config_.navigation_link.c_str());
     clock_pub_ = nh.advertise<rosgraph_msgs::Clock>("/clock", 10);
@@ -116,7 +127,7 @@ class MujocoRoverSimNode {
     while (ros::ok()) {
       ros::spinOnce();
       devices_.serveLinks();
-      const auto frames = devices_.advance(config_.io_period_s, config_.run.sim.timestep_s);
+      const auto frames = advance();
       rosgraph_msgs::Clock clock;
       clock.clock = now();
       clock_pub_.publish(clock);
@@ -124,6 +135,11 @@ class MujocoRoverSimNode {
       if (sim_.time() + 1e-9 >= next_frame) {
         next_frame += camera_period;
         if (publishCamera() && config_.lockstep) awaitPerception();
+      }
+      if (!config_.harvest) {
+        if (sim_.time() - sim_start >= config_.time_limit_s) break;
+        pace(wall_start, sim_.time() - sim_start);
+        continue;
       }
       const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
       const StackRunState state = stack_.check(sim_.time(), waited, config_.time_limit_s, config_.start_timeout_s);
@@ -134,7 +150,7 @@ class MujocoRoverSimNode {
       }
       pace(wall_start, sim_.time() - sim_start);
     }
-    if (!ros::ok()) return 0;
+    if (!ros::ok() || !config_.harvest) return 0;
     SimRunFigures figures;
     figures.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
     figures.sim_s = sim_.time() - sim_start;
@@ -147,6 +163,22 @@ class MujocoRoverSimNode {
   }
 
  private:
+  /// One I/O period of physics; while anyone listens to the sensors, one step at a time with the sensors sampled
+  /// after each (the IMUs' 120 Hz is finer than the I/O period).
+  RoverSerialBridge::Output advance() {
+    const double step = config_.run.sim.timestep_s;
+    if (!sensors_.wanted()) return devices_.advance(config_.io_period_s, step);
+    RoverSerialBridge::Output all;
+    const long steps = std::max(1L, std::lround(config_.io_period_s / step));
+    for (long i = 0; i < steps; ++i) {
+      const auto out = devices_.advance(step, step);
+      all.manipulator.insert(all.manipulator.end(), out.manipulator.begin(), out.manipulator.end());
+      all.navigation.insert(all.navigation.end(), out.navigation.begin(), out.navigation.end());
+      sensors_.afterStep();
+    }
+    return all;
+  }
+
   /// Spins until perception published the bolls of the last camera frame (or the timeout: a frame it rejects).
   void awaitPerception() {
     const auto deadline =
@@ -240,6 +272,7 @@ class MujocoRoverSimNode {
   RoverDeviceEmulator devices_;
   HarvestScorer scorer_;
   StackRunReport stack_;
+  RoverSensorTopics sensors_;
   ros::Publisher clock_pub_, image_pub_, cloud_pub_, info_pub_, metrics_pub_;
   ros::Subscriber status_sub_, stack_metrics_sub_, bolls_sub_;
   ros::Time last_frame_stamp_, last_bolls_stamp_;
