@@ -5,6 +5,7 @@
 #include <string>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "thorvald_navigation/utm.h"
 
@@ -36,11 +37,30 @@ struct NavsatOptions {
   bool zero_altitude = false;             ///< world z of every fix is 0
 };
 
+/// The largest horizontal 1-sigma a fix may have to set the datum [m], by default: an RTK fixed solution's (about
+/// 0.01 m) passes; a float one (0.3 m) and a single one (metres) do not, so the world frame is not offset by their
+/// error. navsat_transform's `datum_max_sigma_m` and RoverFusion's datum both default to it.
+constexpr double kDatumMaxSigmaM = 0.05;
+
+/// A fix's horizontal 1-sigma [m]: the larger of east's and north's (infinity when a variance is not finite or
+/// negative: an unknown covariance never sets the datum).
+double horizontalSigma(const GeoFix& fix);
+
+/// Whether a fix may set the datum (the one rule for navsat_transform and the in-process fusions): its horizontal
+/// 1-sigma at most `max_sigma_m` (infinity: any fix, robot_localization's first fix). Empty, or why not.
+std::string datumFixRefusal(const GeoFix& fix, double max_sigma_m);
+
+/// The antenna's offset from base_link in the world frame [m]: its mount `antenna_in_base` (base_link -> the fix's
+/// frame) turned by base_link's orientation in the world frame (roll and pitch matter: a 2.46 m mast tilted by 5 deg
+/// moves the antenna 0.21 m sideways). A fix minus this offset is base_link's position.
+Eigen::Vector3d antennaOffsetInWorld(const Eigen::Vector3d& antenna_in_base, const Eigen::Quaterniond& base_in_world);
+
 /// The transform between the UTM grid and the world frame, fixed once at the datum (robot_localization's
 /// navsat_transform): either from the first fix with the robot's heading (IMU yaw + declination + offset, in
 /// east-north-up; turned into grid terms by the meridian convergence) and its pose in the world frame at that
 /// time, or from a datum parameter [lat, lon, yaw] that puts the world origin at the datum with its x axis at
-/// `yaw` (east-north-up). The UTM zone is the datum's, for every later fix. Assumes the antenna at base_link.
+/// `yaw` (east-north-up). The UTM zone is the datum's, for every later fix. A fix is the antenna's position; with its
+/// offset in the world frame (antennaOffsetInWorld) given, the datum and the fixes are base_link's.
 class NavsatTransform {
  public:
   explicit NavsatTransform(const NavsatOptions& options = {}) : options_(options) {}
@@ -49,12 +69,17 @@ class NavsatTransform {
   /// the datum is refused (outside UTM's latitudes, not finite).
   std::string setDatum(double lat_deg, double lon_deg, double alt_m, double yaw_enu_rad);
   /// Datum from the first fix: `imu_yaw` [rad] is the IMU's yaw (declination and offset are added here), `robot`
-  /// the robot's pose in the world frame at the fix (from odometry/filtered; zero when there is none yet).
-  std::string setFromFix(const GeoFix& fix, double imu_yaw, const WorldPose& robot);
+  /// the robot's (base_link's) pose in the world frame at the fix (from odometry/filtered; zero when there is none
+  /// yet), `antenna_offset` the antenna's offset from base_link in the world frame then (antennaOffsetInWorld).
+  std::string setFromFix(const GeoFix& fix, double imu_yaw, const WorldPose& robot,
+                         const Eigen::Vector3d& antenna_offset = Eigen::Vector3d::Zero());
 
   bool ready() const { return ready_; }
-  /// The fix in the world frame; nothing before the datum or for a fix outside UTM's latitudes.
-  std::optional<WorldFix> toWorld(const GeoFix& fix) const;
+  /// The fix in the world frame, moved by `antenna_offset` (the antenna's offset from base_link in the world frame
+  /// now: the result is base_link's; z too unless zero_altitude); nothing before the datum or for a fix outside
+  /// UTM's latitudes.
+  std::optional<WorldFix> toWorld(const GeoFix& fix,
+                                  const Eigen::Vector3d& antenna_offset = Eigen::Vector3d::Zero()) const;
   /// Latitude and longitude of a world position (nothing before the datum).
   std::optional<LatLon> toLatLon(double x, double y) const;
   /// The UTM grid frame in the world frame: where the grid's origin is and how it is turned (x, y, z [m], yaw
@@ -66,7 +91,7 @@ class NavsatTransform {
   double headingEnu(double imu_yaw) const;
 
  private:
-  std::string set(const GeoFix& fix, double heading_enu, const WorldPose& robot);
+  std::string set(const GeoFix& fix, double heading_enu, const WorldPose& antenna);
 
   NavsatOptions options_;
   bool ready_ = false;

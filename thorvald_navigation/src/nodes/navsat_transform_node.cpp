@@ -1,8 +1,13 @@
 // navsat_transform: GNSS fixes (gps/fix) into the world frame (odometry/gps) for ekf_localization, with
-// robot_localization's navsat_transform parameters; the datum from the first fix (IMU or odometry heading) or
-// from ~datum. Reports a missing, stale or no-fix receiver on diagnostics. Thin shell around NavsatTransform.
+// robot_localization's navsat_transform parameters; the datum from the first fix good enough for it
+// (~datum_max_sigma_m; IMU or odometry heading) or from ~datum; each fix moved from the antenna (its frame_id, from
+// tf) to base_link with the robot's orientation. Reports a missing, stale or no-fix receiver and the wait for the
+// datum on diagnostics. Thin shell around NavsatTransform.
+#include <limits>
+#include <map>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -13,6 +18,7 @@
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/NavSatFix.h>
 #include <tf2_ros/static_transform_broadcaster.h>
+#include <tf2_ros/transform_listener.h>
 #include <thorvald_common/ros/param_reader.h>
 #include <thorvald_common/ros/run_node.h>
 
@@ -31,6 +37,7 @@ struct NavsatSettings {
   bool publish_filtered_gps = false;
   std::vector<double> datum;  // [lat deg, lon deg, yaw rad] or empty
   double gps_timeout = 2.0;
+  double datum_max_sigma_m = kDatumMaxSigmaM;  // a fix for the datum: horizontal 1-sigma at most this
   std::string world_frame = "odom", base_link_frame = "base_link";
 };
 
@@ -54,6 +61,7 @@ NavsatSettings readSettings(ros::NodeHandle& pnh) {
     throw thorvald_common::ParamError(
         "navsat_transform: ~wait_for_datum is true but ~datum is not set (the set_datum service is not implemented)");
   s.gps_timeout = r.number("gps_timeout", s.gps_timeout, R::above(0.0), "s");
+  s.datum_max_sigma_m = r.number("datum_max_sigma_m", s.datum_max_sigma_m, R::above(0.0), "m");
   s.world_frame = r.text("world_frame", s.world_frame);
   s.base_link_frame = r.text("base_link_frame", s.base_link_frame);
   r.number("frequency", 10.0, R::above(0.0), "Hz");  // fixes are transformed as they arrive
@@ -73,7 +81,7 @@ NavsatSettings readSettings(ros::NodeHandle& pnh) {
 class NavsatTransformNode {
  public:
   NavsatTransformNode(ros::NodeHandle& nh, ros::NodeHandle& pnh)
-      : s_(readSettings(pnh)), transform_(s_.options), updater_(nh, pnh) {
+      : s_(readSettings(pnh)), transform_(s_.options), updater_(nh, pnh), tf_listener_(tf_buffer_) {
     monitor_.setStart(ros::Time::now().toSec());
     monitor_.addInput(kGps, s_.gps_timeout, true);
     if (!s_.datum.empty()) {
@@ -92,11 +100,52 @@ class NavsatTransformNode {
   }
 
  private:
-  void onImu(const sensor_msgs::ImuConstPtr& m) { imu_yaw_ = rollPitchYaw(toImuSample(*m).orientation).z(); }
+  void onImu(const sensor_msgs::ImuConstPtr& m) {
+    const Eigen::Quaterniond q = toImuSample(*m).orientation;
+    imu_yaw_ = rollPitchYaw(q).z();
+    // base_link's roll and pitch (gravity's, the same in any world frame): the IMU's orientation less its mount.
+    const std::optional<Eigen::Quaterniond> mount = mountOf(m->header.frame_id);
+    if (mount) imu_tilt_ = rollPitchYaw(q * mount->conjugate()).head<2>();
+  }
+
+  /// The pose of a sensor frame in base_link from tf, looked up until found (the mounts are static).
+  std::optional<Eigen::Isometry3d> sensorInBase(const std::string& frame) {
+    if (frame.empty() || frame == s_.base_link_frame) return Eigen::Isometry3d::Identity();
+    const auto known = mounts_.find(frame);
+    if (known != mounts_.end()) return known->second;
+    try {
+      const auto t = tf_buffer_.lookupTransform(s_.base_link_frame, frame, ros::Time(0));
+      const auto& q = t.transform.rotation;
+      const auto& p = t.transform.translation;
+      Eigen::Isometry3d m = Eigen::Isometry3d::Identity();
+      m.linear() = Eigen::Quaterniond(q.w, q.x, q.y, q.z).normalized().toRotationMatrix();
+      m.translation() = Eigen::Vector3d(p.x, p.y, p.z);
+      mounts_[frame] = m;
+      return m;
+    } catch (const tf2::TransformException& e) {
+      no_mount_ = "no transform from '" + frame + "' to '" + s_.base_link_frame + "': " + e.what();
+      return std::nullopt;
+    }
+  }
+  std::optional<Eigen::Quaterniond> mountOf(const std::string& frame) {
+    const std::optional<Eigen::Isometry3d> m = sensorInBase(frame);
+    if (!m) return std::nullopt;
+    return Eigen::Quaterniond(m->linear());
+  }
+
+  /// base_link's orientation in the world frame now: the world yaw from odometry/filtered (0 before it, as the
+  /// datum takes it), roll and pitch from the IMU (odometry/filtered's when no IMU has come: 0 in two_d_mode).
+  Eigen::Quaterniond baseInWorld() const {
+    const double yaw = robot_ ? robot_->yaw : 0.0;
+    const Eigen::Vector2d tilt = imu_tilt_ ? *imu_tilt_ : robot_tilt_;
+    return fromRollPitchYaw(tilt.x(), tilt.y(), yaw);
+  }
 
   void onOdom(const nav_msgs::OdometryConstPtr& m) {
     const PoseSample p = toPoseSample(m->pose);
-    robot_ = WorldPose{p.position.x(), p.position.y(), p.position.z(), rollPitchYaw(p.orientation).z()};
+    const Eigen::Vector3d rpy = rollPitchYaw(p.orientation);
+    robot_ = WorldPose{p.position.x(), p.position.y(), p.position.z(), rpy.z()};
+    robot_tilt_ = rpy.head<2>();
     if (!m->header.frame_id.empty()) s_.world_frame = m->header.frame_id;
     if (!m->child_frame_id.empty()) s_.base_link_frame = m->child_frame_id;
     if (s_.publish_filtered_gps && transform_.ready()) {
@@ -124,8 +173,21 @@ class NavsatTransformNode {
     fix.lon_deg = m->longitude;
     fix.alt_m = std::isfinite(m->altitude) ? m->altitude : 0.0;
     for (int i = 0; i < 9; ++i) fix.covariance_enu(i / 3, i % 3) = m->position_covariance[static_cast<std::size_t>(i)];
-    if (!transform_.ready() && !datumFromFix(fix)) return;
-    const std::optional<WorldFix> w = transform_.toWorld(fix);
+    // The fix is the antenna's (its frame_id): without the mount it cannot be moved to base_link.
+    const std::optional<Eigen::Isometry3d> antenna = sensorInBase(m->header.frame_id);
+    if (!antenna) {
+      monitor_.refused(kGps, no_mount_);
+      ROS_WARN_STREAM_THROTTLE(5.0, "navsat_transform: fix refused: " << no_mount_);
+      return;
+    }
+    const Eigen::Vector3d offset = antennaOffsetInWorld(antenna->translation(), baseInWorld());
+    if (!transform_.ready()) {
+      GeoFix for_datum = fix;
+      if (m->position_covariance_type == sensor_msgs::NavSatFix::COVARIANCE_TYPE_UNKNOWN)
+        for_datum.covariance_enu.setConstant(std::numeric_limits<double>::quiet_NaN());
+      if (!datumFromFix(for_datum, offset)) return;
+    }
+    const std::optional<WorldFix> w = transform_.toWorld(fix, offset);
     if (!w) {
       monitor_.refused(kGps, "fix outside UTM's latitudes");
       return;
@@ -145,20 +207,30 @@ class NavsatTransformNode {
     gps_pub_.publish(out);
   }
 
-  bool datumFromFix(const GeoFix& fix) {
+  bool datumFromFix(const GeoFix& fix, const Eigen::Vector3d& antenna_offset) {
+    const std::string refusal = datumFixRefusal(fix, s_.datum_max_sigma_m);
+    if (!refusal.empty()) {
+      waiting_ = "waiting for a fix good enough for the datum: " + refusal;
+      ROS_INFO_STREAM_THROTTLE(5.0, "navsat_transform: " << waiting_);
+      return false;
+    }
     std::optional<double> yaw = s_.use_odometry_yaw && robot_ ? std::optional<double>(robot_->yaw) : imu_yaw_;
     if (!yaw) {
       waiting_ = s_.use_odometry_yaw ? "waiting for odometry/filtered for the heading at the datum"
                                      : "waiting for imu/data for the heading at the datum";
       return false;
     }
-    const std::string e = transform_.setFromFix(fix, *yaw, robot_.value_or(WorldPose{}));
+    const std::string e = transform_.setFromFix(fix, *yaw, robot_.value_or(WorldPose{}), antenna_offset);
     if (!e.empty()) {
       waiting_ = e;
       return false;
     }
     waiting_.clear();
-    announceDatum("the first fix");
+    std::ostringstream from;
+    from.precision(3);
+    from << "the first fix with a horizontal sigma within " << s_.datum_max_sigma_m << " m (" << horizontalSigma(fix)
+         << " m), the antenna " << antenna_offset.transpose() << " m from base_link";
+    announceDatum(from.str());
     return true;
   }
 
@@ -195,6 +267,7 @@ class NavsatTransformNode {
     }
     st.summary(static_cast<unsigned char>(h.level), h.summary());
     st.add("datum set", transform_.ready());
+    st.add("datum_max_sigma_m", s_.datum_max_sigma_m);
     if (transform_.ready()) st.add("UTM zone", std::to_string(transform_.datumUtm().zone) + transform_.datumUtm().band);
   }
 
@@ -203,10 +276,16 @@ class NavsatTransformNode {
   FusionMonitor monitor_;
   diagnostic_updater::Updater updater_;
   tf2_ros::StaticTransformBroadcaster static_tf_;
+  tf2_ros::Buffer tf_buffer_;
+  tf2_ros::TransformListener tf_listener_;
+  std::map<std::string, Eigen::Isometry3d> mounts_;  // sensor frames in base_link
+  std::string no_mount_;
   ros::Publisher gps_pub_, filtered_pub_;
   ros::Subscriber fix_sub_, imu_sub_, odom_sub_;
   ros::Timer timer_;
   std::optional<double> imu_yaw_;
+  std::optional<Eigen::Vector2d> imu_tilt_;  // base_link's roll, pitch from the IMU
+  Eigen::Vector2d robot_tilt_ = Eigen::Vector2d::Zero();
   std::optional<WorldPose> robot_;
   std::string waiting_;
 };
