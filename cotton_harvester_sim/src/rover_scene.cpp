@@ -50,12 +50,13 @@ class SceneWriter {
 
  private:
   void options(const std::string& worldbody) {
+    const int slices = p_.realism == thorvald_sim::Realism::kDatasheet ? thorvald_sim::kDatasheetRowRenderSlices : 32;
     x_ << "<mujoco model=\"cotton_rover_row\">\n"
        << "<compiler angle=\"radian\" autolimits=\"true\"/>\n"
        << "<option timestep=\"" << p_.timestep_s << "\" integrator=\"Euler\"/>\n"
        << "<visual><global offwidth=\"" << std::max(1280, p_.camera_width) << "\" offheight=\""
-       << std::max(720, p_.camera_height)
-       << "\"/><quality offsamples=\"0\" numslices=\"32\" numstacks=\"16\"/></visual>\n"
+       << std::max(720, p_.camera_height) << "\"/><quality offsamples=\"0\" numslices=\"" << slices << "\" numstacks=\""
+       << slices / 2 << "\"/></visual>\n"
        << "<default><geom contype=\"1\" conaffinity=\"3\" friction=\"1 0.005 0.0001\"/></default>\n"
        << "<worldbody>\n"
        << worldbody;

@@ -53,7 +53,9 @@ void cottonDatasheet(const CottonRowParams& ideal_row, const Zed& zed, double se
                      std::mt19937& rng, CottonCameraFigures* f) {
   CottonRowParams row = ideal_row;
   row.datasheet = true;
-  Run run = build(makeCottonRowWorld(row, nullptr), 1, roverSized(), 0.3, row.row_y_m, SceneOptions());
+  SceneOptions options;
+  options.render_slices = kDatasheetRowRenderSlices;  // as the rover's datasheet scene
+  Run run = build(makeCottonRowWorld(row, nullptr), 1, roverSized(), 0.3, row.row_y_m, options);
   const mjModel* model = run.sim->model();
   CameraRenderer renderer(model);
   std::vector<float> texture(model->ngeom, 0.0f);
@@ -76,6 +78,9 @@ void cottonDatasheet(const CottonRowParams& ideal_row, const Zed& zed, double se
       const SensorPose cam = zedPose(run);
       timed(&render_s,
             [&] { renderer.render(run.sim->data(), cam, cameraView(zed.depth, true), own, &view, image_threads); });
+      const CameraRenderer::StageTimes& st = renderer.lastStageTimes();
+      f->ds_render_stages.scene_s += st.scene_s, f->ds_render_stages.draw_s += st.draw_s;
+      f->ds_render_stages.readback_s += st.readback_s, f->ds_render_stages.convert_s += st.convert_s;
       timed(&colour_s, [&] { colorFromView(view, model, zed.color, &rgb); });
       const ShadowMap* shadow = nullptr;
       timed(&shadow_s, [&] {
@@ -145,9 +150,13 @@ CottonCameraFigures cottonCamera(double seconds, int frames, int image_threads, 
               f.datasheet.wall);
   std::printf(
       "  (%ld frames of %dx%d at %.0f Hz, CPU ms each: render %.2f, colour %.2f, shadow map %.2f (%ld rendered),\n"
-      "   daylight shading %.2f, passive stereo %.2f)\n",
+      "   daylight shading %.2f, passive stereo %.2f;\n",
       f.datasheet_frames, CottonCameraFigures::kWidth, CottonCameraFigures::kHeight, CottonCameraFigures::kRateHz,
       f.ds_render_ms, f.ds_colour_ms, f.ds_shadow_ms, f.shadow_renders, f.ds_shade_ms, f.ds_stereo_ms);
+  const double dn = std::max(1L, f.datasheet_frames) / 1e3;
+  std::printf("   its render: scene %.2f, draw %.2f, read-back %.2f, conversion %.2f CPU ms)\n",
+              f.ds_render_stages.scene_s / dn, f.ds_render_stages.draw_s / dn, f.ds_render_stages.readback_s / dn,
+              f.ds_render_stages.convert_s / dn);
 
   // One ideal frame alone: render, depth image (range, dropout, grazing angle, noise) and colour image, the robot
   // standing where it stopped.
