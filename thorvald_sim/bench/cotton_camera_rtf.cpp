@@ -107,6 +107,8 @@ void cottonDatasheet(const CottonRowParams& ideal_row, const Zed& zed, double se
   f->ds_render_ms = render_s / n, f->ds_colour_ms = colour_s / n, f->ds_shadow_ms = shadow_s / n;
   f->ds_shade_ms = shade_s / n, f->ds_stereo_ms = stereo_s / n;
   f->shadow_renders = shadows.renders();
+  const double camera_s = render_s + colour_s + shadow_s + shade_s + stereo_s;
+  if (f->datasheet.cpu > 0.0) f->ds_rest_ms_per_s = 1e3 * (seconds / f->datasheet.cpu - camera_s) / seconds;
 }
 
 }  // namespace
@@ -154,9 +156,10 @@ CottonCameraFigures cottonCamera(double seconds, int frames, int image_threads, 
       f.datasheet_frames, CottonCameraFigures::kWidth, CottonCameraFigures::kHeight, CottonCameraFigures::kRateHz,
       f.ds_render_ms, f.ds_colour_ms, f.ds_shadow_ms, f.shadow_renders, f.ds_shade_ms, f.ds_stereo_ms);
   const double dn = std::max(1L, f.datasheet_frames) / 1e3;
-  std::printf("   its render: scene %.2f, draw %.2f, read-back %.2f, conversion %.2f CPU ms)\n",
+  std::printf("   its render: scene %.2f, draw %.2f, read-back %.2f, conversion %.2f CPU ms;\n",
               f.ds_render_stages.scene_s / dn, f.ds_render_stages.draw_s / dn, f.ds_render_stages.readback_s / dn,
               f.ds_render_stages.convert_s / dn);
+  std::printf("   besides the camera (physics, IMU): %.0f CPU ms per simulated second)\n", f.ds_rest_ms_per_s);
 
   // One ideal frame alone: render, depth image (range, dropout, grazing angle, noise) and colour image, the robot
   // standing where it stopped.

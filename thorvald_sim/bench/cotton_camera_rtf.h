@@ -20,7 +20,8 @@ struct CottonCameraFigures {
   double boll_pixels = 0;  ///< white pixels per ideal frame
   /// Datasheet frames, CPU ms each: render, flat colour, sun's shadow map, daylight shading, passive stereo.
   double ds_render_ms = 0, ds_colour_ms = 0, ds_shadow_ms = 0, ds_shade_ms = 0, ds_stereo_ms = 0;
-  long shadow_renders = 0;                                    ///< shadow maps rendered (the rest reused)
+  long shadow_renders = 0;      ///< shadow maps rendered (the rest reused)
+  double ds_rest_ms_per_s = 0;  ///< the datasheet run's CPU besides the camera (physics, IMU) per simulated second [ms]
   thorvald_sim::CameraRenderer::StageTimes ds_render_stages;  ///< the datasheet camera's render, summed [s]
   /// One ideal frame alone: CPU and wall ms; render, depth image, colour image; the render's parts.
   double frame_ms = 0, frame_wall_ms = 0, stage_ms[3] = {0, 0, 0};
