@@ -8,6 +8,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "../src/nodes/ekf_settings.h"
+#include "thorvald_navigation/fusion_ekf.h"
 
 namespace tn = thorvald_navigation;
 
@@ -109,6 +110,23 @@ TEST(EkfSettings, TypicalRobotLocalizationFileLoadsUnchanged) {
                           "dynamic_process_noise_covariance", "odom0_nodelay"})
     EXPECT_NE(w.find(key), std::string::npos) << key << " not in: " << w;
   EXPECT_EQ(w.find("odom0_config"), std::string::npos) << w;
+}
+
+TEST(EkfSettings, CottonRoverFileHasTheInProcessFusionsProcessNoise) {
+  // config/cotton_rover_ekf.yaml: robot_localization's default process noise except x and y, 0.002 m^2/s as the
+  // in-process RoverFusion (cotton_harvester_sim) runs it; at the default 0.05 the filter's sigma saws to 0.1 m
+  // between 5 Hz fixes.
+  thorvald_common::ParamReader r(std::make_unique<MapSource>(loadYaml(std::string(THORVALD_NAVIGATION_SOURCE_DIR) +
+                                                                      "/config/cotton_rover_ekf.yaml")),
+                                 "ekf_localization");
+  const tn::EkfSettings s = tn::readEkfSettings(r);
+  EXPECT_TRUE(r.unread().empty()) << r.unread().front();
+  const tn::Cov15 d = tn::FusionEkf::defaultProcessNoise();
+  for (int i = 0; i < tn::kFusionStates; ++i)
+    for (int j = 0; j < tn::kFusionStates; ++j) {
+      const double expected = i != j ? 0.0 : (i == tn::kFx || i == tn::kFy) ? 0.002 : d(i, i);
+      EXPECT_DOUBLE_EQ(s.process_noise(i, j), expected) << tn::kFusionStateNames[i] << ", " << tn::kFusionStateNames[j];
+    }
 }
 
 TEST(EkfSettings, UnknownKeyIsReportedUnread) {
