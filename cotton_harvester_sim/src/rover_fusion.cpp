@@ -136,17 +136,17 @@ void RoverFusion::onGnss(const GnssReading& g) {
   if (t > ekf_.time()) ekf_.predict(t);
   const tn::State15& x = ekf_.state();
   const double yaw = x(tn::kFyaw);
-  const Eigen::Rotation2Dd heading(yaw);
-  const Eigen::Vector2d lever = heading * antennas_[r].head<2>();
+  // The antenna's offset from base_link with the filter's heading (the filter is planar: no roll or pitch).
+  const Eigen::Vector3d lever =
+      tn::antennaOffsetInWorld(antennas_[r], Eigen::Quaterniond(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ())));
   if (!navsat_[r].ready()) {
-    // Datum at the first fixed epoch (robot_localization waits for a fix it trusts the same way).
-    if (g.solution.state != thorvald_sim::GnssFixState::kFixed || !imu0_yaw_) return;
-    tn::WorldPose antenna{x(tn::kFx) + lever.x(), x(tn::kFy) + lever.y(), 0.0, yaw};
-    if (!navsat_[r].setFromFix(fix, *imu0_yaw_, antenna).empty()) return;
+    // Datum at the first fix good enough for it (navsat_transform's rule: an RTK fixed epoch).
+    if (!tn::datumFixRefusal(fix, p_.datum_max_sigma_m).empty() || !imu0_yaw_) return;
+    if (!navsat_[r].setFromFix(fix, *imu0_yaw_, tn::WorldPose{x(tn::kFx), x(tn::kFy), 0.0, yaw}, lever).empty()) return;
   }
-  const std::optional<tn::WorldFix> w = navsat_[r].toWorld(fix);
+  const std::optional<tn::WorldFix> w = navsat_[r].toWorld(fix, lever);
   if (!w) return;
-  const Eigen::Vector2d base = w->position.head<2>() - lever;
+  const Eigen::Vector2d base = w->position.head<2>();
   monitor_.received(kGnss[r], t);
   const tn::UpdateResult u = ekf_.update(
       {{tn::kFx, base.x(), w->covariance(0, 0)}, {tn::kFy, base.y(), w->covariance(1, 1)}}, p_.gnss_gate_sigma);

@@ -6,8 +6,11 @@ drives it `distance_m` along the row (rover/position_target). Checks: gps/fix RT
 fixed solution's covariance) from its first fixed epoch on; navsat_transform's
 odometry/gps and ekf_localization's odometry/filtered against the simulator's truth (sim/truth/base_link, read only
 here), each aligned once at the standing start (the filter's odom frame starts where the rover stood; its axes are the
-world's, the IMU's yaw being absolute); localization_ok and the filter's position sigma (the fixes fused); both IMUs at
-~imu_rate_hz in simulated time."""
+world's, the IMU's yaw being absolute); the ABSOLUTE position of odometry/filtered, not aligned: navsat_transform's
+gps/filtered (odometry/filtered's base_link through the datum to latitude and longitude) against the truth's latitude
+and longitude (the simulator's world frame is east-north-up at ~sim_datum), which holds only with the datum from a
+good fix and the antenna's lever arm removed; localization_ok and the filter's position sigma once RTK fixed (the
+fixes fused, process noise as in-process); both IMUs at ~imu_rate_hz in simulated time."""
 import math
 import unittest
 
@@ -18,6 +21,9 @@ from sensor_msgs.msg import Imu, NavSatFix, NavSatStatus
 from std_msgs.msg import Bool, Float64
 
 from thorvald_testing import Latest, Recorder, wait_for
+
+WGS84_A = 6378137.0
+WGS84_E2 = 6.69437999014e-3
 
 FIXED_SIGMA_M = 0.05  # above an RTK fixed solution's 1-sigma (1 cm), well below a float one's (0.3 m)
 
@@ -31,6 +37,24 @@ def rtk_fixed(fix):
     tells them apart: fixed about 1 cm 1-sigma, float 0.3 m."""
     return (fix.status.status == NavSatStatus.STATUS_GBAS_FIX and
             max(fix.position_covariance[0], fix.position_covariance[4]) <= FIXED_SIGMA_M ** 2)
+
+
+def ecef(lat_deg, lon_deg, alt_m):
+    lat, lon = math.radians(lat_deg), math.radians(lon_deg)
+    n = WGS84_A / math.sqrt(1.0 - WGS84_E2 * math.sin(lat) ** 2)
+    return ((n + alt_m) * math.cos(lat) * math.cos(lon), (n + alt_m) * math.cos(lat) * math.sin(lon),
+            (n * (1.0 - WGS84_E2) + alt_m) * math.sin(lat))
+
+
+def east_north(datum, lat_deg, lon_deg):
+    """East and north [m] of (lat, lon) in the tangent plane at datum (lat, lon, alt): the simulator's world frame."""
+    x0, y0, z0 = ecef(*datum)
+    x, y, z = ecef(lat_deg, lon_deg, datum[2])
+    dx, dy, dz = x - x0, y - y0, z - z0
+    lat, lon = math.radians(datum[0]), math.radians(datum[1])
+    east = -math.sin(lon) * dx + math.cos(lon) * dy
+    north = -math.sin(lat) * math.cos(lon) * dx - math.sin(lat) * math.sin(lon) * dy + math.cos(lat) * dz
+    return east, north
 
 
 def interpolate(track, t):
@@ -73,9 +97,13 @@ class RoverLocalization(unittest.TestCase):
         imu_rate = rospy.get_param("~imu_rate_hz")
         distance = rospy.get_param("~distance_m")
         max_error = rospy.get_param("~max_error_m")
+        max_abs_error = rospy.get_param("~max_absolute_error_m")
+        max_sigma = rospy.get_param("~max_sigma_m")
+        datum = rospy.get_param("~sim_datum")  # the simulator's world frame: [lat deg, lon deg, alt m] of its origin
         fixes = Recorder("gps/fix", NavSatFix, queue_size=200)
         gps_odom = Recorder("odometry/gps", Odometry, queue_size=200)
         filtered = Recorder("odometry/filtered", Odometry, queue_size=500)
+        geo_filtered = Recorder("gps/filtered", NavSatFix, queue_size=500)
         truth_msgs = Recorder("sim/truth/base_link", Odometry, queue_size=2000)
         imus = [Recorder("imu_front/data", Imu, queue_size=5000), Recorder("imu_rear/data", Imu, queue_size=5000)]
         ok = Latest("localization_ok", Bool)
@@ -122,14 +150,32 @@ class RoverLocalization(unittest.TestCase):
         self.assertLess(gps_max, max_error, "navsat_transform's odometry/gps against the truth")
         self.assertLess(ekf_max, max_error, "ekf_localization's odometry/filtered against the truth")
         self.assertTrue(ok.msg is not None and ok.msg.data, "localization_ok")
-        # The filter's own 1-sigma of x and y in the last second: its x, y variance grows with the process noise
-        # (0.05 m^2/s, robot_localization's default) between fixes and falls to the fix's at each fused one; from wheel
-        # odometry and IMUs alone it would be above 0.7 m after the drive.
-        recent = [m for m in filtered.since(0) if stamp(m) >= stamp(filtered.last()) - 1.0]
-        sigmas = [math.sqrt(max(m.pose.covariance[0], m.pose.covariance[7])) for m in recent]
-        rospy.loginfo("rover_localization: odometry/filtered's x, y 1-sigma in the last second %.4f-%.4f m",
-                      min(sigmas), max(sigmas))
-        self.assertLess(min(sigmas), max_error, "the filter's position sigma: the fixes are fused")
+
+        # Absolute: odometry/filtered through navsat_transform's datum (gps/filtered) against the truth, both in the
+        # simulator's east-north-up frame, from the alignment time (RTK fixed five epochs) to the end; no offset taken.
+        abs_err = []
+        for m in geo_filtered.since(0):
+            at = interpolate(truth, stamp(m))
+            if stamp(m) <= align_t or at is None:
+                continue
+            e, n = east_north(datum, m.latitude, m.longitude)
+            abs_err.append(math.hypot(e - at[0], n - at[1]))
+        self.assertGreater(len(abs_err), 30, "gps/filtered (odometry/filtered's latitude and longitude)")
+        abs_max = max(abs_err)
+        rospy.loginfo("rover_localization: odometry/filtered ABSOLUTE (gps/filtered against the truth, no alignment) "
+                      "%d messages, max error %.3f m, mean %.3f m, at the end %.3f m", len(abs_err), abs_max,
+                      sum(abs_err) / len(abs_err), abs_err[-1])
+        self.assertLess(abs_max, max_abs_error, "odometry/filtered's absolute position against the truth")
+
+        # The filter's own 1-sigma of x and y once RTK fixed (from the alignment to the end): its x, y variance grows
+        # with the process noise between fixes and falls to the fix's at each fused one; at robot_localization's
+        # default process noise (0.05 m^2/s) it saws up to 0.1 m between 5 Hz fixes, from wheel odometry and IMUs
+        # alone it would be above 0.7 m after the drive.
+        fixed = [m for m in filtered.since(0) if stamp(m) > align_t]
+        sigmas = [math.sqrt(max(m.pose.covariance[0], m.pose.covariance[7])) for m in fixed]
+        rospy.loginfo("rover_localization: odometry/filtered's x, y 1-sigma once RTK fixed %.4f-%.4f m (%d messages)",
+                      min(sigmas), max(sigmas), len(sigmas))
+        self.assertLess(max(sigmas), max_sigma, "the filter's position sigma once RTK fixed")
 
         # Both IMUs at the configured rate in simulated time, no sample missing (the physics' 2 ms step quantises
         # each stamp; the mean period is the configured one).

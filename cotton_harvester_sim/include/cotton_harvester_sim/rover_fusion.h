@@ -4,7 +4,8 @@
 // config/cotton_rover_ekf.yaml's inputs): wheel odometry from the two front encoders and the potentiometer
 // (control::ArticulatedOdometry, centre-articulated kinematics) fused as forward speed, vy = 0 and yaw rate; the
 // IMUs' yaw (imu0) and yaw rates; each GNSS receiver's fix through thorvald_navigation's NavsatTransform (datum at
-// the first fixed epoch with imu0's heading), its lever arm removed with the filter's heading, x and y fused
+// the first fix within datum_max_sigma_m, an RTK fixed one, with imu0's heading), its lever arm removed with the
+// filter's heading, x and y fused
 // behind a 5-sigma Mahalanobis gate. One filter per sensor set of the paper's Table 1, so the bench can run all
 // five on the same drive. ROS-free.
 
@@ -48,6 +49,10 @@ struct RoverFusionParams {
   /// Fixes below this state are not fused (an RTK rover's single fix is metres off: it would jerk the estimate
   /// when the fix returns after an outage); they count as no fix for the timeout.
   thorvald_sim::GnssFixState min_fix_state = thorvald_sim::GnssFixState::kFloat;
+  /// The datum is taken from the first fix whose horizontal sigma (as fused: a float or single one's scaled, below)
+  /// is within this (thorvald_navigation's rule and default, as navsat_transform's ~datum_max_sigma_m): an RTK fixed
+  /// epoch's 0.01 m passes, a float one's does not.
+  double datum_max_sigma_m = thorvald_navigation::kDatumMaxSigmaM;
   /// x and y process noise [m^2/s] (process_noise_covariance's first two): the position is integrated from the
   /// fused speed and heading, which carry their own noise; robot_localization's default 0.05 made the filter believe
   /// itself 1.2 m off after a 30 s outage that drifted 0.06 m, so the first fix after it was taken whole.
