@@ -67,8 +67,11 @@ class DatasheetRowWriter {
     x_ << extra << "/>\n";
   }
 
-  /// Soil clods and weeds along the row, on the ground (visual only).
+  /// Soil clods and weeds along the row, on the ground (visual only). They sit on a static body of their own, not on
+  /// the world body: MuJoCo pairs every geom of two bodies whose boxes overlap before it looks at contype, and the
+  /// world body's box (its ground plane) overlaps every boll and leaf, while this body's box stays low.
   void soil(double x0, double x1) {
+    x_ << "<body name=\"clods_and_weeds\">\n";
     for (int k = 0; k < r_.clods; ++k) {
       const Eigen::Vector3d c = ground(x0 + (x1 - x0) * u(), (2.0 * u() - 1.0) * 0.7);
       const double s = 0.015 + 0.035 * u(), shade = 0.6 + 0.5 * u();
@@ -88,6 +91,7 @@ class DatasheetRowWriter {
              rgba(0.25, 0.55, 0.15, 0.7 + 0.4 * u()), 0, 0);
       }
     }
+    x_ << "</body>\n";
   }
 
   /// A springy leaf: a body at its stalk on two hinges (up-down and sideways) with stiffness and damping, the blade
@@ -145,8 +149,9 @@ class DatasheetRowWriter {
     x_ << "</body>\n";
   }
 
-  /// A static dry leaf or an empty burr (brown, visual only).
+  /// Static dry leaves and empty burrs (brown, visual only), on a static body of the plant's own (as soil()).
   void dryParts(const std::string& n, const Eigen::Vector3d& base, double height) {
+    x_ << "<body name=\"" << n << "_dry_parts\">\n";
     for (int k = 0; k < r_.dry_leaves_per_plant; ++k) {
       const double a = 2 * M_PI * u(), h = (0.3 + 0.5 * u()) * height;
       geom(n + "_dry" + std::to_string(k),
@@ -167,6 +172,7 @@ class DatasheetRowWriter {
              rgba(0.33, 0.22, 0.12, 0.7 + 0.4 * u()), 0, 0);
       }
     }
+    x_ << "</body>\n";
   }
 
   void plant(int i, CottonRowTruth* t);
