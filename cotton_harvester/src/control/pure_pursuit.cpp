@@ -21,6 +21,11 @@ std::string PurePursuitParams::check() const {
     return "articulation_limit_deg: expected in (0, 90)";
   if (!(goal_tolerance_m > 0.0)) return "goal_tolerance_m: expected > 0";
   if (!(search_window_m > 0.0)) return "search_window_m: expected > 0";
+  if (!(heading_correction_gain >= 0.0) || !std::isfinite(heading_correction_gain))
+    return "heading_correction_gain: expected >= 0";
+  if (!(heading_correction_limit_deg >= 0.0 && heading_correction_limit_deg < 90.0))
+    return "heading_correction_limit_deg: expected in [0, 90)";
+  if (!(straight_path_deg > 0.0 && straight_path_deg < 90.0)) return "straight_path_deg: expected in (0, 90)";
   return "";
 }
 
@@ -45,6 +50,11 @@ void PurePursuit::setPath(const WaypointPath& path) {
   s_m_ = 0.0;
 }
 
+void PurePursuit::resetHeadingCorrection() {
+  heading_correction_rad_ = 0.0;
+  has_last_ = false;
+}
+
 double PurePursuit::lookahead(double speed_mps) const {
   const double l = params_.lookahead_m + params_.lookahead_per_mps * std::abs(speed_mps);
   return std::clamp(l, params_.min_lookahead_m, params_.max_lookahead_m);
@@ -62,12 +72,25 @@ PursuitStep PurePursuit::update(const Pose2& front_axle, double speed_mps) {
   step.lookahead_m = lookahead(std::isfinite(speed_mps) ? speed_mps : 0.0);
   step.s_m = s_m_;
   step.cross_track_m = proj.cross_track_m;
-  step.heading_error_rad = wrapAngle(path_.headingAt(s_m_) - front_axle.yaw);
+  // The heading correction integrates the cross-track over the distance driven along straight stretches only (a
+  // curve's cross-track is the tracking's lag, not the heading's error).
+  const double driven = has_last_ ? (p - last_).norm() : 0.0;
+  last_ = p;
+  has_last_ = true;
+  const double bend = std::abs(wrapAngle(path_.headingAt(s_m_ + step.lookahead_m) - path_.headingAt(s_m_)));
+  if (params_.heading_correction_gain > 0.0 && bend <= params_.straight_path_deg * kDegToRad && driven < 0.5) {
+    const double limit = params_.heading_correction_limit_deg * kDegToRad;
+    heading_correction_rad_ = std::clamp(
+        heading_correction_rad_ + params_.heading_correction_gain * proj.cross_track_m * driven, -limit, limit);
+  }
+  step.heading_correction_rad = heading_correction_rad_;
+  const double yaw = front_axle.yaw + heading_correction_rad_;
+  step.heading_error_rad = wrapAngle(path_.headingAt(s_m_) - yaw);
   step.remaining_m = std::max(0.0, path_.lengthM() - s_m_);
   step.finished = step.remaining_m <= params_.goal_tolerance_m;
   // The goal: one lookahead along the path from the projection, in the rover's frame.
   const Eigen::Vector2d goal = path_.pointAt(s_m_ + step.lookahead_m) - p;
-  const double c = std::cos(front_axle.yaw), s = std::sin(front_axle.yaw);
+  const double c = std::cos(yaw), s = std::sin(yaw);
   const double gx = c * goal.x() + s * goal.y(), gy = -s * goal.x() + c * goal.y();
   const double d2 = gx * gx + gy * gy;
   step.curvature_1pm = d2 > 1e-9 ? 2.0 * gy / d2 : 0.0;

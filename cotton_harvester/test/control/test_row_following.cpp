@@ -27,11 +27,14 @@ class RoverLoop {
     x0_ = start;
     deadband_.setVelocity(speed_mps);
   }
+  /// The pose pure pursuit is given reports this much less heading than the rover has [rad] (position true).
+  void setHeadingBias(double bias_rad) { heading_bias_rad_ = bias_rad; }
   /// Runs until the path is done or `max_s` simulated seconds; records the cross-track after `settle_m` of travel.
   void follow(cc::PurePursuit* pursuit, double max_s, double settle_m = 0.0) {
     const double dt = 0.02;
     for (double t = 0.0; t < max_s; t += dt) {
-      const cc::Pose2 pose = this->pose();
+      cc::Pose2 pose = this->pose();
+      pose.yaw -= heading_bias_rad_;
       const cc::PursuitStep step = pursuit->update(pose, drive_.speedMps());
       last_ = step;
       if (step.finished) return;
@@ -58,6 +61,7 @@ class RoverLoop {
 
  private:
   double speed_mps_;
+  double heading_bias_rad_ = 0.0;
   cc::Pose2 x0_;
   cc::HydrostaticDriveModel drive_;
   cc::DeadbandPositionController deadband_;
@@ -148,6 +152,48 @@ TEST(PurePursuit, OffsetStartReachesTheRowWithoutOvershoot) {
   again.setPath(straightRow(25.0));
   settled.follow(&again, 300.0, 12.0);
   EXPECT_LT(settled.maxAbs(), 0.03);
+}
+
+TEST(PurePursuit, HeadingCorrectionRemovesTheOffsetOfABiasedHeading) {
+  // The pose's heading 2.6 deg short of the rover's (a fused yaw that drifted in a turn), its position true: without
+  // the correction the rover holds lookahead * tan(2.6 deg) = 7.7 cm beside the row; with it, it converges.
+  const double bias = 2.6 * M_PI / 180.0;
+  cc::PurePursuit plain;
+  plain.setPath(straightRow(20.0));
+  RoverLoop biased({0.0, 0.0, 0.0}, kHarvestSpeed);
+  biased.setHeadingBias(bias);
+  biased.follow(&plain, 200.0, 10.0);
+  ASSERT_TRUE(biased.last().finished);
+  EXPECT_GT(biased.rms(), 0.06);
+  EXPECT_DOUBLE_EQ(biased.last().heading_correction_rad, 0.0);
+
+  cc::PurePursuitParams p;
+  p.heading_correction_gain = 0.2;
+  cc::PurePursuit corrected(p);
+  corrected.setPath(straightRow(20.0));
+  RoverLoop rover({0.0, 0.0, 0.0}, kHarvestSpeed);
+  rover.setHeadingBias(bias);
+  rover.follow(&corrected, 200.0, 10.0);
+  ASSERT_TRUE(rover.last().finished);
+  EXPECT_LT(rover.maxAbs(), 0.02);  // the second half of the row: within 2 cm
+  EXPECT_NEAR(rover.last().heading_correction_rad, bias, 0.5 * M_PI / 180.0);
+  // Kept on the next path, within its limit.
+  corrected.setPath(straightRow(20.0));
+  EXPECT_NEAR(corrected.update({0.0, 0.0, 0.0}, 0.0).heading_correction_rad, rover.last().heading_correction_rad, 1e-9);
+  p.heading_correction_gain = -0.1;
+  EXPECT_EQ(p.check(), "heading_correction_gain: expected >= 0");
+}
+
+TEST(PurePursuit, HeadingCorrectionIgnoresCurves) {
+  // On an arc the cross-track is the tracking's lag: the correction does not move.
+  cc::PurePursuitParams p;
+  p.heading_correction_gain = 0.2;
+  cc::PurePursuit pursuit(p);
+  std::vector<Eigen::Vector2d> arc;
+  for (int i = 0; i <= 60; ++i) arc.emplace_back(3.0 * std::sin(i * 0.05), 3.0 - 3.0 * std::cos(i * 0.05));
+  pursuit.setPath(cc::WaypointPath(arc));
+  for (int i = 0; i < 50; ++i)
+    EXPECT_DOUBLE_EQ(pursuit.update({0.02 * i, -0.1, 0.0}, 0.25).heading_correction_rad, 0.0);
 }
 
 TEST(PurePursuit, CurvedPathIsFollowed) {

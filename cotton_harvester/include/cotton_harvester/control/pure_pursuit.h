@@ -19,6 +19,14 @@ struct PurePursuitParams {
   double articulation_limit_deg = 45.0;  ///< the set-point never asks more (paper §2.3) [deg]
   double goal_tolerance_m = 0.05;        ///< the path is done when the projection is this close to its end [m]
   double search_window_m = 3.0;          ///< the projection looks this far ahead of the last one (never back) [m]
+  /// Heading correction: where the path is straight (its heading within straight_path_deg from the projection to
+  /// the goal), the heading the pose reports is corrected by the integral of the cross-track over the distance
+  /// driven times this gain [rad per m of cross-track per m driven; 0: off]. A pose whose heading is off by delta
+  /// (a fused yaw that drifted in a turn) otherwise holds the rover lookahead * tan(delta) beside a straight row;
+  /// the correction removes that steady offset and carries over to the next path (the heading's error persists).
+  double heading_correction_gain = 0.0;
+  double heading_correction_limit_deg = 5.0;  ///< |correction| never more [deg]
+  double straight_path_deg = 1.0;             ///< the path counts as straight within this [deg]
 
   /// Empty when sound, otherwise "key: expected ...".
   std::string check() const;
@@ -26,13 +34,14 @@ struct PurePursuitParams {
 
 /// One step of the follower.
 struct PursuitStep {
-  double articulation_deg = 0.0;   ///< set-point for the articulation controller, within the limit [deg]
-  double curvature_1pm = 0.0;      ///< curvature pure pursuit asks (before the limit) [1/m]
-  double cross_track_m = 0.0;      ///< front axle to the path, positive left of it [m]
-  double heading_error_rad = 0.0;  ///< path heading minus the rover's at the projection [rad]
-  double lookahead_m = 0.0;        ///< the lookahead used [m]
-  double s_m = 0.0;                ///< progress along the path [m]
-  double remaining_m = 0.0;        ///< path length still ahead [m]
+  double articulation_deg = 0.0;        ///< set-point for the articulation controller, within the limit [deg]
+  double curvature_1pm = 0.0;           ///< curvature pure pursuit asks (before the limit) [1/m]
+  double cross_track_m = 0.0;           ///< front axle to the path, positive left of it [m]
+  double heading_error_rad = 0.0;       ///< path heading minus the rover's at the projection [rad]
+  double lookahead_m = 0.0;             ///< the lookahead used [m]
+  double s_m = 0.0;                     ///< progress along the path [m]
+  double heading_correction_rad = 0.0;  ///< added to the pose's heading (heading_correction_gain) [rad]
+  double remaining_m = 0.0;             ///< path length still ahead [m]
   bool finished = false;
 };
 
@@ -52,8 +61,10 @@ class PurePursuit {
   /// Throws std::invalid_argument when params fail check().
   explicit PurePursuit(const PurePursuitParams& params = PurePursuitParams());
 
-  /// A new path; progress starts at its beginning.
+  /// A new path; progress starts at its beginning. The heading correction is kept.
   void setPath(const WaypointPath& path);
+  /// Forgets the heading correction (a new pose source).
+  void resetHeadingCorrection();
   /// Lookahead for a speed [m/s] within the limits [m].
   double lookahead(double speed_mps) const;
   /// One step at the front axle's pose and the rover's speed [m/s]. Without a path: straight, finished.
@@ -67,6 +78,9 @@ class PurePursuit {
   PurePursuitParams params_;
   WaypointPath path_;
   double s_m_ = 0.0;
+  double heading_correction_rad_ = 0.0;
+  bool has_last_ = false;
+  Eigen::Vector2d last_ = Eigen::Vector2d::Zero();  ///< the front axle at the previous update [m]
 };
 
 }  // namespace control
