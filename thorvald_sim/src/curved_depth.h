@@ -1,4 +1,5 @@
-// Exact depth of a pixel's ray on the curved geoms the camera draws tessellated (spheres, capsules, cylinders).
+// Exact depth of a pixel's ray on the curved geoms the camera draws tessellated (spheres, capsules, cylinders,
+// ellipsoids).
 #pragma once
 
 #include <mujoco/mujoco.h>
@@ -34,8 +35,8 @@ inline void sideHit(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double r
 }
 
 /// Where the ray o + t d (d: a pixel's ray (x, y, 1) turned into the geom frame, so t is the depth along the
-/// optical axis) first meets the exact surface of a sphere, capsule or cylinder; -1 for none. Other types: -2 (the
-/// caller asks MuJoCo).
+/// optical axis) first meets the exact surface of a sphere, capsule, cylinder or ellipsoid; -1 for none. Other types:
+/// -2 (the caller asks MuJoCo).
 inline double curvedDepth(int type, const double* size, const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
   double best = -1.0;
   switch (type) {
@@ -58,6 +59,11 @@ inline double curvedDepth(int type, const double* size, const Eigen::Vector3d& o
           const double px = o.x() + t * d.x(), py = o.y() + t * d.y();
           if (t >= 0.0 && px * px + py * py <= r * r && (best < 0.0 || t < best)) best = t;
         }
+      return best;
+    }
+    case mjGEOM_ELLIPSOID: {  // the unit sphere in coordinates scaled by the semi-axes (t is unchanged)
+      const Eigen::Vector3d inv(1.0 / size[0], 1.0 / size[1], 1.0 / size[2]);
+      sphereHit(o.cwiseProduct(inv), d.cwiseProduct(inv), 1.0, &best);
       return best;
     }
     default:
