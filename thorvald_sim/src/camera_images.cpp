@@ -265,6 +265,11 @@ void colorFromView(const RenderedView& view, const mjModel* model, const ColorCa
   for (int g = 0; g < model->ngeom; ++g)
     for (int c = 0; c < 3; ++c) palette[g][c] = static_cast<uint8_t>(std::lround(255.0 * model->geom_rgba[4 * g + c]));
   const double range2 = s.range_max_m * s.range_max_m;
+  std::vector<double> column(s.width);  // 1 + x^2 of each column's ray (x, y, 1)
+  for (int u = 0; u < s.width; ++u) {
+    const double x = (u - k.cx) / k.fx;
+    column[u] = 1.0 + x * x;
+  }
   for (int v = 0; v < s.height; ++v) {
     const double y = (v - k.cy) / k.fy;
     for (int u = 0; u < s.width; ++u) {
@@ -272,8 +277,8 @@ void colorFromView(const RenderedView& view, const mjModel* model, const ColorCa
       const int g = same ? view.geom[i] : -1;
       bool hit = g >= 0;
       if (hit) {  // the colour camera's range is along the ray, the z-buffer's along the axis
-        const double x = (u - k.cx) / k.fx, z = view.depth_m[i];
-        hit = z * z * (1.0 + x * x + y * y) <= range2;
+        const double z = view.depth_m[i];
+        hit = z * z * (column[u] + y * y) <= range2;
       }
       const uint8_t* from = hit ? palette[g].data() : s.background;
       uint8_t* px = &img->rgb[3 * i];

@@ -116,12 +116,29 @@ void textured(const std::vector<uint8_t>& rgb, int width, int height, const Pass
     for (int u = 0; u < std::min(half, width); ++u) sum += col_sum[u], sq += col_sq[u];
     const uint8_t* px = &rgb[3 * static_cast<size_t>(v) * width];
     char* ok = &w->ok[static_cast<size_t>(v) * width];
-    for (int u = 0; u < width; ++u, px += 3) {
-      if (u + half < width) sum += col_sum[u + half], sq += col_sq[u + half];
-      if (u - half - 1 >= 0) sum -= col_sum[u - half - 1], sq -= col_sq[u - half - 1];
-      if (std::max({px[0], px[1], px[2]}) >= m.saturation_level) continue;
+    auto test = [&](int u) {
+      if (std::max({px[3 * u], px[3 * u + 1], px[3 * u + 2]}) >= m.saturation_level) return;
       const int64_t cnt = rows * (std::min(width, u + half + 1) - std::max(0, u - half));
       ok[u] = static_cast<double>(cnt * sq - sum * sum) >= min_var9 * static_cast<double>(cnt * cnt);
+    };
+    // The window's columns come in (u + half) and go out (u - half - 1) only within the image: the row's two ends
+    // apart from its middle, where both always do.
+    const int mid0 = std::min(width, half + 1), mid1 = std::max(mid0, width - half);
+    for (int u = 0; u < mid0; ++u) {
+      if (u + half < width) sum += col_sum[u + half], sq += col_sq[u + half];
+      test(u);
+    }
+    const double min_var9_full = min_var9 * static_cast<double>(rows * (2 * half + 1) * rows * (2 * half + 1));
+    const int64_t full = rows * (2 * half + 1);
+    for (int u = mid0; u < mid1; ++u) {
+      sum += col_sum[u + half] - col_sum[u - half - 1], sq += col_sq[u + half] - col_sq[u - half - 1];
+      const bool unsaturated = std::max({px[3 * u], px[3 * u + 1], px[3 * u + 2]}) < m.saturation_level;
+      ok[u] = unsaturated && static_cast<double>(full * sq - sum * sum) >= min_var9_full;
+    }
+    for (int u = mid1; u < width; ++u) {
+      if (u + half < width) sum += col_sum[u + half], sq += col_sq[u + half];
+      sum -= col_sum[u - half - 1], sq -= col_sq[u - half - 1];
+      test(u);
     }
   }
 }
