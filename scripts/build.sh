@@ -29,6 +29,12 @@ fi
 
 configure() {  # $1 build dir, $2 devel dir, rest: extra cmake args
   local b="$1" d="$2"; shift 2
+  # A build folder configured with the same arguments is not configured again (a minute of catkin's CMake on 2
+  # cores): its Makefiles re-run CMake themselves when a CMakeLists.txt changed. A new package is not seen then:
+  # remove .ws/build.configure.args (or the build folder) to configure again.
+  local args="$d $build_type ${launcher[*]} $*"
+  if [ -f "$b/Makefile" ] && [ "$(cat "$b.configure.args" 2>/dev/null)" = "$args" ]; then return 0; fi
+  rm -f "$b.configure.args"
   # catkin caches the test environment at configure time and leaves the devel python folder out of PYTHONPATH
   # when it does not exist yet: python tests would then not find the workspace's messages on a fresh build.
   mkdir -p "$d/lib/python3/dist-packages"
@@ -36,6 +42,7 @@ configure() {  # $1 build dir, $2 devel dir, rest: extra cmake args
     -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCATKIN_ENABLE_TESTING=ON -DCMAKE_INSTALL_PREFIX="$src/.ws/install" \
     "${launcher[@]}" "$@" >"$b.configure.log" 2>&1 || {
     cat "$b.configure.log"; echo "[build] cmake configure failed" >&2; exit 1; }
+  echo "$args" >"$b.configure.args"
 }
 
 # Runs make with its full output in "$1.make.log" and prints a progress line each time another tenth of the

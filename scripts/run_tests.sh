@@ -16,10 +16,35 @@ echo "== build"
 "$src/scripts/build.sh" --tests || { echo "0 passed, 1 failed"; exit 1; }
 rm -rf "$src/.ws/build/test_results"
 
-echo "== unit tests and rostests"
 # shellcheck disable=SC1091
 set +u; source "$src/.ws/devel/setup.bash"; set -u  # ROS setup scripts read unset variables
 export ROS_HOME="$src/.ws/ros_home" ROS_LOG_DIR="$src/.ws/ros_home/log"
+
+# Beside the tests, at the lowest CPU priority (most rostests wait on time and leave a core idle; a niced compiler
+# takes only what they leave): the sanitizer build, the fuzzers' build and run, and the launch-file checks. Their
+# results are read after the tests; the sanitizer builds' unit tests run after the rostests, not beside them.
+mapfile -t san < <(grep -v '^\s*#' "$src/scripts/sanitize_packages.txt" | sed '/^\s*$/d')
+background() {
+  if [ ${#san[@]} -gt 0 ]; then
+    rm -rf "$src/.ws/build_sanitize/test_results"
+    "$src/scripts/build.sh" --sanitize "${san[@]}" >"$src/.ws/sanitize_build.log" 2>&1
+    echo $? >"$src/.ws/sanitize_build.rc"
+  fi
+  if [ -x "$src/thorvald_can_devices/scripts/fuzz_smoke.sh" ]; then
+    "$src/thorvald_can_devices/scripts/fuzz_smoke.sh" 5 >"$src/.ws/fuzz.log" 2>&1
+    echo $? >"$src/.ws/fuzz.rc"
+  fi
+  : >"$src/.ws/launch_checks.tsv"
+  for f in $(git ls-files '*.launch'); do
+    out=$(roslaunch --nodes "$f" 2>&1 >/dev/null); rc=$?
+    printf '%s\t%s\t%s\n' "$f" "$rc" "$(echo "$out" | tr '\n\t' '  ')" >>"$src/.ws/launch_checks.tsv"
+  done
+}
+rm -f "$src/.ws/sanitize_build.rc" "$src/.ws/fuzz.rc"
+nice -n 19 bash -c "$(declare -f background); $(declare -p san src); background" &
+background_pid=$!
+
+echo "== unit tests and rostests"
 # Independent test targets run TEST_JOBS (default 2) at a time (rostest masters take free ports; most tests wait on
 # time, not CPU); of the heavy ones in heavy_tests.txt one at a time. Output: .ws/run_tests.log; ten slowest printed.
 /usr/bin/python3 "$src/scripts/run_test_targets.py" "$src/.ws/build" --jobs "${TEST_JOBS:-2}" \
@@ -35,11 +60,13 @@ checks+=("make_install=$rc")
 echo "== every command used comes from a listed Debian package"
 "$src/scripts/check_commands.sh"; checks+=("commands_listed=$?")
 
+echo "== waiting for the sanitizer build, the fuzzers and the launch-file checks run beside the tests"
+wait "$background_pid"
+
 echo "== sanitizers (ASan + UBSan)"
-mapfile -t san < <(grep -v '^\s*#' "$src/scripts/sanitize_packages.txt" | sed '/^\s*$/d')
 if [ ${#san[@]} -gt 0 ]; then
-  rm -rf "$src/.ws/build_sanitize/test_results"
-  if "$src/scripts/build.sh" --sanitize "${san[@]}"; then
+  rc="$(cat "$src/.ws/sanitize_build.rc" 2>/dev/null || echo 1)"
+  if [ "$rc" -eq 0 ]; then
     for p in "${san[@]}"; do
       echo "[sanitize] unit tests of $p"
       ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
@@ -47,17 +74,25 @@ if [ ${#san[@]} -gt 0 ]; then
     done
     checks+=("sanitizer_build=0")
   else
+    tail -30 "$src/.ws/sanitize_build.log"
     checks+=("sanitizer_build=1")
   fi
 fi
 
 echo "== fuzzing (libFuzzer, a few seconds per CAN decoder)"
 if [ -x "$src/thorvald_can_devices/scripts/fuzz_smoke.sh" ]; then
-  "$src/thorvald_can_devices/scripts/fuzz_smoke.sh" 5 2>&1 | tee "$src/.ws/fuzz.log" | grep --line-buffered "^fuzz_smoke:"
-  rc=${PIPESTATUS[0]}
-  [ $rc -eq 0 ] || tail -30 "$src/.ws/fuzz.log"
+  rc="$(cat "$src/.ws/fuzz.rc" 2>/dev/null || echo 1)"
+  grep "^fuzz_smoke:" "$src/.ws/fuzz.log"
+  [ "$rc" -eq 0 ] || tail -30 "$src/.ws/fuzz.log"
   checks+=("fuzz_smoke=$rc")
 fi
+
+echo "== launch file check"
+while IFS=$'\t' read -r f rc out; do
+  [ "$rc" -eq 0 ] || echo "$f: $out"
+  checks+=("roslaunch_check:$f=$rc")
+done <"$src/.ws/launch_checks.tsv"
+[ "$(wc -l <"$src/.ws/launch_checks.tsv")" -eq "$(git ls-files '*.launch' | wc -l)" ] || checks+=("launch_checks_complete=1")
 
 echo "== clang-format"
 mapfile -t sources < <(git ls-files '*.cpp' '*.h' '*.hpp' '*.cc')
@@ -66,13 +101,6 @@ if [ ${#sources[@]} -gt 0 ]; then
   [ $rc -eq 0 ] || head -20 "$src/.ws/format.log"
   checks+=("clang_format=$rc")
 fi
-
-echo "== launch file check"
-for f in $(git ls-files '*.launch'); do
-  out=$(roslaunch --nodes "$f" 2>&1 >/dev/null); rc=$?
-  [ $rc -eq 0 ] || echo "$f: $out"
-  checks+=("roslaunch_check:$f=$rc")
-done
 
 echo "== layering rules (scripts/check_layers.sh; its own test plants one violation of each rule in a copy)"
 bash "$src/scripts/test_check_layers.sh" >"$src/.ws/test_check_layers.log" 2>&1; rc=$?
