@@ -233,10 +233,18 @@ struct NoiseOctave {
   uint32_t base[3];
 };
 
+// AVX2 clones of the two vectorised row loops where the target has them (x86-64); one plain version elsewhere (e.g.
+// the rover's ARM computer).
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define THORVALD_SIM_AVX2_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define THORVALD_SIM_AVX2_CLONES
+#endif
+
 /// out[i] = the octave's noise at offsets (dx[i], dy[i], dz[i]), i < n (0 for NaN offsets). Branch-free, so that the
 /// compiler vectorises it (also for AVX2, chosen at run time: the same float operations, the same result).
-__attribute__((target_clones("avx2", "default"))) void noiseRow(const NoiseOctave& o, const float* dx, const float* dy,
-                                                                const float* dz, int n, float* out) {
+THORVALD_SIM_AVX2_CLONES void noiseRow(const NoiseOctave& o, const float* dx, const float* dy, const float* dz, int n,
+                                       float* out) {
   for (int i = 0; i < n; ++i) {
     float sx, sy, sz;
     uint32_t x0, y0, z0;
@@ -299,8 +307,8 @@ struct ShadeRows {
 /// Lambert's cosine max(0, n . sun) for each pixel u of the row in slot `here` (out[u]), n the surface normal from its
 /// four neighbours on the same geom (the pixel itself where there is none), facing the camera. Branch-free: every
 /// load and both quotients unconditional, the choices selects, so that it vectorises (AVX2 as noiseRow).
-__attribute__((target_clones("avx2", "default"))) void lambertRow(const ShadeRows& rows, int above, int here, int below,
-                                                                  const Eigen::Vector3f& sun, float* out) {
+THORVALD_SIM_AVX2_CLONES void lambertRow(const ShadeRows& rows, int above, int here, int below,
+                                         const Eigen::Vector3f& sun, float* out) {
   const int w = rows.w;
   const float *x0 = rows.x[above].data(), *y0 = rows.y[above].data(), *z0 = rows.z[above].data();
   const float *x1 = rows.x[here].data(), *y1 = rows.y[here].data(), *z1 = rows.z[here].data();
