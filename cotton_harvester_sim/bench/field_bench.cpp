@@ -53,7 +53,9 @@ std::string rowKeys(const FieldLoopResult& r) {
 struct RowsOptions {
   int rows = 4;
   double length = 20.0, speed = 0.25;
-  std::string pose = "fused", png, waypoints, world;
+  double heading_correction_gain = -1.0;  ///< < 0: fieldRowsConfig's
+  double lag_slow_from_deg = -1.0;        ///< < 0: fieldRowsConfig's
+  std::string pose = "fused", png, waypoints, world, trace;
 };
 
 int runRows(const RowsOptions& o, const std::string& realism_name, unsigned seed) {
@@ -64,6 +66,9 @@ int runRows(const RowsOptions& o, const std::string& realism_name, unsigned seed
   c.row_speed_mps = o.speed;
   c.rover.max_speed_mps = std::max(c.rover.max_speed_mps, o.speed);
   c.waypoints_path = o.waypoints;
+  c.trace_path = o.trace;
+  if (o.heading_correction_gain >= 0.0) c.pursuit.heading_correction_gain = o.heading_correction_gain;
+  if (o.lag_slow_from_deg >= 0.0) c.lag_slow_from_deg = o.lag_slow_from_deg;
   c.time_limit_s = 600.0 + o.rows * (o.length / o.speed + 120.0);
   c.progress = [](const std::string& line) { std::printf("%s\n", line.c_str()); };
   const cotton_harvester::sim::FieldRowsReport r = cotton_harvester::sim::runFieldRows(c);
@@ -129,6 +134,15 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"ideal", "datasheet"}));
   app.add_option("--png", rows.png, "rows mode: top view of the field with the driven path");
   app.add_option("--waypoints", rows.waypoints, "rows mode: write the rows' end waypoints (YAML) here");
+  app.add_option("--heading-correction-gain", rows.heading_correction_gain,
+                 "rows mode: pure pursuit's heading correction gain (PurePursuitParams::heading_correction_gain; 0: "
+                 "off, as before 2026-12-07; default fieldRowsConfig's 0.2)");
+  app.add_option("--lag-slow-from", rows.lag_slow_from_deg,
+                 "rows mode: the rover slows while the articulation lags its set-point by more than this [deg] "
+                 "(FieldRowsConfig::lag_slow_from_deg; 0: never, as before 2026-12-07)");
+  app.add_option("--trace", rows.trace,
+                 "rows mode: a CSV line per control step here (truth, estimate, articulation asked/measured/true, "
+                 "pure pursuit's curvature and cross-track)");
   if (const auto code = thorvald_common::parseCommandLine(app, argc, argv)) return *code;
   if (mode == "rows") return runRows(rows, realism_name, c.seed);
   c.realism = *thorvald_sim::realismFromName(realism_name);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <stdexcept>
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -152,6 +153,14 @@ std::string legLine(const Leg& leg, int legs_done, int legs, double now_s, const
   return line;
 }
 
+/// The share of the speed while the articulation lags its set-point by `lag_deg` (FieldRowsConfig::lag_slow_*).
+double lagSpeedFraction(const FieldRowsConfig& c, double lag_deg) {
+  if (!(c.lag_slow_from_deg > 0.0) || !std::isfinite(lag_deg)) return 1.0;
+  const double span = std::max(1e-6, c.lag_slow_full_deg - c.lag_slow_from_deg);
+  const double share = std::clamp((std::abs(lag_deg) - c.lag_slow_from_deg) / span, 0.0, 1.0);
+  return 1.0 - share * (1.0 - c.lag_min_speed_fraction);
+}
+
 /// The pose the rover drives on: the fused estimate (FieldPose) or its wheel odometry from the surveyed start.
 class DrivePose {
  public:
@@ -218,6 +227,14 @@ void driveLegs(const FieldRowsConfig& c, RoverSim& sim, const std::vector<Leg>& 
   bool has_telemetry = false;
   std::uint8_t sequence = 0;
   double next_sample_s = 0.0, t0 = sim.time();
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> trace(nullptr, &std::fclose);
+  if (!c.trace_path.empty()) {
+    trace.reset(std::fopen(c.trace_path.c_str(), "w"));
+    if (!trace) throw std::runtime_error("cannot write " + c.trace_path);
+    std::fprintf(trace.get(),
+                 "t,leg,turn,row,truth_x,truth_y,truth_yaw,est_x,est_y,est_yaw,art_target_deg,art_measured_deg,"
+                 "art_true_deg,curvature_1pm,cross_track_m,s_m,remaining_m,speed_mps,heading_correction_deg\n");
+  }
   while (leg < legs.size() && sim.time() - t0 < c.time_limit_s) {
     const RoverSerialBridge::Output out = advanceControlPeriod(c, sim, bridge, pose);
     telemetry_parser.push(out.navigation.data(), out.navigation.size());
@@ -246,8 +263,16 @@ void driveLegs(const FieldRowsConfig& c, RoverSim& sim, const std::vector<Leg>& 
           scorer.startLeg(legs[leg], sim.time());
           if (c.progress) c.progress(legLine(legs[leg], static_cast<int>(leg), n, sim.time(), "start"));
         }
-        speed = legs[leg].turn ? c.turn_speed_mps : c.row_speed_mps;
+        speed = (legs[leg].turn ? c.turn_speed_mps : c.row_speed_mps) *
+                lagSpeedFraction(c, step.articulation_deg - controller.articulationDeg());
         articulation = step.articulation_deg;
+        if (trace)
+          std::fprintf(trace.get(),
+                       "%.3f,%zu,%d,%d,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.2f,%.2f,%.2f,%.4f,%.4f,%.3f,%.3f,%.3f,%.3f\n",
+                       sim.time(), leg, legs[leg].turn ? 1 : 0, legs[leg].row, truth.x, truth.y, truth.yaw, estimate.x,
+                       estimate.y, estimate.yaw, step.articulation_deg, controller.articulationDeg(),
+                       sim.potentiometerDeg(), step.curvature_1pm, step.cross_track_m, step.s_m, step.remaining_m,
+                       pose.speed(), step.heading_correction_rad * 180.0 / M_PI);
       }
       controller.setVelocity(speed, 0.0);
       controller.setArticulationTarget(articulation);
@@ -277,6 +302,11 @@ FieldRowsReport runFieldRows(const FieldRowsConfig& config) {
   const auto wall0 = std::chrono::steady_clock::now();
   try {
     if (const std::string bad = config.rover.check(); !bad.empty()) throw std::invalid_argument("rover: " + bad);
+    if (!(config.lag_slow_from_deg >= 0.0) || !(config.lag_slow_full_deg > config.lag_slow_from_deg) ||
+        !(config.lag_min_speed_fraction > 0.0 && config.lag_min_speed_fraction <= 1.0))
+      throw std::invalid_argument(
+          "lag_slow_from_deg >= 0, lag_slow_full_deg > lag_slow_from_deg and lag_min_speed_fraction in (0, 1] "
+          "expected");
     RoverSimParams params = config.sim;
     params.field = config.field;
     thorvald_sim::makeCottonFieldWorld(config.field, &report.field);
@@ -318,6 +348,10 @@ FieldRowsConfig fieldRowsConfig(int rows, double length_m, unsigned seed) {
   c.sim.leaf_push_max_m = 0.0;       // the arm does not move while the rover only drives
   c.turn.straight_m = 1.5;           // straight and aligned before the next row's first plant
   c.turn.turn_radius_m = 2.5;        // the rover's smallest is 2.20 m (45 deg): 5 deg left for the relays' lag
+  // The fused heading drifts by up to 3 deg in a turn (the IMUs' biases) and the filter takes it back slowly along
+  // the rows: pure pursuit corrects it from the cross-track on the straights (else lookahead * tan(3 deg) beside).
+  c.pursuit.heading_correction_gain = 0.2;
+  c.lag_slow_from_deg = 2.0;  // the relays move the joint at 8 deg/s: slow while it lags more than 2 deg
   return c;
 }
 

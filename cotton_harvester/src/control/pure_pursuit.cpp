@@ -26,6 +26,7 @@ std::string PurePursuitParams::check() const {
   if (!(heading_correction_limit_deg >= 0.0 && heading_correction_limit_deg < 90.0))
     return "heading_correction_limit_deg: expected in [0, 90)";
   if (!(straight_path_deg > 0.0 && straight_path_deg < 90.0)) return "straight_path_deg: expected in (0, 90)";
+  if (!(settled_articulation_deg > 0.0)) return "settled_articulation_deg: expected > 0";
   return "";
 }
 
@@ -53,6 +54,7 @@ void PurePursuit::setPath(const WaypointPath& path) {
 void PurePursuit::resetHeadingCorrection() {
   heading_correction_rad_ = 0.0;
   has_last_ = false;
+  last_articulation_deg_ = 0.0;
 }
 
 double PurePursuit::lookahead(double speed_mps) const {
@@ -78,7 +80,8 @@ PursuitStep PurePursuit::update(const Pose2& front_axle, double speed_mps) {
   last_ = p;
   has_last_ = true;
   const double bend = std::abs(wrapAngle(path_.headingAt(s_m_ + step.lookahead_m) - path_.headingAt(s_m_)));
-  if (params_.heading_correction_gain > 0.0 && bend <= params_.straight_path_deg * kDegToRad && driven < 0.5) {
+  if (params_.heading_correction_gain > 0.0 && bend <= params_.straight_path_deg * kDegToRad && driven < 0.5 &&
+      std::abs(last_articulation_deg_) <= params_.settled_articulation_deg) {
     const double limit = params_.heading_correction_limit_deg * kDegToRad;
     heading_correction_rad_ = std::clamp(
         heading_correction_rad_ + params_.heading_correction_gain * proj.cross_track_m * driven, -limit, limit);
@@ -96,6 +99,7 @@ PursuitStep PurePursuit::update(const Pose2& front_axle, double speed_mps) {
   step.curvature_1pm = d2 > 1e-9 ? 2.0 * gy / d2 : 0.0;
   const double angle = articulationForCurvature(step.curvature_1pm, params_.axle_to_joint_m);
   step.articulation_deg = std::clamp(angle, -params_.articulation_limit_deg, params_.articulation_limit_deg);
+  last_articulation_deg_ = step.articulation_deg;
   return step;
 }
 

@@ -31,9 +31,15 @@ struct FieldRowsConfig {
   control::RoverControllerParams rover;   ///< the rover node's controller
   SerialBridgeParams bridge;              ///< the simulated navigation controller
   control::PurePursuitParams pursuit;
-  control::RowTurnParams turn;       ///< turn_radius_m >= minTurnRadius(articulation limit)
-  double row_speed_mps = 0.25;       ///< harvest speed along the rows (RoverControllerParams::max_speed_mps)
-  double turn_speed_mps = 0.15;      ///< on the headland
+  control::RowTurnParams turn;   ///< turn_radius_m >= minTurnRadius(articulation limit)
+  double row_speed_mps = 0.25;   ///< harvest speed along the rows (RoverControllerParams::max_speed_mps)
+  double turn_speed_mps = 0.15;  ///< on the headland
+  /// The articulation moves at a fixed rate (the valve through two relays): while it lags its set-point by more than
+  /// lag_slow_from_deg the rover slows, linearly down to lag_min_speed_fraction of its speed at lag_slow_full_deg, so
+  /// the path it drives while the joint catches up is shorter (the omega's reversals, the turn's exit).
+  double lag_slow_from_deg = 0.0;  ///< 0: never slows
+  double lag_slow_full_deg = 10.0;
+  double lag_min_speed_fraction = 0.4;
   double past_row_end_m = 0.5;       ///< a row's leg ends this far past its last plant [m]
   double start_before_row_m = 1.5;   ///< the front axle starts this far before the first row's first plant [m]
   double control_period_s = 0.02;    ///< the navigation controller's telemetry period [s]
@@ -41,6 +47,9 @@ struct FieldRowsConfig {
   double entry_tolerance_deg = 5.0;  ///< ... and this of its line
   double time_limit_s = 1800.0;      ///< simulated [s]
   std::string waypoints_path;        ///< when set: the rows' end waypoints are written there (YAML)
+  /// When set: one CSV line per control step there (the truth's and the estimate's front axle, the articulation
+  /// asked, measured and true, pure pursuit's curvature, cross-track and progress) for finding where a turn goes wrong.
+  std::string trace_path;
   /// The pose pure pursuit follows: true the fusion's (odometry, two IMUs, RTK GNSS) in the rows' GNSS frame, false
   /// the wheel odometry from the surveyed start.
   bool fused_pose = true;

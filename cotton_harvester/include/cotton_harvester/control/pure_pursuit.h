@@ -27,6 +27,9 @@ struct PurePursuitParams {
   double heading_correction_gain = 0.0;
   double heading_correction_limit_deg = 5.0;  ///< |correction| never more [deg]
   double straight_path_deg = 1.0;             ///< the path counts as straight within this [deg]
+  /// ... and the rover settled on it: the previous step asked at most this articulation [deg] (after a turn the
+  /// rover swings onto the row with the cross-track of its lag, which is not the heading's error)
+  double settled_articulation_deg = 2.0;
 
   /// Empty when sound, otherwise "key: expected ...".
   std::string check() const;
@@ -80,6 +83,7 @@ class PurePursuit {
   double s_m_ = 0.0;
   double heading_correction_rad_ = 0.0;
   bool has_last_ = false;
+  double last_articulation_deg_ = 0.0;
   Eigen::Vector2d last_ = Eigen::Vector2d::Zero();  ///< the front axle at the previous update [m]
 };
 
