@@ -41,6 +41,13 @@ void GeomWriter::capsule(const std::string& name, const Eigen::Vector3d& from, c
        << to.z() << "\" size=\"" << radius << "\" rgba=\"" << rgba << "\"/>\n";
 }
 
+void GeomWriter::cylinderBetween(const std::string& name, const Eigen::Vector3d& from, const Eigen::Vector3d& to,
+                                 double radius, const char* rgba) {
+  head(name, "cylinder");
+  out_ << " fromto=\"" << from.x() << " " << from.y() << " " << from.z() << " " << to.x() << " " << to.y() << " "
+       << to.z() << "\" size=\"" << radius << "\" rgba=\"" << rgba << "\"/>\n";
+}
+
 void GeomWriter::cylinder(const std::string& name, const Eigen::Vector3d& pos, double radius, double half_height,
                           const char* rgba) {
   head(name, "cylinder");

@@ -194,14 +194,21 @@ void writeVariedPipe(const GreenhouseParams& p, double zc, const std::string& na
   for (int k = 1; k <= n; ++k) joints.emplace_back(straight_from + (end - straight_from) * k / n, y, zc);
   std::vector<bool> open(joints.size(), false);
   for (size_t j = 1; j + 1 < joints.size(); ++j) open[j] = unitDraw(d.rng) < v.pipe_gap_probability;
+  // A piece at an open joint ends square-cut, as a sawn pipe does, pipe_gap short of the next piece: a capsule
+  // to one radius before the cut, then a cylinder to the cut (a capsule's round end alone would open a notch
+  // 2 r + pipe_gap wide along the top line, 61 mm for a 1 cm gap, into which a range finder looks down).
   for (size_t k = 0; k + 1 < joints.size(); ++k) {
     Eigen::Vector3d a = joints[k], b = joints[k + 1];
     const Eigen::Vector3d u = (b - a).normalized();
-    if (open[k]) a += (0.5 * v.pipe_gap_m + r) * u;  // the pipe's surface stops pipe_gap short of the next piece
-    if (open[k + 1]) b -= (0.5 * v.pipe_gap_m + r) * u;
+    const Eigen::Vector3d cut_a = a + 0.5 * v.pipe_gap_m * u, cut_b = b - 0.5 * v.pipe_gap_m * u;
+    if (open[k]) a = cut_a + r * u;
+    if (open[k + 1]) b = cut_b - r * u;
     const bool rusty = unitDraw(d.rng) < v.rust_probability;
-    w.capsule((rusty ? "rusty_" : "") + name + "_s" + std::to_string(k), a, b, r,
-              rusty ? kRustyPipeColour : colours::kPipe);
+    const std::string piece = (rusty ? "rusty_" : "") + name + "_s" + std::to_string(k);
+    const char* colour = rusty ? kRustyPipeColour : colours::kPipe;
+    w.capsule(piece, a, b, r, colour);
+    if (open[k]) w.cylinderBetween(piece + "_cut0", cut_a, a, r, colour);
+    if (open[k + 1]) w.cylinderBetween(piece + "_cut1", b, cut_b, r, colour);
   }
 }
 

@@ -18,6 +18,9 @@ class GeomWriter {
   void box(const std::string& name, const Eigen::Vector3d& pos, const Eigen::Vector3d& half, const char* rgba);
   void capsule(const std::string& name, const Eigen::Vector3d& from, const Eigen::Vector3d& to, double radius,
                const char* rgba);
+  /// Cylinder along the segment `from`-`to` (flat ends there).
+  void cylinderBetween(const std::string& name, const Eigen::Vector3d& from, const Eigen::Vector3d& to, double radius,
+                       const char* rgba);
   /// Upright cylinder centred at `pos`.
   void cylinder(const std::string& name, const Eigen::Vector3d& pos, double radius, double half_height,
                 const char* rgba);
