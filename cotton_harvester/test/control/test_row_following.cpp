@@ -196,6 +196,19 @@ TEST(PurePursuit, HeadingCorrectionIgnoresCurves) {
     EXPECT_DOUBLE_EQ(pursuit.update({0.02 * i, -0.1, 0.0}, 0.25).heading_correction_rad, 0.0);
 }
 
+TEST(PurePursuit, HeadingCorrectionWaitsUntilTheRoverIsSettled) {
+  // 0.3 m beside a straight row (a turn's exit): pure pursuit asks far more than 2 deg, so the cross-track is lag, not
+  // a heading error, and the correction does not move; close to the row and straight, it does.
+  cc::PurePursuitParams p;
+  p.heading_correction_gain = 0.2;
+  cc::PurePursuit pursuit(p);
+  pursuit.setPath(straightRow(20.0));
+  for (int i = 0; i < 20; ++i) EXPECT_DOUBLE_EQ(pursuit.update({0.02 * i, 0.3, 0.0}, 0.25).heading_correction_rad, 0.0);
+  pursuit.resetHeadingCorrection();
+  for (int i = 0; i < 20; ++i) pursuit.update({1.0 + 0.02 * i, 0.005, 0.0}, 0.25);
+  EXPECT_GT(pursuit.update({1.4, 0.005, 0.0}, 0.25).heading_correction_rad, 0.0);
+}
+
 TEST(PurePursuit, CurvedPathIsFollowed) {
   // A quarter circle of 8 m radius after 3 m straight, 2 m straight after it.
   std::vector<Eigen::Vector2d> pts{{0.0, 0.0}, {3.0, 0.0}};
