@@ -25,7 +25,7 @@ struct Leg {
   bool turn = false;
   int row = 0;  ///< the row driven, or the row the turn leaves
   control::WaypointPath path;
-  double planned_depth_m = 0.0;
+  double planned_depth_m = 0.0;  ///< a turn's depth past the row's last plant, as planned [m]
 };
 
 /// The true front axle (scoring only): the articulation joint and the front half's heading, read through the camera
@@ -52,7 +52,9 @@ std::vector<Leg> planLegs(const FieldRowsConfig& c, const thorvald_sim::CottonFi
     if (k + 1 == rows) break;
     const double lateral = dir * (f.row_start[k + 1].y() - f.row_start[k].y());
     const control::RowTurn turn = control::planRowTurn(to, dir > 0 ? 0.0 : M_PI, lateral, c.turn);
-    legs.push_back({true, k, control::WaypointPath(turn.waypoints), turn.depth_m});
+    // The plan's depth counts from where the turn starts, past_row_end_m beyond the row's last plant; the scorer
+    // measures from the last plant: the leg carries the plan's depth from there too.
+    legs.push_back({true, k, control::WaypointPath(turn.waypoints), c.past_row_end_m + turn.depth_m});
     from = turn.waypoints.back();
   }
   return legs;

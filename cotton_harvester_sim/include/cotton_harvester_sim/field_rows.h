@@ -78,8 +78,8 @@ struct FieldTurnReport {
   bool success = false;
   double entry_cross_track_m = 0.0;  ///< truth [m]
   double entry_heading_deg = 0.0;    ///< truth [deg]
-  double depth_m = 0.0;              ///< how far past the row's end the rover went (truth) [m]
-  double planned_depth_m = 0.0;
+  double depth_m = 0.0;              ///< how far past the row's last plant the rover went (truth) [m]
+  double planned_depth_m = 0.0;      ///< how far past the row's last plant the plan goes [m]
 };
 
 struct FieldRowsReport {
