@@ -21,14 +21,14 @@ Matrix6 matrix6(const boost::array<double, 36>& c) {
   return m;
 }
 
+}  // namespace
+
 Eigen::Isometry3d toIsometry(const geometry_msgs::Transform& t) {
   Eigen::Isometry3d e = Eigen::Isometry3d::Identity();
   e.translate(Eigen::Vector3d(t.translation.x, t.translation.y, t.translation.z));
   e.rotate(toEigen(t.rotation));
   return e;
 }
-
-}  // namespace
 
 PoseSample toPoseSample(const geometry_msgs::PoseWithCovariance& p) {
   PoseSample s;

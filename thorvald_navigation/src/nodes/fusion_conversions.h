@@ -19,6 +19,8 @@ namespace thorvald_navigation {
 PoseSample toPoseSample(const geometry_msgs::PoseWithCovariance& p);
 TwistSample toTwistSample(const geometry_msgs::TwistWithCovariance& t);
 ImuSample toImuSample(const sensor_msgs::Imu& m);
+/// A tf transform as an isometry (its rotation normalised; identity when it has none).
+Eigen::Isometry3d toIsometry(const geometry_msgs::Transform& t);
 /// The filter's pose (world frame) and twist (base_link) with their covariances.
 nav_msgs::Odometry toOdometry(const FusionEkf& ekf, const ros::Time& stamp, const std::string& world_frame,
                               const std::string& base_link_frame);

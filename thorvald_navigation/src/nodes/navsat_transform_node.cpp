@@ -114,12 +114,8 @@ class NavsatTransformNode {
     const auto known = mounts_.find(frame);
     if (known != mounts_.end()) return known->second;
     try {
-      const auto t = tf_buffer_.lookupTransform(s_.base_link_frame, frame, ros::Time(0));
-      const auto& q = t.transform.rotation;
-      const auto& p = t.transform.translation;
-      Eigen::Isometry3d m = Eigen::Isometry3d::Identity();
-      m.linear() = Eigen::Quaterniond(q.w, q.x, q.y, q.z).normalized().toRotationMatrix();
-      m.translation() = Eigen::Vector3d(p.x, p.y, p.z);
+      const Eigen::Isometry3d m =
+          toIsometry(tf_buffer_.lookupTransform(s_.base_link_frame, frame, ros::Time(0)).transform);
       mounts_[frame] = m;
       return m;
     } catch (const tf2::TransformException& e) {
