@@ -30,9 +30,9 @@ mission's own outputs (uv_lights, nav_vel, mission/status, mission/report, safet
   bins (RowDoseBins, the same model as uv_dose's RowDose): the lamps' power spread over their lit stretch
   (config/uv_lamps.yaml, the one lamp geometry of uv_dose, uv_mission and this scorer) for the time each bin spends
   under it with the lamps on (the lamps' state below: the simulated relay's, or `uv_lights`), from the truth pose of
-  base_link on the set's rails. The row is the plant rows' stretch beside the set: thorvald_sim's
-  greenhouse puts them from 0.5 m past the rails' start over `rail_length` (greenhouse_world.cpp; the truth file
-  gives no plant x), i.e. 0.5 m beyond the rails' far end. `coverage_rails_pct`: the same over the rails' own
+  base_link on the set's rails. The row is the plants' stretch beside the set, the truth file's `plants` per set
+  (thorvald_sim: from `plant_row_start`, 1 m, past the rails' start to `plant_row_end_gap`, 1 m, before the end of
+  the shorter set beside the row; a set without plants has no coverage figure). `coverage_rails_pct`: the same over the rails' own
   length (the truth file's `length`, else `rail_length`). `coverage_interlock_pct`: the rails' stretch with the lamps
   counted on only while the truth speed is within the interlock's band (`treat_speed` +- `interlock_tolerance`),
   as uv_interlock would switch the relay on the real robot. `coverage_base_link_pct`: the former figure, the share of
@@ -126,7 +126,18 @@ class RowDoseBins:
         return [[round(a, 2), round(b, 2)] for a, b in out]
 
 
-PLANTS_FROM_RAIL_START = 0.5  # thorvald_sim greenhouse_world.cpp: plant rows start 0.5 m past the rails' start
+# Truth files written before thorvald_sim gave each set's `plants`: the rows ran from 0.5 m past the rails' start
+# over `rail_length`.
+OLD_PLANTS_FROM_RAIL_START = 0.5
+
+
+def plants_of(s, rail_length):
+    """The plants beside a rail set along it from its start, [from, to] [m] (thorvald_sim's truth: `plants`), None
+    when it has none."""
+    p = s.get("plants")
+    if p is None:
+        return [OLD_PLANTS_FROM_RAIL_START, OLD_PLANTS_FROM_RAIL_START + rail_length]
+    return [float(p[0]), float(p[1])] if len(p) == 2 and float(p[1]) > float(p[0]) else None
 
 
 def parse_report(text):
@@ -156,9 +167,10 @@ class UvMissionScorer:
         self.interlock_tolerance = interlock_tolerance
         # per set: the dose over the plants' row, over the rails, and over the rails as the interlock would light them
         self.row_dose, self.rails_dose, self.interlock_dose = {}, {}, {}
+        self.plants = {s["index"]: plants_of(s, self.rail_length) for s in self.sets}
         for s in self.sets:
-            x0 = PLANTS_FROM_RAIL_START
-            self.row_dose[s["index"]] = RowDoseBins(self.lamps, x0, x0 + self.rail_length)
+            if self.plants[s["index"]]:  # a set without plants beside it has no row to cover
+                self.row_dose[s["index"]] = RowDoseBins(self.lamps, *self.plants[s["index"]])
             self.rails_dose[s["index"]] = RowDoseBins(self.lamps, 0.0, self.set_length(s))
             self.interlock_dose[s["index"]] = RowDoseBins(self.lamps, 0.0, self.set_length(s))
         self.zone_radius, self.scenario = zone_radius, scenario
@@ -354,7 +366,8 @@ class UvMissionScorer:
             return
         st = [q for q in self.sets if q["index"] == idx][0]
         s0, _ = self.in_set(st, a[1], a[2])
-        self.row_dose[idx].add(s0, s1, dt, True)
+        if idx in self.row_dose:
+            self.row_dose[idx].add(s0, s1, dt, True)
         self.rails_dose[idx].add(s0, s1, dt, True)
         speed = math.hypot(b[1] - a[1], b[2] - a[2]) / dt
         self.interlock_dose[idx].add(s0, s1, dt, abs(speed - self.treat_speed) <= self.interlock_tolerance)
@@ -501,7 +514,7 @@ class UvMissionScorer:
             "coverage_pct": coverage,
             "coverage_min_pct": min(coverage.values()) if coverage else 0.0,
             "coverage_uncovered_m": {str(k): d.uncovered() for k, d in sorted(self.row_dose.items())},
-            "coverage_row_m": [PLANTS_FROM_RAIL_START, round(PLANTS_FROM_RAIL_START + self.rail_length, 3)],
+            "coverage_row_m": {str(k): [round(v, 3) for v in p] for k, p in sorted(self.plants.items()) if p},
             "coverage_rails_pct": coverage_rails,
             "coverage_rails_uncovered_m": {str(k): d.uncovered() for k, d in sorted(self.rails_dose.items())},
             "coverage_interlock_pct": coverage_interlock,

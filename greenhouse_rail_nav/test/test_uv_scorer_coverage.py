@@ -84,7 +84,8 @@ class ScorerCoverageTest(unittest.TestCase):
                 sc.add_dose((t, x, 0.0), (t + 0.02, x + 0.01, 0.0))
                 t, x = t + 0.02, x + 0.01
             out = sc.result()
-        self.assertEqual(out["coverage_row_m"], [0.5, 5.5])
+        # a truth file without `plants` (written before thorvald_sim gave them): the old rows, 0.5 m past the start
+        self.assertEqual(out["coverage_row_m"], {"0": [0.5, 5.5], "1": [0.5, 5.5]})
         self.assertEqual(out["coverage_pct"]["1"], 0.0)
         self.assertEqual(out["coverage_rails_pct"]["1"], 0.0)
         # The lit stretch's rear edge reached 4.97 + REAR in set coordinates: the rails' row up to 0.125 m past it.
@@ -92,6 +93,27 @@ class ScorerCoverageTest(unittest.TestCase):
         self.assertAlmostEqual(out["coverage_pct"]["0"], 100.0 * (4.97 + REAR + 0.125 - 0.5) / 5.0, delta=1.1)
         self.assertEqual(out["coverage_interlock_pct"]["0"], out["coverage_rails_pct"]["0"])
         self.assertEqual(out["coverage_min_pct"], 0.0)
+
+    def test_the_row_is_the_truths_plants_of_each_set(self):
+        with tempfile.TemporaryDirectory() as d:
+            truth = os.path.join(d, "truth.yaml")
+            with open(truth, "w") as f:
+                f.write("rail_length: 5.0\nrail_sets:\n  - {index: 0, x: 0.03, y: 0.0, yaw: 0.0, plants: [1.0, 4.0]}\n"
+                        "  - {index: 1, x: 0.03, y: 1.6, yaw: 0.0, plants: []}\n")
+            sc = scorer.UvMissionScorer(truth)
+            sc.lights = True
+            t, x = 0.0, 0.03
+            while x < 4.2:  # set 0 driven with the lights on until the lamps' front edge is 0.2 m past its plants' end
+                sc.add_dose((t, x, 0.0), (t + 0.02, x + 0.01, 0.0))
+                t, x = t + 0.02, x + 0.01
+            sc.add_dose((t, 0.03, 1.6), (t + 0.02, 0.5, 1.6))  # on set 1's rails: no plants there, no figure
+            out = sc.result()
+        self.assertEqual(out["coverage_row_m"], {"0": [1.0, 4.0]})
+        self.assertEqual(sorted(out["coverage_pct"]), ["0"])
+        # The full dose needs target / (power / speed) of the lamps' length to pass: bins up to 4.2 - 0.03 + FRONT
+        # - 0.625 m are covered, past the plants' end only when FRONT > 0.455 m.
+        expect = min(4.0, 4.17 + FRONT - 0.75 * LAMPS["target_dose"] / (LAMPS["lamp_power"] / 0.5))
+        self.assertAlmostEqual(out["coverage_pct"]["0"], 100.0 * (expect - 1.0) / 3.0, delta=2.0)
 
 
 if __name__ == "__main__":

@@ -37,6 +37,8 @@ void validateGreenhouseParams(const GreenhouseParams& p) {
   if (!(p.plant_bottom_m >= 0.0 && p.plant_bottom_m < p.plant_top_m))
     throw std::invalid_argument("plant_bottom must be at least 0 and below plant_top (" +
                                 std::to_string(p.plant_top_m) + " m)");
+  if (!(p.plant_row_start_m >= 0.0 && p.plant_row_end_gap_m >= 0.0))
+    throw std::invalid_argument("plant_row_start and plant_row_end_gap must be at least 0");
   p.variation.validate();
   if (p.rail_gauge_m + p.pipe_diameter_m + 2.0 * p.variation.set_spacing_jitter_m >= p.set_spacing_m)
     throw std::invalid_argument(
@@ -107,15 +109,24 @@ void writePlantRowsAndVents(const GreenhouseParams& p, GreenhouseTruth& t, GeomW
   const double row_len = p.rail_length_m;
   for (int k = 0; k <= p.rail_sets; ++k) {
     // Midway between the (moved) neighbouring sets; an outer row moves with its set.
-    const double dy = 0.5 * (draws.set_dy[std::max(0, k - 1)] + draws.set_dy[std::min(p.rail_sets - 1, k)]);
+    const int left = std::max(0, k - 1), right = std::min(p.rail_sets - 1, k);
+    const double dy = 0.5 * (draws.set_dy[left] + draws.set_dy[right]);
     const double y = (k - 0.5) * p.set_spacing_m + dy;
     const bool fits = y - 0.5 * p.plant_width_m > y_min && y + 0.5 * p.plant_width_m < y_max;
-    if (fits) {
+    // Along the shorter of the two sets beside it (their starts are one line, rail_start_gap past the edge).
+    const double set_len = std::min(t.rail_sets[left].length_m, t.rail_sets[right].length_m);
+    const double from = p.plant_row_start_m, to = set_len - p.plant_row_end_gap_m;
+    if (fits && to > from) {
       t.plant_row_y.push_back(y);
       const double zc = 0.5 * (p.plant_bottom_m + p.plant_top_m);
-      w.boxPieces("plant_row" + std::to_string(k), {p.rail_start_gap_m + 0.5 + 0.5 * row_len, y, zc},
-                  {0.5 * row_len, 0.5 * p.plant_width_m, 0.5 * (p.plant_top_m - p.plant_bottom_m)}, colours::kPlant,
-                  kPiece);
+      w.boxPieces("plant_row" + std::to_string(k), {p.rail_start_gap_m + 0.5 * (from + to), y, zc},
+                  {0.5 * (to - from), 0.5 * p.plant_width_m, 0.5 * (p.plant_top_m - p.plant_bottom_m)},
+                  colours::kPlant, kPiece);
+      for (int s : {left, right}) {
+        RailSetTruth& set = t.rail_sets[s];
+        if (set.plants_to_m <= set.plants_from_m) set.plants_from_m = from, set.plants_to_m = to;
+        set.plants_to_m = std::max(set.plants_to_m, to);
+      }
     }
     if (p.vent_every > 0 && k > 0 && k < p.rail_sets && k % p.vent_every == 1 % p.vent_every) {
       t.vent_line_y.push_back(y);
@@ -182,6 +193,11 @@ bool writeGreenhouseTruth(const GreenhouseTruth& t, const std::string& path) {
     if (varied)
       out << ", length: " << s.length_m << ", pipe_start_offset: [" << s.pipe_start_offset_m[0] << ", "
           << s.pipe_start_offset_m[1] << "], bend_length: " << s.bend_length_m;
+    // The plants beside it, along it from its start (none: an empty list).
+    if (s.plants_to_m > s.plants_from_m)
+      out << ", plants: [" << s.plants_from_m << ", " << s.plants_to_m << "]";
+    else
+      out << ", plants: []";
     out << "}\n";
   }
   out << "vent_line_y: [";

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include <unistd.h>
+
 #include "test_scene.h"
 #include "thorvald_sim/greenhouse_world.h"
 #include "thorvald_sim/sensor_config.h"
@@ -197,6 +199,57 @@ TEST(GreenhouseVariation, RailSetsOfOtherLengthsAndSpacings) {
   EXPECT_GT(moved, 0.02);
   for (size_t k = 1; k + 1 < t.plant_row_y.size(); ++k)  // plant rows stay midway between their sets
     EXPECT_NEAR(t.plant_row_y[k], 0.5 * (t.rail_sets[k - 1].start_y + t.rail_sets[k].start_y), 1e-9);
+}
+
+// The plants of each row run from plant_row_start past the rails' start to plant_row_end_gap before the end of the
+// shorter set beside them (the robot's lamps stand on the rails beside the last plant); the truth says so per set.
+TEST(GreenhouseVariation, PlantRowsEndBeforeTheShorterSetBesideThem) {
+  ts::GreenhouseVariation v;
+  v.rail_length_jitter_m = 3.0;
+  ts::GreenhouseParams p = params(v);
+  ts::GreenhouseTruth t;
+  ts::test::StaticWorld w(ts::makeGreenhouseWorld(p, &t));
+  const int n = static_cast<int>(t.rail_sets.size());
+  int rows_checked = 0;
+  for (int k = 0; k <= n; ++k) {
+    const std::string name = "plant_row" + std::to_string(k);
+    double lo = 1e9, hi = -1e9;
+    for (int i = 0;; ++i) {
+      const int g = mj_name2id(w.model.get(), mjOBJ_GEOM, (name + "_s" + std::to_string(i)).c_str());
+      if (g < 0) break;
+      lo = std::min(lo, w.data->geom_xpos[3 * g] - w.model->geom_size[3 * g]);
+      hi = std::max(hi, w.data->geom_xpos[3 * g] + w.model->geom_size[3 * g]);
+    }
+    if (hi < lo) continue;  // an outer row outside the side walls
+    const int left = std::max(0, k - 1), right = std::min(n - 1, k);
+    const double shorter = std::min(t.rail_sets[left].length_m, t.rail_sets[right].length_m);
+    EXPECT_NEAR(lo, p.rail_start_gap_m + p.plant_row_start_m, 1e-7) << name;
+    EXPECT_NEAR(hi, p.rail_start_gap_m + shorter - p.plant_row_end_gap_m, 1e-7) << name;
+    ++rows_checked;
+  }
+  EXPECT_GE(rows_checked, n);
+  for (int k = 0; k < n; ++k) {  // the set's plants end where the longer of its two rows ends
+    const auto& s = t.rail_sets[k];
+    const double own = s.length_m, l = k > 0 ? std::min(own, t.rail_sets[k - 1].length_m) : own,
+                 r = k + 1 < n ? std::min(own, t.rail_sets[k + 1].length_m) : own;
+    EXPECT_DOUBLE_EQ(s.plants_from_m, p.plant_row_start_m);
+    EXPECT_NEAR(s.plants_to_m, std::max(l, r) - p.plant_row_end_gap_m, 1e-12) << k;
+    EXPECT_LE(s.plants_to_m, s.length_m - p.plant_row_end_gap_m + 1e-12);  // never past the lamps' reach
+  }
+  const std::string path = "/tmp/thorvald_sim_plants_truth_" + std::to_string(::getpid()) + ".yaml";
+  ASSERT_TRUE(ts::writeGreenhouseTruth(t, path));
+  const YAML::Node y = YAML::LoadFile(path);
+  std::remove(path.c_str());
+  ASSERT_EQ(y["rail_sets"][1]["plants"].size(), 2u);
+  EXPECT_NEAR(y["rail_sets"][1]["plants"][1].as<double>(), t.rail_sets[1].plants_to_m, 1e-4);
+  // Rails too short for a row: no plants, an empty list in the truth.
+  p.rail_length_m = 1.5;
+  p.variation = ts::GreenhouseVariation();
+  ts::makeGreenhouseWorld(p, &t);
+  EXPECT_TRUE(t.plant_row_y.empty());
+  ASSERT_TRUE(ts::writeGreenhouseTruth(t, path));
+  EXPECT_EQ(YAML::LoadFile(path)["rail_sets"][0]["plants"].size(), 0u);
+  std::remove(path.c_str());
 }
 
 TEST(GreenhouseVariation, SameSeedSameHouseOtherSeedOtherHouse) {

@@ -25,6 +25,10 @@ struct GreenhouseParams {
   double plant_bottom_m = 0.9;      ///< plant rows hang from here up to plant_top_m [m]
   double plant_top_m = 2.5;
   double plant_width_m = 0.35;
+  /// The plants of a row begin this far past the rails' start and end this far before the end of the shorter rail
+  /// set beside them [m]: trolleys, and the robot's lamps, stand on the rails beside the first and the last plant.
+  double plant_row_start_m = 1.0;
+  double plant_row_end_gap_m = 1.0;
   int vent_every = 2;           ///< a ventilation/heating line under every n-th plant row (0: none)
   double vent_height_m = 0.45;  ///< centre height of the ventilation lines [m]
   double vent_diameter_m = 0.3;
@@ -47,6 +51,8 @@ struct RailSetTruth {
   /// start_x + bend_length_m (0: straight).
   double pipe_start_offset_m[2] = {0, 0};
   double bend_length_m = 0;
+  /// The plants beside the set (both its rows), along it from its start [m]; to <= from: no plants beside it.
+  double plants_from_m = 0, plants_to_m = 0;
 };
 
 /// Something left in the greenhouse (a crate, a parked trolley, a hose): a box or a lying capsule.

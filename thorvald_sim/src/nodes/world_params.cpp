@@ -126,6 +126,10 @@ void readGreenhouseParams(thorvald_common::ParamReader& params, GreenhouseParams
   g->wall_margin_m = params.number("greenhouse/wall_margin", g->wall_margin_m, ParamRange::aboveUpTo(0.2, 20.0), "m");
   g->plant_bottom_m =
       params.number("greenhouse/plant_bottom", g->plant_bottom_m, ParamRange::aboveUpTo(0.0, 10.0), "m");
+  g->plant_row_start_m =
+      params.number("greenhouse/plant_row_start", g->plant_row_start_m, ParamRange::closed(0.0, 100.0), "m");
+  g->plant_row_end_gap_m =
+      params.number("greenhouse/plant_row_end_gap", g->plant_row_end_gap_m, ParamRange::closed(0.0, 100.0), "m");
   readVariation(params, &g->variation);
 }
 
