@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "thorvald_navigation/distance_field.h"
-
 namespace thorvald_navigation {
 
 const char* blockerName(Blocker b) {
@@ -103,11 +101,24 @@ Costmap::Costmap(const thorvald_map::OccupancyGrid& map, const thorvald_map::Occ
   for (int y = 0; y < geometry_.height; ++y)
     for (int x = 0; x < geometry_.width; ++x)
       known_distance_[geometry_.index(x, y)] = static_cast<float>(field.cellDistance(x, y));
-  inflate();
+  blocked_ = thorvald_map::OccupancyGrid(geometry_.width, geometry_.height, geometry_.resolution_m, geometry_.origin.x,
+                                         geometry_.origin.y, thorvald_map::kFree);
+  for (std::size_t i = 0; i < blocker_.size(); ++i)
+    if (blocker_[i] != static_cast<std::uint8_t>(Blocker::kNone)) blocked_.data[i] = thorvald_map::kOccupied;
+  blocked_distance_ = DistanceField(blocked_, params_.inflation_radius_m + geometry_.resolution_m);
+  cost_.assign(blocker_.size(), 0);
+  computeCosts(0, 0, geometry_.width - 1, geometry_.height - 1);
 }
 
 void Costmap::setObstacles(const std::vector<Eigen::Vector2d>& points_world) {
-  blocker_ = static_blocker_;
+  if (geometry_.width == 0) return;
+  constexpr auto kNone = static_cast<std::uint8_t>(Blocker::kNone), kUnknown = static_cast<std::uint8_t>(Blocker::kUnknown),
+                 kObstacle = static_cast<std::uint8_t>(Blocker::kObstacle);
+  // The layer seen before is lifted: its cells go back to what the map says.
+  std::vector<int> changed;
+  for (const int i : obstacle_cells_) blocker_[i] = static_blocker_[i];
+  std::vector<int> before;
+  before.swap(obstacle_cells_);
   obstacle_points_ = known_points_ = 0;
   for (const auto& p : points_world) {
     if (!p.allFinite()) continue;
@@ -121,31 +132,44 @@ void Costmap::setObstacles(const std::vector<Eigen::Vector2d>& points_world) {
     }
     ++obstacle_points_;
     auto& b = blocker_[i];
-    if (b == static_cast<std::uint8_t>(Blocker::kNone) || b == static_cast<std::uint8_t>(Blocker::kUnknown))
-      b = static_cast<std::uint8_t>(Blocker::kObstacle);
+    if (b == kNone || b == kUnknown) {
+      b = kObstacle;
+      obstacle_cells_.push_back(static_cast<int>(i));
+    }
   }
-  inflate();
+  // Cells whose blocked state changed: the distance field and the costs within reach of them are brought up to date.
+  for (const int i : before)
+    if ((blocker_[i] != kNone) != (blocked_.data[i] == thorvald_map::kOccupied)) changed.push_back(i);
+  for (const int i : obstacle_cells_)
+    if (blocked_.data[i] != thorvald_map::kOccupied) changed.push_back(i);
+  if (changed.empty()) return;
+  int x0 = geometry_.width, y0 = geometry_.height, x1 = -1, y1 = -1;
+  for (const int i : changed) {
+    blocked_.data[i] = blocker_[i] != kNone ? thorvald_map::kOccupied : thorvald_map::kFree;
+    const int x = i % geometry_.width, y = i / geometry_.width;
+    x0 = std::min(x0, x), y0 = std::min(y0, y), x1 = std::max(x1, x), y1 = std::max(y1, y);
+  }
+  blocked_distance_.update(blocked_, nullptr, changed, {});
+  const int reach = static_cast<int>(std::ceil(params_.inflation_radius_m / geometry_.resolution_m)) + 2;
+  computeCosts(std::max(0, x0 - reach), std::max(0, y0 - reach), std::min(geometry_.width - 1, x1 + reach),
+               std::min(geometry_.height - 1, y1 + reach));
 }
 
-void Costmap::inflate() {
-  thorvald_map::OccupancyGrid lethal(geometry_.width, geometry_.height, geometry_.resolution_m, geometry_.origin.x,
-                                     geometry_.origin.y, thorvald_map::kFree);
-  for (std::size_t i = 0; i < blocker_.size(); ++i)
-    if (blocker_[i] != static_cast<std::uint8_t>(Blocker::kNone)) lethal.data[i] = thorvald_map::kOccupied;
-  const DistanceField field(lethal, params_.inflation_radius_m + geometry_.resolution_m);
-  cost_.assign(blocker_.size(), 0);
-  for (int y = 0; y < geometry_.height; ++y) {
-    for (int x = 0; x < geometry_.width; ++x) {
+void Costmap::computeCosts(int x0, int y0, int x1, int y1) {
+  for (int y = y0; y <= y1; ++y) {
+    for (int x = x0; x <= x1; ++x) {
       const std::size_t i = geometry_.index(x, y);
-      const double d = field.cellDistance(x, y);
+      const double d = blocked_distance_.cellDistance(x, y);
+      std::uint8_t c = 0;
       if (blocker_[i] != static_cast<std::uint8_t>(Blocker::kNone)) {
-        cost_[i] = kLethalCost;
+        c = kLethalCost;
       } else if (d <= params_.planning_radius_m) {
-        cost_[i] = kInscribedCost;
+        c = kInscribedCost;
       } else if (d < params_.inflation_radius_m) {
-        cost_[i] = static_cast<std::uint8_t>(
+        c = static_cast<std::uint8_t>(
             std::max(1.0, 252.0 * std::exp(-params_.cost_scaling * (d - params_.planning_radius_m))));
       }
+      cost_[i] = c;
     }
   }
 }

@@ -247,6 +247,64 @@ TEST(ObstacleCheck, AnObstacleInTheRearsSweepStopsATurnOnTheSpot) {
   EXPECT_NEAR(tn::sweptObstacleDistance(cm, fp, start, path, 1, 2.5, true, thorvald_base::kPi / 2), 0.0, 1e-9);
 }
 
+// The obstacle layer is re-inflated only around the cells a scan changed: after a sequence of scans (obstacles moved,
+// lifted, laid on walls and on unknown space) every cell's cost is the one the costmap_2d rule gives from the
+// distance to the nearest blocked cell, computed here by brute force.
+TEST(Costmap, ObstacleUpdatesEqualInflatingAnew) {
+  thorvald_map::OccupancyGrid map = roomWithBaffle();
+  for (int y = 60; y < 79; ++y)
+    for (int x = 150; x < 199; ++x) map.at(x, y) = thorvald_map::kUnknown;
+  tn::CostmapParams cp;
+  cp.known_structure_tolerance_m = 0.0;
+  tn::Costmap cm(map, thorvald_map::OccupancyGrid(), cp);
+  const auto& g = cm.geometry();
+  auto expected = [&](int x, int y) -> int {
+    if (cm.blocker(x, y) != tn::Blocker::kNone) return tn::kLethalCost;
+    double d = 1e9;
+    for (int by = std::max(0, y - 25); by <= std::min(g.height - 1, y + 25); ++by)
+      for (int bx = std::max(0, x - 25); bx <= std::min(g.width - 1, x + 25); ++bx)
+        if (cm.blocker(bx, by) != tn::Blocker::kNone) d = std::min(d, g.resolution_m * std::hypot(bx - x, by - y));
+    d = static_cast<float>(d);  // as the distance field stores it
+    if (d <= cp.planning_radius_m) return tn::kInscribedCost;
+    if (d >= cp.inflation_radius_m) return 0;
+    return static_cast<int>(std::max(1.0, 252.0 * std::exp(-cp.cost_scaling * (d - cp.planning_radius_m))));
+  };
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> ux(0.0, 10.0), uy(0.0, 4.0);
+  std::vector<std::vector<Eigen::Vector2d>> scans;
+  for (int k = 0; k < 6; ++k) {
+    std::vector<Eigen::Vector2d> pts;
+    for (int i = 0; i < 3 + 4 * k; ++i) pts.emplace_back(ux(rng), uy(rng));  // some on walls and unknown cells
+    pts.emplace_back(3.0 + 0.1 * k, 2.0);  // one that moves a little from scan to scan
+    scans.push_back(pts);
+  }
+  scans.emplace_back();  // every obstacle lifted
+  scans.push_back(scans[2]);
+  int mismatches = 0, inflated_cells = 0;
+  for (const auto& pts : scans) {
+    cm.setObstacles(pts);
+    for (int y = 0; y < g.height; ++y)
+      for (int x = 0; x < g.width; ++x) {
+        const int want = expected(x, y);
+        // The field's float distances may round a cell at a cost step by one.
+        if (std::abs(static_cast<int>(cm.cost(x, y)) - want) > 1) {
+          if (mismatches < 5) ADD_FAILURE() << "scan " << (&pts - &scans[0]) << " cell " << x << "," << y << " cost "
+                                            << int(cm.cost(x, y)) << " want " << want;
+          ++mismatches;
+        }
+        if (want > 0 && want < tn::kInscribedCost) ++inflated_cells;
+      }
+  }
+  EXPECT_EQ(mismatches, 0);
+  EXPECT_GT(inflated_cells, 1000);
+  cm.setObstacles({{3.0, 2.0}});
+  EXPECT_EQ(cm.blocker(g.cellOf({3.0, 2.0}).x(), g.cellOf({3.0, 2.0}).y()), tn::Blocker::kObstacle);
+  EXPECT_EQ(cm.obstaclePoints(), 1u);
+  cm.setObstacles({});
+  EXPECT_EQ(cm.blocker(g.cellOf({3.0, 2.0}).x(), g.cellOf({3.0, 2.0}).y()), tn::Blocker::kNone);
+  EXPECT_EQ(cm.cost(g.cellOf({3.0, 2.0}).x(), g.cellOf({3.0, 2.0}).y()), 0);
+}
+
 TEST(GridPlanner, StartInsideThePlanningRadiusCanLeave) {
   const tn::Costmap cm(roomWithBaffle(), thorvald_map::OccupancyGrid(), tn::CostmapParams{});
   const auto r = tn::planPath(cm, {0.2, 2.0}, {3.0, 2.0}, tn::PlannerParams{});

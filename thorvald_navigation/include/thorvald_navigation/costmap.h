@@ -9,6 +9,7 @@
 
 #include "thorvald_map/occupancy_grid.h"
 #include "thorvald_base/pose2d.h"
+#include "thorvald_navigation/distance_field.h"
 
 namespace thorvald_navigation {
 
@@ -54,8 +55,9 @@ class Costmap {
   Costmap(const thorvald_map::OccupancyGrid& map, const thorvald_map::OccupancyGrid& keep_out,
           const CostmapParams& params);
 
-  /// Replaces the obstacle layer with points seen now (world frame) and re-inflates. Points on or within
-  /// known_structure_tolerance_m of a wall of the map or of the keep-out zone are not obstacles.
+  /// Replaces the obstacle layer with points seen now (world frame) and re-inflates around the cells that changed
+  /// (the cost of a scan is what it changed, not the map's size; equal to inflating anew, tested). Points on or
+  /// within known_structure_tolerance_m of a wall of the map or of the keep-out zone are not obstacles.
   void setObstacles(const std::vector<Eigen::Vector2d>& points_world);
   /// Of the last setObstacles: points marked as obstacles, points taken as known map structure.
   std::size_t obstaclePoints() const { return obstacle_points_; }
@@ -72,7 +74,8 @@ class Costmap {
   const CostmapParams& params() const { return params_; }
 
  private:
-  void inflate();
+  /// Costs of the cells in [x0, x1] x [y0, y1] from the distance field of the blocked cells.
+  void computeCosts(int x0, int y0, int x1, int y1);
 
   CostmapParams params_;
   thorvald_map::OccupancyGrid geometry_;
@@ -80,6 +83,9 @@ class Costmap {
   std::vector<std::uint8_t> blocker_;
   std::vector<std::uint8_t> cost_;
   std::vector<float> known_distance_;  // distance to the nearest wall / keep-out cell, clamped [m]
+  thorvald_map::OccupancyGrid blocked_;  // every blocked cell occupied: the sites of blocked_distance_
+  DistanceField blocked_distance_;       // to the nearest blocked cell, clamped past the inflation radius
+  std::vector<int> obstacle_cells_;      // cells the obstacle layer blocks now
   std::size_t obstacle_points_ = 0, known_points_ = 0;
 };
 

@@ -118,7 +118,7 @@ class HeadlandNavigatorNode {
     }
     obstacles_ = std::move(pts.hits);
     last_scan_ = ros::Time::now();
-    // Re-inflating the whole costmap costs milliseconds: not for every scan of a 40 Hz lidar.
+    // Re-inflating around what a scan changed costs little, but not for every scan of a 40 Hz lidar.
     if (costmap_ && (last_obstacle_update_.isZero() || last_scan_ < last_obstacle_update_ ||
                      (last_scan_ - last_obstacle_update_).toSec() >= 1.0 / s_.obstacle_update_rate)) {
       costmap_->setObstacles(obstacles_);
