@@ -287,4 +287,16 @@ bool ZoneHold::update(bool blocked, double t_s) {
   return holding_;
 }
 
+bool notHeadland(const thorvald_map::OccupancyGrid& map, const thorvald_map::OccupancyGrid& keep_out, int reach_cells,
+                 const Eigen::Vector2d& p_map) {
+  int cx = 0, cy = 0;
+  if (!map.worldToCell(p_map, &cx, &cy)) return true;  // outside the map: not headland
+  if (map.at(cx, cy) == thorvald_map::kUnknown) return true;
+  for (int dy = -reach_cells; dy <= reach_cells; ++dy)
+    for (int dx = -reach_cells; dx <= reach_cells; ++dx)
+      if (map.inside(cx + dx, cy + dy) && map.at(cx + dx, cy + dy) >= 50) return true;
+  int kx = 0, ky = 0;
+  return keep_out.width > 0 && keep_out.worldToCell(p_map, &kx, &ky) && keep_out.at(kx, ky) >= 65;
+}
+
 }  // namespace greenhouse_rail_nav

@@ -158,6 +158,47 @@ TEST(ObstacleZones, HeadlandPeopleNotInTheMapAndNearAreInTheZone) {
   EXPECT_FALSE(v.blocked) << v.why;
 }
 
+// Reversing out of a set onto the headland, the lidar looks into the rows: the round end of a ventilation line under
+// the plant row beside the set (x = 0 to 0.16 m past the edge, 0.8 m to the side) is a person-sized round cluster
+// the headland map holds as free floor (the lidar's plane passes over the line when mapping). The map analyzer's
+// keep-out zone beyond the edge is not headland: nobody is there for the headland zone.
+TEST(ObstacleZones, TheRowsBeyondTheHeadlandEdgeAreNotHeadland) {
+  // Map frame: the headland x < 0, the rows x >= 0; 5 cm cells, all free floor but a wall at x = -5.
+  thorvald_map::OccupancyGrid map(200, 120, 0.05, -6.0, -3.0, thorvald_map::kFree);
+  for (int y = 0; y < 120; ++y) map.at(20, y) = thorvald_map::kOccupied;
+  thorvald_map::OccupancyGrid keep_out(40, 24, 0.25, -6.0, -3.0, thorvald_map::kFree);
+  for (int y = 0; y < 24; ++y)
+    for (int x = 24; x < 40; ++x) keep_out.at(x, y) = thorvald_map::kOccupied;  // x >= 0
+  EXPECT_FALSE(grn::notHeadland(map, keep_out, 4, {-1.0, 0.8}));
+  EXPECT_TRUE(grn::notHeadland(map, keep_out, 4, {0.1, 0.8}));
+  EXPECT_TRUE(grn::notHeadland(map, keep_out, 4, {-4.9, 0.0}));    // within reach of the wall
+  EXPECT_TRUE(grn::notHeadland(map, keep_out, 4, {20.0, 0.0}));    // outside the map
+  EXPECT_FALSE(grn::notHeadland(map, {}, 4, {0.1, 0.8}));          // no keep-out grid: the map alone
+  // The robot reversing at x = -1.0 (base_link at the origin of the scan, facing +x): the vent line's end.
+  grn::ZoneParams p;
+  grn::ZoneContext c;
+  c.phase = grn::ZonePhase::kReverse;
+  c.reverse_left_m = 0.5;
+  SyntheticScan vent;
+  vent.wall_x = 25.0;
+  vent.bodies.push_back({1.25, 0.8, 0.2, true});  // the end cap and the line's side: round, person-sized, x > 0.05
+  const double base_x = -1.0;
+  auto known = [&](const thorvald_map::OccupancyGrid& k) {
+    return grn::KnownPoint([&map, &k, base_x](double x, double y) {
+      return grn::notHeadland(map, k, 4, {base_x + x, y});
+    });
+  };
+  grn::ZoneVerdict v = grn::evaluateZone(vent.points(), kLidarX, c, p, known({}));
+  EXPECT_TRUE(v.person) << "without the keep-out zone the vent's end reads as a person";
+  v = grn::evaluateZone(vent.points(), kLidarX, c, p, known(keep_out));
+  EXPECT_FALSE(v.blocked) << v.why;
+  // A person on the headland beside the robot still is one.
+  SyntheticScan person = vent;
+  person.bodies = {{0.7, -0.9, 0.2, true}};
+  v = grn::evaluateZone(person.points(), kLidarX, c, p, known(keep_out));
+  EXPECT_TRUE(v.person) << v.why;
+}
+
 TEST(ObstacleZones, ReversingTheRearRangeFindersWatchBehind) {
   grn::ZoneParams p;
   grn::ZoneContext c;

@@ -5,6 +5,10 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
+#include "thorvald_map/occupancy_grid.h"
+
 namespace greenhouse_rail_nav {
 
 /// The protected zone around the UV robot and how lidar points are grouped (issue 29). Lengths in base_link [m].
@@ -112,6 +116,13 @@ struct ZoneVerdict {
 
 /// True for a point of the known map (walls, plant rows) at base_link coordinates.
 using KnownPoint = std::function<bool(double x, double y)>;
+
+/// Whether a point of the map frame is not free headland, so nobody the headland zone must watch for: outside `map`,
+/// on an unknown cell, within `reach_cells` of an occupied cell (>= 50), or on an occupied cell (>= 65) of
+/// `keep_out` (the map analyzer's zone beyond the headland edge: the rows, with their plants, heating and
+/// ventilation lines; an empty grid: none).
+bool notHeadland(const thorvald_map::OccupancyGrid& map, const thorvald_map::OccupancyGrid& keep_out, int reach_cells,
+                 const Eigen::Vector2d& p_map);
 
 /// Evaluates one scan: `points` in base_link in scan order, `lidar_x` the lidar's position on base_link's x axis
 /// [m], `known` the map on the headland (may be empty: nothing is known). The rear range finders' readings (NaN or

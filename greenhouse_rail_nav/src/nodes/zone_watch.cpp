@@ -47,6 +47,7 @@ ZoneWatch::ZoneWatch(ros::NodeHandle& nh, const Config& c, tf2_ros::Buffer& tf)
   markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>("obstacles", 2);
   subs_.push_back(nh.subscribe("scan", 2, &ZoneWatch::onScan, this));
   subs_.push_back(nh.subscribe("map", 1, &ZoneWatch::onMap, this));
+  subs_.push_back(nh.subscribe("keep_out_map", 1, &ZoneWatch::onKeepOut, this));
   for (size_t i = 0; i < c.rear_sensors.size(); ++i)
     subs_.push_back(nh.subscribe<sensor_msgs::Range>(
         "ultrasonic/" + c.rear_sensors[i], 5, [this, i](const sensor_msgs::RangeConstPtr& m) { onRear(i, *m); }));
@@ -89,6 +90,17 @@ void ZoneWatch::onMap(const nav_msgs::OccupancyGrid& m) {
   std::lock_guard<std::mutex> l(mutex_);
   map_ = std::move(g);
   have_map_ = true;
+}
+
+void ZoneWatch::onKeepOut(const nav_msgs::OccupancyGrid& m) {
+  thorvald_map::OccupancyGrid g;
+  std::string error;
+  if (!thorvald_map::fromGridMessage(m, &g, &error)) {
+    ROS_WARN("uv_mission: keep-out grid not used for the people detection: %s", error.c_str());
+    return;
+  }
+  std::lock_guard<std::mutex> l(mutex_);
+  keep_out_ = std::move(g);
 }
 
 void ZoneWatch::onRear(size_t i, const sensor_msgs::Range& m) {
@@ -139,14 +151,7 @@ KnownPoint ZoneWatch::knownInMap() {
   }
   // Read under mutex_, which the caller holds while it evaluates the scan (onMap replaces map_ under it).
   return [this, base, reach](double x, double y) {
-    int cx = 0, cy = 0;
-    if (!map_.worldToCell(base.transformPoint(Eigen::Vector2d(x, y)), &cx, &cy))
-      return true;  // outside the map: not headland
-    if (map_.at(cx, cy) == thorvald_map::kUnknown) return true;
-    for (int dy = -reach; dy <= reach; ++dy)
-      for (int dx = -reach; dx <= reach; ++dx)
-        if (map_.inside(cx + dx, cy + dy) && map_.at(cx + dx, cy + dy) >= 50) return true;
-    return false;
+    return notHeadland(map_, keep_out_, reach, base.transformPoint(Eigen::Vector2d(x, y)));
   };
 }
 

@@ -1,6 +1,6 @@
 // The UV mission's people and obstacle detection on ROS: every lidar scan is evaluated against the protected zone
-// (obstacle_zones.h) for the mission's current context, with the headland map (points of the map or outside it are
-// known) and the rear range finders; the verdict goes to the mission, to the UV interlock (people_detected) and to
+// (obstacle_zones.h) for the mission's current context, with the headland map (points of the map, outside it, or in
+// the map analyzer's keep-out zone beyond the headland edge are known: not headland) and the rear range finders; the verdict goes to the mission, to the UV interlock (people_detected) and to
 // RViz (obstacles markers). Also watches the lamps' relay boards (io/<board>/state_unknown).
 #pragma once
 
@@ -45,6 +45,7 @@ class ZoneWatch {
  private:
   void onScan(const sensor_msgs::LaserScan& m);
   void onMap(const nav_msgs::OccupancyGrid& m);
+  void onKeepOut(const nav_msgs::OccupancyGrid& m);
   void onRear(size_t i, const sensor_msgs::Range& m);
   void onRelay(size_t i, const std_msgs::Bool& m);
   /// The scan's returns in base_link; false without the lidar's transform.
@@ -61,6 +62,7 @@ class ZoneWatch {
   ros::Time evaluated_;                          // when verdict_ was taken
   thorvald_map::OccupancyGrid map_;
   bool have_map_ = false;
+  thorvald_map::OccupancyGrid keep_out_;  // the rows beyond the headland edge (map_analyzer's keep_out_map; empty: none)
   std::vector<double> rear_range_;
   std::vector<ros::Time> rear_stamp_;
   std::vector<int> relay_unknown_;  // -1 not heard, 0 confirmed, 1 in doubt
