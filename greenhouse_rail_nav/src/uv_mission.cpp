@@ -94,16 +94,19 @@ UvMission::Impl::Loop UvMission::Impl::runStep(const MotionStep& step, tsm::Exec
 
 bool UvMission::Impl::freshObservation(double since_s, tsm::ExecutionContext& ctx, RailObservation* obs) {
   const double deadline = io_.now() + p_.detect_timeout_s;
+  io_.wantRailDetection(true);
   while (io_.ok() && !ctx.preemptRequested() && io_.now() < deadline) {
     const RailObservation o = io_.railObservation();
     if (o.stamp_s >= since_s + p_.detect_settle_s &&
         (o.status == RailObservation::Status::kFound || o.status == RailObservation::Status::kXUnobserved)) {
       *obs = o;
+      io_.wantRailDetection(false);
       return true;
     }
     stop();
     io_.waitTick();
   }
+  io_.wantRailDetection(false);
   return false;
 }
 

@@ -7,6 +7,7 @@
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <geometry_msgs/TransformStamped.h>
 #include <gtest/gtest.h>
+#include <std_msgs/Bool.h>
 #include <ros/ros.h>
 #include <thorvald_common/ros/wait_for.h>
 #include <std_srvs/Trigger.h>
@@ -191,6 +192,22 @@ TEST_F(RailDetectorNodeTest, MountCalibrationIsComputedAppliedAndPersisted) {
   EXPECT_NEAR(status->y, truth.y, 0.03);
   EXPECT_NEAR(status->yaw, truth.yaw, 0.02);
   std::remove(calibration_file.c_str());
+}
+
+// ~enable false: the node leaves the cloud topic (a camera publishing only to subscribers stops); true: it detects again.
+TEST_F(RailDetectorNodeTest, EnableSwitchesTheCloudSubscriptionOffAndOn) {
+  ros::Publisher enable = nh_.advertise<std_msgs::Bool>("rail_detector/enable", 1, true);
+  ASSERT_TRUE(waitFor([&] { return enable.getNumSubscribers() > 0; }));
+  std_msgs::Bool b;
+  b.data = false;
+  enable.publish(b);
+  EXPECT_TRUE(waitFor([&] { return cloud_pub_.getNumSubscribers() == 0; }, 10.0)) << "still subscribed when off";
+  b.data = true;
+  enable.publish(b);
+  ASSERT_TRUE(waitFor([&] { return cloud_pub_.getNumSubscribers() > 0; }, 10.0)) << "not subscribed again when on";
+  const auto status = sendOnceTfIsKnown(render(thorvald_base::Pose2D(-0.76, 0.02, 0.01), 5));
+  ASSERT_TRUE(status);
+  EXPECT_EQ(status->status, StatusMsg::FOUND) << status->reason;
 }
 
 int main(int argc, char** argv) {

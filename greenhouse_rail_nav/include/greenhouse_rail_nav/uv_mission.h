@@ -73,6 +73,9 @@ class MissionIO {
   /// The lamps' confirmed state (the relay board's echo of its output, io/<board>/out<k>/state): returns true with
   /// `*on` when the robot reports one; false without (the mission then counts its own light request as lit).
   virtual bool lampsConfirmed(bool* /*on*/) { return false; }
+  /// Whether the mission needs rail detections now (true while it waits for one): a robot may pause its detector
+  /// in between.
+  virtual void wantRailDetection(bool /*on*/) {}
 };
 
 /// One rail set to treat: where to stand in front of it (map frame) and the analyzer's verdict.

@@ -7,6 +7,7 @@
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <ros/ros.h>
+#include <std_msgs/Bool.h>
 #include <thorvald_common/ros/param_reader.h>
 #include <thorvald_common/ros/run_node.h>
 #include <std_srvs/Trigger.h>
@@ -31,6 +32,9 @@ struct NodeSettings {
   std::string fit_method = "clusters";  ///< clusters (the paper) or ransac (the baseline)
   double tf_timeout_s = 0.05;
   std::string calibration_file;  ///< where the mount correction is kept; empty: not persisted
+  /// Detect from the start; `~enable` (std_msgs/Bool) switches detection on and off: off, the node unsubscribes from
+  /// the cloud (a camera driver or the simulator that publishes only to subscribers then stops as well).
+  bool enabled = true;
   double calibration_max_y_m = 0.10, calibration_max_yaw_rad = 0.10, calibration_max_age_s = 1.0;
   RailDetectorParams detector;
   RailPoseGateParams gate;
@@ -47,6 +51,7 @@ NodeSettings loadSettings(const ros::NodeHandle& pnh) {
   s.fit_method = r.choice("fit_method", s.fit_method, {"clusters", "ransac"});
   s.tf_timeout_s = r.number("tf_timeout_s", s.tf_timeout_s, ParamRange::closed(0.0, 10.0), "s");
   s.calibration_file = r.text("calibration_file", s.calibration_file);
+  s.enabled = r.flag("enabled", s.enabled);
   s.calibration_max_y_m = r.number("calibration_max_y_m", s.calibration_max_y_m, positive, "m");
   s.calibration_max_yaw_rad = r.number("calibration_max_yaw_rad", s.calibration_max_yaw_rad, positive, "rad");
   s.calibration_max_age_s = r.number("calibration_max_age_s", s.calibration_max_age_s, positive, "s");
@@ -117,7 +122,9 @@ class RailDetectorNode {
     status_pub_ = nh.advertise<greenhouse_rail_nav::RailDetectionStatus>("rail_detection", 5);
     markers_pub_ = pnh.advertise<visualization_msgs::MarkerArray>("markers", 1);
     calibrate_srv_ = pnh.advertiseService("calibrate_mount", &RailDetectorNode::onCalibrate, this);
-    cloud_sub_ = nh.subscribe("camera/depth/points", 1, &RailDetectorNode::onCloud, this);
+    nh_ = nh;
+    enable(settings_.enabled);
+    enable_sub_ = pnh.subscribe<std_msgs::Bool>("enable", 1, [this](const std_msgs::BoolConstPtr& m) { enable(m->data); });
     updater_.setHardwareID("rail_detector");
     updater_.add("rail detection", this, &RailDetectorNode::diagnose);
     diag_timer_ = nh.createTimer(ros::Duration(1.0), [this](const ros::TimerEvent&) { updater_.update(); });
@@ -278,10 +285,24 @@ class RailDetectorNode {
     return true;
   }
 
+  void enable(bool on) {
+    if (on == static_cast<bool>(cloud_sub_)) return;
+    if (on) {
+      // Frames from before the pause describe another pose: the gate starts afresh.
+      gate_.reset();
+      cloud_sub_ = nh_.subscribe("camera/depth/points", 1, &RailDetectorNode::onCloud, this);
+    } else {
+      cloud_sub_.shutdown();
+    }
+    ROS_INFO("rail_detector: detection %s", on ? "on" : "off (~enable): not subscribed to camera/depth/points");
+  }
+
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
     using diagnostic_msgs::DiagnosticStatus;
     using Msg = greenhouse_rail_nav::RailDetectionStatus;
-    if (clouds_ == 0) {
+    if (!cloud_sub_) {
+      stat.summary(DiagnosticStatus::OK, "off (~enable false): not detecting");
+    } else if (clouds_ == 0) {
       stat.summary(DiagnosticStatus::WARN, "no cloud received on camera/depth/points");
     } else if (last_code_ == Msg::FOUND || last_code_ == Msg::FOUND_X_UNOBSERVED) {
       stat.summary(DiagnosticStatus::OK, last_reason_);
@@ -310,7 +331,8 @@ class RailDetectorNode {
   tf2_ros::TransformListener tf_listener_;
   diagnostic_updater::Updater updater_;
   ros::Publisher pose_pub_, status_pub_, markers_pub_;
-  ros::Subscriber cloud_sub_;
+  ros::NodeHandle nh_;
+  ros::Subscriber cloud_sub_, enable_sub_;
   ros::ServiceServer calibrate_srv_;
   ros::Timer diag_timer_;
   std::size_t clouds_ = 0;

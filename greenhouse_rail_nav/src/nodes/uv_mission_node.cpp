@@ -79,6 +79,10 @@ class RosMissionIO : public MissionIO {
     initialpose_pub_ = nh.advertise<geometry_msgs::PoseWithCovarianceStamped>("initialpose", 1);
     std_msgs::Bool off;
     lights_pub_.publish(off);
+    if (cfg_.pause_rail_detection) {
+      rail_enable_pub_ = nh.advertise<std_msgs::Bool>("rail_detector/enable", 1, true);
+      rail_enable_pub_.publish(off);
+    }
   }
 
   double now() override { return ros::Time::now().toSec(); }
@@ -127,6 +131,13 @@ class RosMissionIO : public MissionIO {
       ROS_WARN_THROTTLE(5.0, "uv_mission: no %s -> %s: %s", cfg_.map_frame.c_str(), cfg_.base_frame.c_str(), e.what());
       return false;
     }
+  }
+  void wantRailDetection(bool on) override {
+    if (!cfg_.pause_rail_detection || on == rail_wanted_) return;
+    rail_wanted_ = on;
+    std_msgs::Bool b;
+    b.data = on;
+    rail_enable_pub_.publish(b);
   }
   RailObservation railObservation() override {
     std::lock_guard<std::mutex> l(mutex_);
@@ -241,7 +252,8 @@ class RosMissionIO : public MissionIO {
   MoveBaseClient move_base_;
   ZoneWatch zones_;
   ros::Subscriber odom_sub_, rail_sub_, surface_sub_, scan_sub_, bumper_sub_, lamps_sub_;
-  ros::Publisher cmd_pub_, lights_pub_, initialpose_pub_;
+  ros::Publisher cmd_pub_, lights_pub_, initialpose_pub_, rail_enable_pub_;
+  bool rail_wanted_ = false;
 };
 
 /// map_analyzer, started together with the mission, writes the rail-set file before it publishes rail_targets

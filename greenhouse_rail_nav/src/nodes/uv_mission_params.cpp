@@ -28,6 +28,7 @@ void readMotionParams(thorvald_common::ParamReader& params, NodeSettings* s) {
   io.base_frame = params.text("base_frame", io.base_frame);
   io.rate_hz = params.number("control_rate", io.rate_hz, R::aboveUpTo(1.0, 200.0), "Hz");
   io.odom_timeout_s = params.number("odom_timeout", io.odom_timeout_s, R::above(0.0), "s");
+  io.pause_rail_detection = params.flag("pause_rail_detection", io.pause_rail_detection);
   p.alignment.approach_x_m = params.number("approach_x", p.alignment.approach_x_m, R::closed(-5.0, -0.2), "m");
   p.alignment.y_limit_m = params.number("y_limit", p.alignment.y_limit_m, R::aboveUpTo(0.0, 0.1), "m");
   p.alignment.yaw_limit_rad = params.number("yaw_limit", p.alignment.yaw_limit_rad, R::aboveUpTo(0.0, 0.2), "rad");

@@ -14,6 +14,9 @@ namespace greenhouse_rail_nav {
 struct MissionIoConfig {
   std::string map_frame = "map", base_frame = "base_link";
   double rate_hz = 50.0, odom_timeout_s = 0.5, scan_half_width_rad = 0.05;
+  /// Switch rail_detector on (rail_detector/enable) only while the mission waits for a detection: between them the
+  /// detector, and a depth camera that publishes only to subscribers, stay idle.
+  bool pause_rail_detection = true;
   ZoneWatch::Config zones;
 };
 
