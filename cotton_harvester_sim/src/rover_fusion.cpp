@@ -63,7 +63,7 @@ int gnssReceiversOf(SensorSet set) {
 
 RoverFusion::RoverFusion(SensorSet set, const RoverFusionParams& params,
                          const std::vector<Eigen::Vector3d>& antennas_in_base)
-    : set_(set), p_(params), antennas_(antennas_in_base), odometry_(params.axle_to_joint_m) {
+    : set_(set), p_(params), antennas_(antennas_in_base), wheels_(params.axle_to_joint_m, params.metres_per_pulse) {
   ekf_.setTwoDMode(true);
   tn::Cov15 q = tn::FusionEkf::defaultProcessNoise();
   q(tn::kFx, tn::kFx) = q(tn::kFy, tn::kFy) = p_.position_process_noise;
@@ -94,20 +94,12 @@ void RoverFusion::fuse(const std::string& input, double t, const std::vector<tn:
 }
 
 void RoverFusion::onWheels(const WheelReading& w) {
-  if (!last_wheels_) {
-    last_wheels_ = w;
-    return;
-  }
-  const double dt = w.time_s - last_wheels_->time_s;
-  const double pulses =
-      0.5 * ((w.left_pulses - last_wheels_->left_pulses) + (w.right_pulses - last_wheels_->right_pulses));
-  last_wheels_ = w;
-  if (!(dt > 0.0)) return;
-  odometry_.update(pulses * p_.metres_per_pulse, w.articulation_deg, dt);
+  if (!wheels_.add(w)) return;
+  const control::ArticulatedOdometry& o = wheels_.odometry();
   fuse(kOdom, w.time_s,
-       {{{{tn::kFvx, odometry_.speed(), p_.speed_variance},
+       {{{{tn::kFvx, o.speed(), p_.speed_variance},
           {tn::kFvy, 0.0, p_.vy_variance},
-          {tn::kFvyaw, odometry_.yawRate(), p_.yaw_rate_variance}},
+          {tn::kFvyaw, o.yawRate(), p_.yaw_rate_variance}},
          std::numeric_limits<double>::infinity(),
          "twist"}});
 }

@@ -197,5 +197,15 @@ RoverSensorFrame RoverSensors::poll() {
   return f;
 }
 
+bool EncoderOdometry::add(const WheelReading& w) {
+  const bool step = last_ && w.time_s > last_->time_s;
+  if (step) {
+    const double pulses = 0.5 * ((w.left_pulses - last_->left_pulses) + (w.right_pulses - last_->right_pulses));
+    odometry_.update(pulses * metres_per_pulse_, w.articulation_deg, w.time_s - last_->time_s);
+  }
+  last_ = w;
+  return step;
+}
+
 }  // namespace sim
 }  // namespace cotton_harvester

@@ -74,6 +74,25 @@ TEST(RoverSensors, EncodersCountTheFrontWheelsTravel) {
   EXPECT_NEAR(counted, truth, 0.02 * truth + 0.02);
 }
 
+TEST(EncoderOdometry, MeanOfTheFrontEncodersThroughTheArticulatedKinematics) {
+  EncoderOdometry e(0.91, 0.002);
+  WheelReading w;
+  w.time_s = 1.0;
+  EXPECT_FALSE(e.add(w));  // the first reading only starts it
+  w.time_s = 2.0, w.left_pulses = 240, w.right_pulses = 260;  // 250 pulses of 2 mm in 1 s, straight
+  EXPECT_TRUE(e.add(w));
+  EXPECT_NEAR(e.odometry().speed(), 0.5, 1e-9);
+  EXPECT_NEAR(e.odometry().x(), 0.5, 1e-9);
+  EXPECT_NEAR(e.odometry().yawRate(), 0.0, 1e-12);
+  w.left_pulses = 500;  // no time passed: the latest reading, no step
+  EXPECT_FALSE(e.add(w));
+  EXPECT_NEAR(e.odometry().x(), 0.5, 1e-9);
+  w.time_s = 3.0, w.left_pulses = 500 + 240, w.right_pulses = 260 + 260, w.articulation_deg = 10.0;
+  EXPECT_TRUE(e.add(w));  // counted from the reading before
+  EXPECT_NEAR(e.odometry().speed(), 0.5, 1e-9);
+  EXPECT_GT(std::abs(e.odometry().yawRate()), 0.05);  // articulated: turning
+}
+
 TEST(RoverSensors, PotentiometerReadsTheArticulationAndTheOuterWheelTravelsFurther) {
   RoverSim sim(flatField(thorvald_sim::Realism::kDatasheet));
   RoverSensorParams params;

@@ -100,8 +100,7 @@ class RoverFusion {
   std::vector<Eigen::Vector3d> antennas_;
   thorvald_navigation::FusionEkf ekf_;
   thorvald_navigation::FusionMonitor monitor_;
-  control::ArticulatedOdometry odometry_;
-  std::optional<WheelReading> last_wheels_;
+  EncoderOdometry wheels_;
   std::optional<double> imu0_yaw_;
   std::vector<thorvald_navigation::NavsatTransform> navsat_;
   long gnss_fused_ = 0, gnss_refused_ = 0;

@@ -21,6 +21,7 @@
 #include <thorvald_sim/imu_model.h>
 
 #include "cotton_harvester/control/articulation_controller.h"
+#include "cotton_harvester/control/rover_controller.h"
 #include "cotton_harvester_sim/rover_sim.h"
 
 namespace cotton_harvester {
@@ -70,6 +71,24 @@ struct WheelReading {
   std::int32_t left_pulses = 0, right_pulses = 0;
   double pot_counts = 0.0;
   double articulation_deg = 0.0;
+};
+
+/// Wheel odometry from the encoder readings (paper §2.3): the two front encoders' mean travel and the potentiometer's
+/// angle through the articulated kinematics (control::ArticulatedOdometry), one step per reading in its own time. The
+/// one step for every user of the readings (RoverFusion, the simulator's odometry/wheel topic).
+class EncoderOdometry {
+ public:
+  EncoderOdometry(double axle_to_joint_m, double metres_per_pulse)
+      : odometry_(axle_to_joint_m), metres_per_pulse_(metres_per_pulse) {}
+  /// Takes a reading; true when it stepped the odometry (the first reading only starts it; a reading that does not
+  /// advance time becomes the latest without a step).
+  bool add(const WheelReading& w);
+  const control::ArticulatedOdometry& odometry() const { return odometry_; }
+
+ private:
+  control::ArticulatedOdometry odometry_;
+  double metres_per_pulse_;
+  std::optional<WheelReading> last_;
 };
 
 /// One receiver epoch: the solution and the NMEA sentences (GGA, RMC, GST) it sends.

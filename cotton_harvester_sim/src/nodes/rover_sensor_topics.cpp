@@ -54,7 +54,7 @@ SensorTopicsConfig readSensorTopicsConfig(thorvald_common::ParamReader& r, unsig
 }
 
 RoverSensorTopics::RoverSensorTopics(ros::NodeHandle& nh, const RoverSim& sim, const SensorTopicsConfig& config)
-    : sim_(sim), config_(config), odometry_(sim.params().geometry.axle_to_joint_m) {
+    : sim_(sim), config_(config), wheels_(sim.params().geometry.axle_to_joint_m, sim.params().drive.metres_per_pulse) {
   if (!config_.publish) return;
   imu_pub_[0] = nh.advertise<sensor_msgs::Imu>("imu_front/data", 50);
   imu_pub_[1] = nh.advertise<sensor_msgs::Imu>("imu_rear/data", 50);
@@ -92,8 +92,7 @@ bool RoverSensorTopics::wanted() {
                    nmea_pub_.getNumSubscribers() > 0 || truth_pub_.getNumSubscribers() > 0;
   if (any && !sensors_) {
     sensors_ = std::make_unique<RoverSensors>(sim_, config_.sensors);
-    odometry_ = control::ArticulatedOdometry(sim_.params().geometry.axle_to_joint_m);
-    last_wheels_.reset();
+    wheels_ = EncoderOdometry(sim_.params().geometry.axle_to_joint_m, sim_.params().drive.metres_per_pulse);
     ROS_INFO("mujoco_rover_sim: sensors on at %.3f s (IMUs %.0f Hz, encoders %.0f Hz, GNSS %.0f Hz)", sim_.time(),
              config_.sensors.imu_rate_hz, config_.sensors.wheel_rate_hz, config_.sensors.gnss.rate_hz);
   } else if (!any && sensors_) {
@@ -152,25 +151,20 @@ void RoverSensorTopics::publishWheels(const WheelReading& w) {
                      w.articulation_deg * M_PI / 180.0};
   joints_pub_.publish(joints);
 
-  // Wheel odometry as the EKF's odom0 takes it: both front encoders' mean travel and the potentiometer's angle
-  // through the articulated kinematics (control::ArticulatedOdometry), dt in simulated time.
-  if (last_wheels_ && w.time_s > last_wheels_->time_s) {
-    const double pulses =
-        0.5 * ((w.left_pulses - last_wheels_->left_pulses) + (w.right_pulses - last_wheels_->right_pulses));
-    odometry_.update(pulses * per_pulse, w.articulation_deg, w.time_s - last_wheels_->time_s);
-  }
-  last_wheels_ = w;
+  // Wheel odometry as the EKF's odom0 takes it (EncoderOdometry), dt in simulated time.
+  wheels_.add(w);
+  const control::ArticulatedOdometry& odometry = wheels_.odometry();
   nav_msgs::Odometry odom;
   odom.header.stamp = stamp;
   odom.header.frame_id = config_.odom_frame;
   odom.child_frame_id = config_.base_frame;
-  odom.pose.pose.position.x = odometry_.x();
-  odom.pose.pose.position.y = odometry_.y();
-  odom.pose.pose.orientation = yawQuaternion(odometry_.yaw());
+  odom.pose.pose.position.x = odometry.x();
+  odom.pose.pose.position.y = odometry.y();
+  odom.pose.pose.orientation = yawQuaternion(odometry.yaw());
   odom.pose.covariance[0] = odom.pose.covariance[7] = per_pulse * per_pulse;
   odom.pose.covariance[35] = config_.yaw_rate_variance;
-  odom.twist.twist.linear.x = odometry_.speed();
-  odom.twist.twist.angular.z = odometry_.yawRate();
+  odom.twist.twist.linear.x = odometry.speed();
+  odom.twist.twist.angular.z = odometry.yawRate();
   odom.twist.covariance[0] = config_.speed_variance;
   odom.twist.covariance[7] = config_.vy_variance;
   odom.twist.covariance[35] = config_.yaw_rate_variance;

@@ -56,8 +56,7 @@ class RoverSensorTopics {
   ros::Publisher imu_pub_[2], joints_pub_, odom_pub_, nmea_pub_, truth_pub_;
   tf2_ros::StaticTransformBroadcaster static_tf_;
   std::unique_ptr<RoverSensors> sensors_;
-  control::ArticulatedOdometry odometry_;
-  std::optional<WheelReading> last_wheels_;
+  EncoderOdometry wheels_;
 };
 
 }  // namespace sim
