@@ -220,23 +220,44 @@ Blocker Costmap::footprintBlocker(const thorvald_base::Pose2D& pose, const Footp
   return found;
 }
 
-bool Costmap::footprintTouches(const thorvald_base::Pose2D& pose, const Footprint& footprint, Blocker which) const {
+bool Costmap::footprintTouches(const thorvald_base::Pose2D& pose, const Footprint& footprint, Blocker which,
+                               const std::vector<int>* except) const {
   if (footprint.polygon.size() < 3 || geometry_.width == 0) return false;
+  const auto excepted = [except](int index) {
+    return except && std::binary_search(except->begin(), except->end(), index);
+  };
   return forFootprintCells(geometry_, pose, footprint, [&](int cx, int cy) {
-    if (!geometry_.inside(cx, cy)) return which == Blocker::kUnknown && params_.unknown_is_blocked;
-    return blocker(cx, cy) == which;
+    if (!geometry_.inside(cx, cy)) return which == Blocker::kUnknown && params_.unknown_is_blocked && !excepted(-1);
+    return blocker(cx, cy) == which && !excepted(static_cast<int>(geometry_.index(cx, cy)));
   });
 }
 
+std::vector<int> Costmap::footprintCells(const thorvald_base::Pose2D& pose, const Footprint& footprint,
+                                         Blocker which) const {
+  std::vector<int> cells;
+  if (footprint.polygon.size() < 3 || geometry_.width == 0) return cells;
+  forFootprintCells(geometry_, pose, footprint, [&](int cx, int cy) {
+    if (!geometry_.inside(cx, cy)) {
+      if (which == Blocker::kUnknown && params_.unknown_is_blocked) cells.push_back(-1);
+    } else if (blocker(cx, cy) == which) {
+      cells.push_back(static_cast<int>(geometry_.index(cx, cy)));
+    }
+    return false;
+  });
+  std::sort(cells.begin(), cells.end());
+  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+  return cells;
+}
+
 bool turnTouches(const Costmap& costmap, const Footprint& footprint, const Eigen::Vector2d& position, double from_yaw,
-                 double to_yaw, Blocker which, double step_m) {
+                 double to_yaw, Blocker which, double step_m, const std::vector<int>* except) {
   const double turn = thorvald_base::normalizeAngle(to_yaw - from_yaw);
   const double radius = std::max(footprint.circumscribedRadius(), 1e-3);
   auto sweep = [&](double angle) {
     const int steps = std::max(1, static_cast<int>(std::ceil(std::abs(angle) * radius / std::max(step_m, 1e-3))));
     for (int k = 0; k <= steps; ++k) {
       const double yaw = from_yaw + angle * (static_cast<double>(k) / steps);
-      if (costmap.footprintTouches({position.x(), position.y(), yaw}, footprint, which)) return true;
+      if (costmap.footprintTouches({position.x(), position.y(), yaw}, footprint, which, except)) return true;
     }
     return false;
   };

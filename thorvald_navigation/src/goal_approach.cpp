@@ -81,12 +81,12 @@ class MotionSweep {
  public:
   MotionSweep(const Costmap& costmap, const Footprint& footprint, const thorvald_base::Pose2D& start)
       : costmap_(costmap), footprint_(footprint), step_(std::max(0.05, costmap.geometry().resolution_m)) {
-    for (std::size_t i = 0; i < kKinds.size(); ++i) clear_[i] = !costmap.footprintTouches(start, footprint, kKinds[i]);
+    for (std::size_t i = 0; i < kKinds.size(); ++i) standing_[i] = costmap.footprintCells(start, footprint, kKinds[i]);
   }
   /// Turning on the spot at `p` from `from` to `to` [rad].
   Blocker turn(const Eigen::Vector2d& p, double from, double to) {
     for (std::size_t i = 0; i < kKinds.size(); ++i)
-      if (clear_[i] && turnTouches(costmap_, footprint_, p, from, to, kKinds[i], step_)) return kKinds[i];
+      if (turnTouches(costmap_, footprint_, p, from, to, kKinds[i], step_, &standing_[i])) return kKinds[i];
     return at({p.x(), p.y(), to});
   }
   /// Driving straight from `a` to `b` with the heading `yaw` [rad].
@@ -101,11 +101,13 @@ class MotionSweep {
   }
 
  private:
+  // The cells the start pose's footprint already stands on are not held against a motion (the robot is there) until
+  // the footprint has left them all; any other blocked cell is: a turn that sweeps the frame further into a wall it
+  // touches is refused.
   Blocker at(const thorvald_base::Pose2D& pose) {
     for (std::size_t i = 0; i < kKinds.size(); ++i) {
-      const bool touches = costmap_.footprintTouches(pose, footprint_, kKinds[i]);
-      if (touches && clear_[i]) return kKinds[i];
-      clear_[i] = clear_[i] || !touches;
+      if (costmap_.footprintTouches(pose, footprint_, kKinds[i], &standing_[i])) return kKinds[i];
+      if (!standing_[i].empty() && !costmap_.footprintTouches(pose, footprint_, kKinds[i])) standing_[i].clear();
     }
     return Blocker::kNone;
   }
@@ -114,7 +116,7 @@ class MotionSweep {
   const Costmap& costmap_;
   const Footprint& footprint_;
   double step_;
-  std::array<bool, 3> clear_{};
+  std::array<std::vector<int>, 3> standing_;
 };
 
 /// The first motion on `legs` (driven backwards when `reverse`) that sweeps the footprint over a wall, the keep-out

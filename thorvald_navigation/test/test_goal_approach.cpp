@@ -194,9 +194,24 @@ TEST(GoalApproach, ATurnNoDirectionClearsIsRefusedWithTheReason) {
   EXPECT_FALSE(d.ok);
   EXPECT_NE(d.error.find("final turn"), std::string::npos) << d.error;
   EXPECT_NE(d.error.find("wall"), std::string::npos) << d.error;
-  // Standing where its footprint already overlaps the wall, that overlap is not held against a turn.
-  const thorvald_base::Pose2D squeezed{2.0, 2.4, 0.0};  // the frame reaches y = 1.94
-  const tn::PathDirection s =
-      tn::choosePathDirection(cm, kFrame, squeezed, {{2.0, 2.4}, {2.0, 3.05}, {4.0, 3.05}}, {4.0, 3.05, 0.0}, false);
-  EXPECT_TRUE(s.ok) << s.error;
+}
+
+// Standing with its frame on a wall's cells (a wall along y = 2.0 to 2.05, the frame down to y = 1.99), the cells it
+// stands on are not held against its motions, but a turn that sweeps the frame further into the wall is: the quarter
+// turn forward would swing the rear through it, so the robot backs away first (it used to turn into the wall).
+TEST(GoalApproach, StandingOnAWallATurnFurtherIntoItIsRefused) {
+  const tn::Costmap cm = walledFloor(2.0);
+  const thorvald_base::Pose2D squeezed{3.0, 2.45, 0.0};
+  const std::vector<Eigen::Vector2d> path{{3.0, 2.45}, {3.0, 3.8}, {5.0, 3.8}};
+  ASSERT_TRUE(cm.footprintTouches(squeezed, kFrame, tn::Blocker::kWall));
+  EXPECT_TRUE(tn::turnTouches(cm, kFrame, {3.0, 2.45}, 0.0, thorvald_base::kPi / 2, tn::Blocker::kWall));
+  const std::vector<int> standing = cm.footprintCells(squeezed, kFrame, tn::Blocker::kWall);
+  EXPECT_GE(standing.size(), 15u);  // the 1.05 m frame on 5 cm cells
+  EXPECT_TRUE(tn::turnTouches(cm, kFrame, {3.0, 2.45}, 0.0, thorvald_base::kPi / 2, tn::Blocker::kWall, 0.05,
+                              &standing));
+  EXPECT_FALSE(tn::turnTouches(cm, kFrame, {3.0, 2.45}, 0.0, -thorvald_base::kPi / 2, tn::Blocker::kWall, 0.05,
+                               &standing));
+  const tn::PathDirection s = tn::choosePathDirection(cm, kFrame, squeezed, path, {5.0, 3.8, 0.0}, false);
+  ASSERT_TRUE(s.ok) << s.error;
+  EXPECT_TRUE(s.approach.reverse);
 }

@@ -67,8 +67,13 @@ class Costmap {
   Blocker blocker(int cx, int cy) const { return static_cast<Blocker>(blocker_[geometry_.index(cx, cy)]); }
   /// The first blocked cell under the footprint placed at `pose`, or kNone.
   Blocker footprintBlocker(const thorvald_base::Pose2D& pose, const Footprint& footprint) const;
-  /// Whether any cell under the footprint placed at `pose` is blocked by `which` (whatever else it overlaps).
-  bool footprintTouches(const thorvald_base::Pose2D& pose, const Footprint& footprint, Blocker which) const;
+  /// Whether any cell under the footprint placed at `pose` is blocked by `which` (whatever else it overlaps), the
+  /// cells in `except` aside (sorted grid indices; -1 stands for every cell outside the grid).
+  bool footprintTouches(const thorvald_base::Pose2D& pose, const Footprint& footprint, Blocker which,
+                        const std::vector<int>* except = nullptr) const;
+  /// The cells under the footprint placed at `pose` that `which` blocks, as sorted grid indices (-1 first when cells
+  /// outside the grid count as unknown space and the footprint reaches out of it).
+  std::vector<int> footprintCells(const thorvald_base::Pose2D& pose, const Footprint& footprint, Blocker which) const;
   /// Costs as 0..100 occupancy values for display (-1 never).
   thorvald_map::OccupancyGrid toDisplayGrid() const;
   const CostmapParams& params() const { return params_; }
@@ -108,8 +113,8 @@ double sweptObstacleDistance(const Costmap& costmap, const Footprint& footprint,
 
 /// Whether the footprint turning on the spot at `position` from `from_yaw` to `to_yaw` (the shorter way; both ways
 /// for turns within 0.35 rad of a half turn) touches a cell blocked by `which`; the turn is sampled so that the
-/// farthest corner moves at most `step_m` between samples.
+/// farthest corner moves at most `step_m` between samples; the cells in `except` aside (Costmap::footprintTouches).
 bool turnTouches(const Costmap& costmap, const Footprint& footprint, const Eigen::Vector2d& position, double from_yaw,
-                 double to_yaw, Blocker which, double step_m = 0.05);
+                 double to_yaw, Blocker which, double step_m = 0.05, const std::vector<int>* except = nullptr);
 
 }  // namespace thorvald_navigation
