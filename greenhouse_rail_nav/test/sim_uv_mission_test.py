@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """The whole UV mission in the MuJoCo greenhouse (sim_uv_mission.launch, 2 short rail sets), scored against the
 simulator's truth by bench/uv_mission_scorer.py: map_analyzer must mark every rail set of the robot's own map good,
-the mission must treat each of them (by its report and by the truth: lights on over the rails), the lights must be
+the mission must treat each of them (by its report and by the truth: lights on over the rails; every plant of the rows
+dosed), the frame must touch nothing, the lights must be
 on only while the drive wheels are on the rails, no wheel may pass an edge (truth) nor any range finder see one
 under a wheel, the speed with the lights on must be near 0.5 m/s, and the mission must end with `done`."""
 import json
@@ -40,6 +41,11 @@ class SimUvMission(unittest.TestCase):
         # A range finder's readings arriving late on a loaded machine engage the lock too (it does its job); only
         # an edge under a wheel counts against the mission here. uv_mission_bench reports every engagement.
         self.assertEqual(out["safety_events_edge"], 0, "lock reasons: %r" % out["safety_lock_reasons"])
+        # Every plant of each set's row got the set dose (the plants' stretch from the truth), and the frame touched
+        # nothing (walls included) on the way.
+        self.assertGreaterEqual(out["coverage_min_pct"], 99.0,
+                                "coverage %r, short %r" % (out["coverage_pct"], out["coverage_uncovered_m"]))
+        self.assertEqual(out["collisions"], 0, "body contacts: %r" % (out.get("collisions_first"),))
         self.assertGreater(out["rail_speed_samples"], 10)
         self.assertLess(abs(out["rail_speed_mean_mps"] - 0.5), 0.05)
 

@@ -75,10 +75,10 @@ struct PathDirection {
 /// zone and unknown space: the turns on the spot (from its heading to the way along the path's first 0.3 m, at every
 /// corner of the path, and at the end to the goal's heading) and the straight legs between them with the footprint
 /// oriented along them; forward first, then backwards, then backwards as far as a point of the path where the robot
-/// can turn and forward from there (the first such point). A path that clears forward is driven forward. A blocker the
-/// start pose's footprint already overlaps is not held against either direction until the footprint has been clear
-/// of it (the robot stands there already). Omnidirectional robots and paths of fewer than 2 points: forward,
-/// unchecked.
+/// can turn and forward from there (the first such point). A path that clears forward is driven forward. The cells the
+/// start pose's footprint already stands on are not held against either direction until the footprint has left them
+/// (the robot is there already); every other blocked cell is, so a turn that sweeps the frame further into a wall it
+/// touches is refused. Omnidirectional robots and paths of fewer than 2 points: forward, unchecked.
 PathDirection choosePathDirection(const Costmap& costmap, const Footprint& footprint,
                                   const thorvald_base::Pose2D& start, const std::vector<Eigen::Vector2d>& path,
                                   const thorvald_base::Pose2D& goal, bool omnidirectional);
