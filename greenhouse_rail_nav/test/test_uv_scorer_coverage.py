@@ -70,20 +70,29 @@ class RowDoseBinsTest(unittest.TestCase):
         self.assertAlmostEqual(row.coverage_pct(), 100.0 * (5.0 - 0.39) / 5.0, delta=1.1)
 
 
+def score_set0_driven(sets_yaml, to_x, then=None):
+    """The scorer's result for a truth file of 5 m rail sets (`sets_yaml`: its rail_sets lines) after base_link drove
+    set 0's rails from their start to world x `to_x` at 0.5 m/s with the lights on; then(scorer, t) adds more."""
+    with tempfile.TemporaryDirectory() as d:
+        truth = os.path.join(d, "truth.yaml")
+        with open(truth, "w") as f:
+            f.write("rail_length: 5.0\nrail_sets:\n" + sets_yaml)
+        sc = scorer.UvMissionScorer(truth)
+        sc.lights = True
+        t, x = 0.0, 0.03
+        while x < to_x:
+            sc.add_dose((t, x, 0.0), (t + 0.02, x + 0.01, 0.0))
+            t, x = t + 0.02, x + 0.01
+        if then:
+            then(sc, t)
+        return sc.result()
+
+
 class ScorerCoverageTest(unittest.TestCase):
     def test_the_scorer_bins_the_truth_path_of_each_set(self):
-        with tempfile.TemporaryDirectory() as d:
-            truth = os.path.join(d, "truth.yaml")
-            with open(truth, "w") as f:
-                f.write("rail_length: 5.0\nrail_sets:\n  - {index: 0, x: 0.03, y: 0.0, yaw: 0.0}\n"
-                        "  - {index: 1, x: 0.03, y: 1.6, yaw: 0.0}\n")
-            sc = scorer.UvMissionScorer(truth)
-            sc.lights = True
-            t, x = 0.0, 0.03
-            while x < 5.0:  # set 0 driven over its whole rails with the lights on, set 1 never
-                sc.add_dose((t, x, 0.0), (t + 0.02, x + 0.01, 0.0))
-                t, x = t + 0.02, x + 0.01
-            out = sc.result()
+        # set 0 driven over its whole rails with the lights on, set 1 never
+        out = score_set0_driven("  - {index: 0, x: 0.03, y: 0.0, yaw: 0.0}\n  - {index: 1, x: 0.03, y: 1.6, yaw: 0.0}\n",
+                                5.0)
         # a truth file without `plants` (written before thorvald_sim gave them): the old rows, 0.5 m past the start
         self.assertEqual(out["coverage_row_m"], {"0": [0.5, 5.5], "1": [0.5, 5.5]})
         self.assertEqual(out["coverage_pct"]["1"], 0.0)
@@ -95,19 +104,10 @@ class ScorerCoverageTest(unittest.TestCase):
         self.assertEqual(out["coverage_min_pct"], 0.0)
 
     def test_the_row_is_the_truths_plants_of_each_set(self):
-        with tempfile.TemporaryDirectory() as d:
-            truth = os.path.join(d, "truth.yaml")
-            with open(truth, "w") as f:
-                f.write("rail_length: 5.0\nrail_sets:\n  - {index: 0, x: 0.03, y: 0.0, yaw: 0.0, plants: [1.0, 4.0]}\n"
-                        "  - {index: 1, x: 0.03, y: 1.6, yaw: 0.0, plants: []}\n")
-            sc = scorer.UvMissionScorer(truth)
-            sc.lights = True
-            t, x = 0.0, 0.03
-            while x < 4.2:  # set 0 driven with the lights on until the lamps' front edge is 0.2 m past its plants' end
-                sc.add_dose((t, x, 0.0), (t + 0.02, x + 0.01, 0.0))
-                t, x = t + 0.02, x + 0.01
-            sc.add_dose((t, 0.03, 1.6), (t + 0.02, 0.5, 1.6))  # on set 1's rails: no plants there, no figure
-            out = sc.result()
+        # set 0 driven with the lights on to 4.2 m, then on set 1's rails (no plants there: no figure)
+        out = score_set0_driven("  - {index: 0, x: 0.03, y: 0.0, yaw: 0.0, plants: [1.0, 4.0]}\n"
+                                "  - {index: 1, x: 0.03, y: 1.6, yaw: 0.0, plants: []}\n", 4.2,
+                                lambda sc, t: sc.add_dose((t, 0.03, 1.6), (t + 0.02, 0.5, 1.6)))
         self.assertEqual(out["coverage_row_m"], {"0": [1.0, 4.0]})
         self.assertEqual(sorted(out["coverage_pct"]), ["0"])
         # The full dose needs target / (power / speed) of the lamps' length to pass: bins up to 4.2 - 0.03 + FRONT

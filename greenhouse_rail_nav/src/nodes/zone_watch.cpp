@@ -81,26 +81,23 @@ bool ZoneWatch::lightsInDoubt(std::string* why) {
 }
 
 void ZoneWatch::onMap(const nav_msgs::OccupancyGrid& m) {
-  thorvald_map::OccupancyGrid g;
-  std::string error;
-  if (!thorvald_map::fromGridMessage(m, &g, &error)) {
-    ROS_WARN("uv_mission: map not used for the people detection: %s", error.c_str());
-    return;
-  }
+  if (!storeGrid(m, "map", &map_)) return;
   std::lock_guard<std::mutex> l(mutex_);
-  map_ = std::move(g);
   have_map_ = true;
 }
 
-void ZoneWatch::onKeepOut(const nav_msgs::OccupancyGrid& m) {
+void ZoneWatch::onKeepOut(const nav_msgs::OccupancyGrid& m) { storeGrid(m, "keep-out grid", &keep_out_); }
+
+bool ZoneWatch::storeGrid(const nav_msgs::OccupancyGrid& m, const char* what, thorvald_map::OccupancyGrid* out) {
   thorvald_map::OccupancyGrid g;
   std::string error;
   if (!thorvald_map::fromGridMessage(m, &g, &error)) {
-    ROS_WARN("uv_mission: keep-out grid not used for the people detection: %s", error.c_str());
-    return;
+    ROS_WARN("uv_mission: %s not used for the people detection: %s", what, error.c_str());
+    return false;
   }
   std::lock_guard<std::mutex> l(mutex_);
-  keep_out_ = std::move(g);
+  *out = std::move(g);
+  return true;
 }
 
 void ZoneWatch::onRear(size_t i, const sensor_msgs::Range& m) {

@@ -46,6 +46,8 @@ class ZoneWatch {
   void onScan(const sensor_msgs::LaserScan& m);
   void onMap(const nav_msgs::OccupancyGrid& m);
   void onKeepOut(const nav_msgs::OccupancyGrid& m);
+  /// Converts a grid message into `out` under the mutex; false (and a warning naming `what`) when it is unusable.
+  bool storeGrid(const nav_msgs::OccupancyGrid& m, const char* what, thorvald_map::OccupancyGrid* out);
   void onRear(size_t i, const sensor_msgs::Range& m);
   void onRelay(size_t i, const std_msgs::Bool& m);
   /// The scan's returns in base_link; false without the lidar's transform.
