@@ -28,6 +28,11 @@ std::string ZoneParams::validate() const {
   if (!(rear_stop_range_m >= 0.0)) e << "rear_stop_range must be >= 0 [m]; ";
   if (!(rear_clearance_m >= 0.0)) e << "rear_clearance must be >= 0 [m]; ";
   if (!(clear_time_s >= 0.0)) e << "clear_time must be >= 0 [s]; ";
+  if (!(structure_min_length_m >= 0.0)) e << "structure_min_length must be >= 0 [m] (0: off); ";
+  if (!(structure_tolerance_m > 0.0)) e << "structure_tolerance must be > 0 [m]; ";
+  if (!(structure_gap_m > 0.0)) e << "structure_gap must be > 0 [m]; ";
+  if (!(structure_max_angle_rad > 0.0 && structure_max_angle_rad < 1.5))
+    e << "structure_max_angle must be in (0, 1.5) [rad]; ";
   return e.str();
 }
 
@@ -156,8 +161,13 @@ std::string where(const char* what, const PointCluster& c) {
   return o.str();
 }
 
-void rowZone(const std::vector<ScanPoint>& points, double lidar_x, const ZoneContext& ctx, const ZoneParams& p,
+void rowZone(const std::vector<ScanPoint>& all_points, double lidar_x, const ZoneContext& ctx, const ZoneParams& p,
              ZoneVerdict* v) {
+  // The lines the greenhouse runs along the rows are no obstacle and no far end.
+  const std::vector<bool> structure = rowStructure(all_points, p);
+  std::vector<ScanPoint> points;
+  for (std::size_t i = 0; i < all_points.size(); ++i)
+    if (!structure[i]) points.push_back(all_points[i]);
   const double r = forwardMedian(points, lidar_x, p.end_half_angle_rad);
   const bool length_known = ctx.row_end_m > 0.0;
   const double end_from = ctx.row_end_m - p.end_tolerance_m;  // base_link x from which a return is the far end
@@ -191,6 +201,45 @@ void rowZone(const std::vector<ScanPoint>& points, double lidar_x, const ZoneCon
 }
 
 }  // namespace
+
+std::vector<bool> rowStructure(const std::vector<ScanPoint>& points, const ZoneParams& p) {
+  std::vector<bool> out(points.size(), false);
+  if (!(p.structure_min_length_m > 0.0)) return out;
+  const auto straight = [&](std::size_t i, std::size_t j) {  // every point of i..j within tolerance of the chord
+    const Eigen::Vector2d a(points[i].x, points[i].y), b(points[j].x, points[j].y);
+    const Eigen::Vector2d d = b - a;
+    const double len = d.norm();
+    if (len < 1e-9) return true;
+    for (std::size_t k = i + 1; k < j; ++k) {
+      const Eigen::Vector2d q(points[k].x - a.x(), points[k].y - a.y());
+      if (std::fabs(d.x() * q.y() - d.y() * q.x()) / len > p.structure_tolerance_m) return false;
+    }
+    return true;
+  };
+  std::size_t i = 0;
+  while (i + 1 < points.size()) {
+    // The longest straight run from i of neighbours closer than structure_gap.
+    std::size_t j = i;
+    while (j + 1 < points.size() &&
+           std::hypot(points[j + 1].x - points[j].x, points[j + 1].y - points[j].y) < p.structure_gap_m &&
+           straight(i, j + 1))
+      ++j;
+    const double dx = points[j].x - points[i].x, dy = points[j].y - points[i].y;
+    const double angle = std::atan2(std::fabs(dy), std::fabs(dx));  // from the robot's heading, either way along it
+    const bool gap_ends_it = j + 1 >= points.size() ||
+                             std::hypot(points[j + 1].x - points[j].x, points[j + 1].y - points[j].y) >= p.structure_gap_m;
+    if (std::hypot(dx, dy) >= p.structure_min_length_m) {
+      if (angle <= p.structure_max_angle_rad)
+        for (std::size_t k = i; k <= j; ++k) out[k] = true;
+      i = j + 1;  // a straight run: no part of it runs another way
+    } else if (gap_ends_it) {
+      i = j + 1;  // no run from inside it reaches past the gap
+    } else {
+      i += std::max<std::size_t>(1, (j - i) / 2);  // a bend: the next run may start within this one
+    }
+  }
+  return out;
+}
 
 std::vector<PointCluster> clusterScan(const std::vector<ScanPoint>& points, const ZoneParams& p, double origin_x) {
   std::vector<PointCluster> out;

@@ -123,6 +123,60 @@ TEST(ObstacleZones, APersonInTheRowIsAPersonInTheZone) {
   EXPECT_NE(v.why.find("person"), std::string::npos) << v.why;
 }
 
+// A robot turned 4 degrees on the rails (a wheel jolted at an open pipe joint) sees the ventilation line beside the
+// row, 0.8 m to its right at the lidar's height, cross its corridor ahead: a straight line along the row is the
+// greenhouse's, not an obstacle nor the far end; a person standing against that line still is one.
+TEST(ObstacleZones, ALineAlongTheRowIsNoObstacleForARobotTurnedOnTheRails) {
+  grn::ZoneParams p;
+  const double yaw = -0.07;  // the robot's heading against the rails
+  // Returns every 0.25 deg from a lidar at (kLidarX, 0) on a line at y = -0.8 (rail frame) from x = 1 to 20, and on
+  // the far wall at x = 20.4, both seen in the turned robot's frame; the line's glancing returns are lost beyond 11 m.
+  auto scan = [&](bool person) {
+    std::vector<grn::ScanPoint> pts;
+    const double c = std::cos(yaw), s = std::sin(yaw);
+    for (int i = 0; i <= 1080; ++i) {
+      const double a = -2.356 + i * (4.712 / 1080);
+      const double dx = std::cos(a + yaw), dy = std::sin(a + yaw);  // the beam in the rail frame
+      const double ox = kLidarX * c, oy = kLidarX * s;           // the lidar in the rail frame
+      double r = INFINITY;
+      if (dy < -1e-6) {  // the line y = -0.8
+        const double t = (-0.8 - oy) / dy, x = ox + t * dx;
+        if (x > 1.0 && x < 20.0 && t < 11.0) r = t;
+      }
+      if (dx > 1e-6) {  // the far wall, |y| < 0.8
+        const double t = (20.4 - ox) / dx;
+        if (std::fabs(oy + t * dy) < 0.8) r = std::min(r, t);
+      }
+      if (person && dx > 1e-6) {  // a person of radius 0.2 at (6, -0.45): in the corridor, against the line
+        const double px = 6.0 - ox, py = -0.45 - oy, along = px * dx + py * dy;
+        const double h2 = 0.04 - (px * px + py * py - along * along);
+        if (h2 >= 0.0) r = std::min(r, along - std::sqrt(h2));
+      }
+      if (std::isfinite(r)) pts.push_back({kLidarX + r * std::cos(a), r * std::sin(a)});
+    }
+    return pts;
+  };
+  const grn::ZoneContext ctx = row(19.4);  // base_link 1 m along a 20.4 m set
+  const auto empty = scan(false);
+  const std::vector<bool> structure = grn::rowStructure(empty, p);
+  int on_line = 0, in_corridor = 0;
+  for (std::size_t i = 0; i < empty.size(); ++i) {
+    on_line += structure[i];
+    in_corridor += empty[i].x > 0.0 && std::fabs(empty[i].y) < p.row_half_width_m && empty[i].x < 15.0;
+  }
+  EXPECT_GT(in_corridor, 5) << "the turned robot sees the line in its corridor";
+  EXPECT_GT(on_line, 50);
+  grn::ZoneVerdict v = grn::evaluateZone(empty, kLidarX, ctx, p);
+  EXPECT_FALSE(v.blocked) << v.why;
+  EXPECT_NEAR(v.end_range_m, 20.4 - kLidarX, 0.3) << "the far wall is still the end";
+  grn::ZoneParams off = p;
+  off.structure_min_length_m = 0.0;
+  EXPECT_TRUE(grn::evaluateZone(empty, kLidarX, ctx, off).blocked) << "without the rule the line blocks";
+  v = grn::evaluateZone(scan(true), kLidarX, ctx, p);
+  EXPECT_TRUE(v.blocked);
+  EXPECT_TRUE(v.person) << v.why;
+}
+
 TEST(ObstacleZones, WithoutTheSetsLengthAnyReturnAheadIsTheEnd) {
   // As before issue 29: the length unknown, the crate ends the row (the legacy behaviour, documented as unsafe).
   grn::ZoneParams p;

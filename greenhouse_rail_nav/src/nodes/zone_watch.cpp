@@ -30,6 +30,13 @@ void ZoneWatch::readParams(thorvald_common::ParamReader& params, Config* c) {
   z.row_half_width_m = params.number("zone/row_half_width", z.row_half_width_m, R::aboveUpTo(0.0, 2.0), "m");
   z.end_tolerance_m = params.number("zone/end_tolerance", z.end_tolerance_m, R::closed(0.0, 10.0), "m");
   z.row_ahead_m = params.number("zone/row_ahead", z.row_ahead_m, R::aboveUpTo(0.0, 1000.0), "m");
+  z.structure_min_length_m =
+      params.number("zone/structure_min_length", z.structure_min_length_m, R::closed(0.0, 100.0), "m");
+  z.structure_tolerance_m =
+      params.number("zone/structure_tolerance", z.structure_tolerance_m, R::aboveUpTo(0.0, 0.5), "m");
+  z.structure_gap_m = params.number("zone/structure_gap", z.structure_gap_m, R::aboveUpTo(0.0, 5.0), "m");
+  z.structure_max_angle_rad =
+      params.number("zone/structure_max_angle", z.structure_max_angle_rad, R::aboveUpTo(0.0, 1.4), "rad");
   z.rear_stop_range_m = params.number("zone/rear_stop_range", z.rear_stop_range_m, R::closed(0.0, 5.0), "m");
   z.rear_clearance_m = params.number("zone/rear_clearance", z.rear_clearance_m, R::closed(0.0, 5.0), "m");
   z.clear_time_s = params.number("zone/clear_time", z.clear_time_s, R::closed(0.0, 600.0), "s");
