@@ -70,7 +70,7 @@ TEST_P(GreenhouseSensorFrames, UrdfLinksWhereTheSensorFileMountsTheSensors) {
   ASSERT_FALSE(mounts.empty()) << "urdf_generator gave no URDF";
   const auto sensors = thorvald_sim::loadSensorConfigFile(std::string(SIM_CONFIG_DIR) + "/" + GetParam());
   ASSERT_GE(sensors.size(), 9u);
-  bool rear_left = false, rear_right = false;
+  bool rear_left = false, rear_right = false, rear_centre = false;
   for (const auto& s : sensors) {
     SCOPED_TRACE(GetParam() + ": " + s.name);
     const auto it = mounts.find(s.name);
@@ -82,8 +82,9 @@ TEST_P(GreenhouseSensorFrames, UrdfLinksWhereTheSensorFileMountsTheSensors) {
     EXPECT_LT(angle, 1e-3) << "rotations differ by " << angle << " rad";
     rear_left |= s.name == "rear_left";
     rear_right |= s.name == "rear_right";
+    rear_centre |= s.name == "rear_centre";
   }
-  EXPECT_TRUE(rear_left && rear_right) << "the sensor file has no rear range finders";
+  EXPECT_TRUE(rear_left && rear_right && rear_centre) << "the sensor file lacks a rear range finder";
 }
 
 TEST(GreenhouseSensorFrames, CameraOpticalFrameLooksAlongTheCamera) {
