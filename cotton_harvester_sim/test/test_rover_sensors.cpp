@@ -78,7 +78,7 @@ TEST(EncoderOdometry, MeanOfTheFrontEncodersThroughTheArticulatedKinematics) {
   EncoderOdometry e(0.91, 0.002);
   WheelReading w;
   w.time_s = 1.0;
-  EXPECT_FALSE(e.add(w));  // the first reading only starts it
+  EXPECT_FALSE(e.add(w));                                     // the first reading only starts it
   w.time_s = 2.0, w.left_pulses = 240, w.right_pulses = 260;  // 250 pulses of 2 mm in 1 s, straight
   EXPECT_TRUE(e.add(w));
   EXPECT_NEAR(e.odometry().speed(), 0.5, 1e-9);

@@ -226,8 +226,8 @@ std::vector<bool> rowStructure(const std::vector<ScanPoint>& points, const ZoneP
       ++j;
     const double dx = points[j].x - points[i].x, dy = points[j].y - points[i].y;
     const double angle = std::atan2(std::fabs(dy), std::fabs(dx));  // from the robot's heading, either way along it
-    const bool gap_ends_it = j + 1 >= points.size() ||
-                             std::hypot(points[j + 1].x - points[j].x, points[j + 1].y - points[j].y) >= p.structure_gap_m;
+    const bool gap_ends_it = j + 1 >= points.size() || std::hypot(points[j + 1].x - points[j].x,
+                                                                  points[j + 1].y - points[j].y) >= p.structure_gap_m;
     if (std::hypot(dx, dy) >= p.structure_min_length_m) {
       if (angle <= p.structure_max_angle_rad)
         for (std::size_t k = i; k <= j; ++k) out[k] = true;

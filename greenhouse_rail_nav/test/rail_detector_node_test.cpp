@@ -194,7 +194,8 @@ TEST_F(RailDetectorNodeTest, MountCalibrationIsComputedAppliedAndPersisted) {
   std::remove(calibration_file.c_str());
 }
 
-// ~enable false: the node leaves the cloud topic (a camera publishing only to subscribers stops); true: it detects again.
+// ~enable false: the node leaves the cloud topic (a camera publishing only to subscribers stops); true: it detects
+// again.
 TEST_F(RailDetectorNodeTest, EnableSwitchesTheCloudSubscriptionOffAndOn) {
   ros::Publisher enable = nh_.advertise<std_msgs::Bool>("rail_detector/enable", 1, true);
   ASSERT_TRUE(waitFor([&] { return enable.getNumSubscribers() > 0; }));

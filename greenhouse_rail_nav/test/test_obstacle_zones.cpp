@@ -137,7 +137,7 @@ TEST(ObstacleZones, ALineAlongTheRowIsNoObstacleForARobotTurnedOnTheRails) {
     for (int i = 0; i <= 1080; ++i) {
       const double a = -2.356 + i * (4.712 / 1080);
       const double dx = std::cos(a + yaw), dy = std::sin(a + yaw);  // the beam in the rail frame
-      const double ox = kLidarX * c, oy = kLidarX * s;           // the lidar in the rail frame
+      const double ox = kLidarX * c, oy = kLidarX * s;              // the lidar in the rail frame
       double r = INFINITY;
       if (dy < -1e-6) {  // the line y = -0.8
         const double t = (-0.8 - oy) / dy, x = ox + t * dx;
@@ -225,9 +225,9 @@ TEST(ObstacleZones, TheRowsBeyondTheHeadlandEdgeAreNotHeadland) {
     for (int x = 24; x < 40; ++x) keep_out.at(x, y) = thorvald_map::kOccupied;  // x >= 0
   EXPECT_FALSE(grn::notHeadland(map, keep_out, 4, {-1.0, 0.8}));
   EXPECT_TRUE(grn::notHeadland(map, keep_out, 4, {0.1, 0.8}));
-  EXPECT_TRUE(grn::notHeadland(map, keep_out, 4, {-4.9, 0.0}));    // within reach of the wall
-  EXPECT_TRUE(grn::notHeadland(map, keep_out, 4, {20.0, 0.0}));    // outside the map
-  EXPECT_FALSE(grn::notHeadland(map, {}, 4, {0.1, 0.8}));          // no keep-out grid: the map alone
+  EXPECT_TRUE(grn::notHeadland(map, keep_out, 4, {-4.9, 0.0}));  // within reach of the wall
+  EXPECT_TRUE(grn::notHeadland(map, keep_out, 4, {20.0, 0.0}));  // outside the map
+  EXPECT_FALSE(grn::notHeadland(map, {}, 4, {0.1, 0.8}));        // no keep-out grid: the map alone
   // The robot reversing at x = -1.0 (base_link at the origin of the scan, facing +x): the vent line's end.
   grn::ZoneParams p;
   grn::ZoneContext c;

@@ -112,7 +112,8 @@ Costmap::Costmap(const thorvald_map::OccupancyGrid& map, const thorvald_map::Occ
 
 void Costmap::setObstacles(const std::vector<Eigen::Vector2d>& points_world) {
   if (geometry_.width == 0) return;
-  constexpr auto kNone = static_cast<std::uint8_t>(Blocker::kNone), kUnknown = static_cast<std::uint8_t>(Blocker::kUnknown),
+  constexpr auto kNone = static_cast<std::uint8_t>(Blocker::kNone),
+                 kUnknown = static_cast<std::uint8_t>(Blocker::kUnknown),
                  kObstacle = static_cast<std::uint8_t>(Blocker::kObstacle);
   // The layer seen before is lifted: its cells go back to what the map says.
   std::vector<int> changed;

@@ -288,8 +288,9 @@ TEST(Costmap, ObstacleUpdatesEqualInflatingAnew) {
         const int want = expected(x, y);
         // The field's float distances may round a cell at a cost step by one.
         if (std::abs(static_cast<int>(cm.cost(x, y)) - want) > 1) {
-          if (mismatches < 5) ADD_FAILURE() << "scan " << (&pts - &scans[0]) << " cell " << x << "," << y << " cost "
-                                            << int(cm.cost(x, y)) << " want " << want;
+          if (mismatches < 5)
+            ADD_FAILURE() << "scan " << (&pts - &scans[0]) << " cell " << x << "," << y << " cost "
+                          << int(cm.cost(x, y)) << " want " << want;
           ++mismatches;
         }
         if (want > 0 && want < tn::kInscribedCost) ++inflated_cells;

@@ -207,10 +207,10 @@ TEST(GoalApproach, StandingOnAWallATurnFurtherIntoItIsRefused) {
   EXPECT_TRUE(tn::turnTouches(cm, kFrame, {3.0, 2.45}, 0.0, thorvald_base::kPi / 2, tn::Blocker::kWall));
   const std::vector<int> standing = cm.footprintCells(squeezed, kFrame, tn::Blocker::kWall);
   EXPECT_GE(standing.size(), 15u);  // the 1.05 m frame on 5 cm cells
-  EXPECT_TRUE(tn::turnTouches(cm, kFrame, {3.0, 2.45}, 0.0, thorvald_base::kPi / 2, tn::Blocker::kWall, 0.05,
-                              &standing));
-  EXPECT_FALSE(tn::turnTouches(cm, kFrame, {3.0, 2.45}, 0.0, -thorvald_base::kPi / 2, tn::Blocker::kWall, 0.05,
-                               &standing));
+  EXPECT_TRUE(
+      tn::turnTouches(cm, kFrame, {3.0, 2.45}, 0.0, thorvald_base::kPi / 2, tn::Blocker::kWall, 0.05, &standing));
+  EXPECT_FALSE(
+      tn::turnTouches(cm, kFrame, {3.0, 2.45}, 0.0, -thorvald_base::kPi / 2, tn::Blocker::kWall, 0.05, &standing));
   const tn::PathDirection s = tn::choosePathDirection(cm, kFrame, squeezed, path, {5.0, 3.8, 0.0}, false);
   ASSERT_TRUE(s.ok) << s.error;
   EXPECT_TRUE(s.approach.reverse);

@@ -120,8 +120,8 @@ void writePlantRowsAndVents(const GreenhouseParams& p, GreenhouseTruth& t, GeomW
       t.plant_row_y.push_back(y);
       const double zc = 0.5 * (p.plant_bottom_m + p.plant_top_m);
       w.boxPieces("plant_row" + std::to_string(k), {p.rail_start_gap_m + 0.5 * (from + to), y, zc},
-                  {0.5 * (to - from), 0.5 * p.plant_width_m, 0.5 * (p.plant_top_m - p.plant_bottom_m)},
-                  colours::kPlant, kPiece);
+                  {0.5 * (to - from), 0.5 * p.plant_width_m, 0.5 * (p.plant_top_m - p.plant_bottom_m)}, colours::kPlant,
+                  kPiece);
       for (int s : {left, right}) {
         RailSetTruth& set = t.rail_sets[s];
         if (set.plants_to_m <= set.plants_from_m) set.plants_from_m = from, set.plants_to_m = to;

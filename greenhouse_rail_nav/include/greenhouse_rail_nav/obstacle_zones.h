@@ -36,14 +36,14 @@ struct ZoneParams {
   double row_half_width_m = 0.3;
   /// Row: a return at the set's length less this (or beyond) is the far end; anything shorter is an obstacle [m].
   double end_tolerance_m = 1.0;
-  double row_ahead_m = 100.0;        ///< row: obstacles farther ahead than this are not in the zone [m]
+  double row_ahead_m = 100.0;  ///< row: obstacles farther ahead than this are not in the zone [m]
   /// Row: a run of consecutive returns (gaps below structure_gap_m) straight within structure_tolerance_m, at least
   /// this long and within structure_max_angle_rad of the robot's heading, is a line the greenhouse runs along the
   /// rows (a heating or ventilation line, a plant row's edge) and no obstacle: a robot turned a few degrees on the
   /// rails sees such a line cross its corridor ahead. Nobody is a straight line this long [m]; 0: off.
   double structure_min_length_m = 2.5;
-  double structure_tolerance_m = 0.06;   ///< [m]
-  double structure_gap_m = 0.6;          ///< [m]
+  double structure_tolerance_m = 0.06;    ///< [m]
+  double structure_gap_m = 0.6;           ///< [m]
   double structure_max_angle_rad = 0.35;  ///< [rad]
   double end_half_angle_rad = 0.05;  ///< the far end's range: median of the returns within this of the lidar's axis
   double rear_stop_range_m = 1.0;    ///< reversing: a rear range finder reading less is something behind [m]

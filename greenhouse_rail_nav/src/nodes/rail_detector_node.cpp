@@ -124,7 +124,8 @@ class RailDetectorNode {
     calibrate_srv_ = pnh.advertiseService("calibrate_mount", &RailDetectorNode::onCalibrate, this);
     nh_ = nh;
     enable(settings_.enabled);
-    enable_sub_ = pnh.subscribe<std_msgs::Bool>("enable", 1, [this](const std_msgs::BoolConstPtr& m) { enable(m->data); });
+    enable_sub_ =
+        pnh.subscribe<std_msgs::Bool>("enable", 1, [this](const std_msgs::BoolConstPtr& m) { enable(m->data); });
     updater_.setHardwareID("rail_detector");
     updater_.add("rail detection", this, &RailDetectorNode::diagnose);
     diag_timer_ = nh.createTimer(ros::Duration(1.0), [this](const ros::TimerEvent&) { updater_.update(); });

@@ -1,7 +1,8 @@
 // The UV mission's people and obstacle detection on ROS: every lidar scan is evaluated against the protected zone
 // (obstacle_zones.h) for the mission's current context, with the headland map (points of the map, outside it, or in
-// the map analyzer's keep-out zone beyond the headland edge are known: not headland) and the rear range finders; the verdict goes to the mission, to the UV interlock (people_detected) and to
-// RViz (obstacles markers). Also watches the lamps' relay boards (io/<board>/state_unknown).
+// the map analyzer's keep-out zone beyond the headland edge are known: not headland) and the rear range finders; the
+// verdict goes to the mission, to the UV interlock (people_detected) and to RViz (obstacles markers). Also watches the
+// lamps' relay boards (io/<board>/state_unknown).
 #pragma once
 
 #include <nav_msgs/OccupancyGrid.h>
@@ -28,9 +29,9 @@ class ZoneWatch {
     ZoneParams zone;
     std::string map_frame = "map", base_frame = "base_link";
     std::vector<std::string> rear_sensors{"rear_left", "rear_right", "rear_centre"};  ///< topics ultrasonic/<name>
-    std::vector<std::string> relay_boards;                             ///< topics io/<board>/state_unknown
-    double rear_timeout_s = 0.5;                                       ///< an older rear reading is not used [s]
-    double scan_timeout_s = 0.5;  ///< no scan evaluated for this long: the zone counts as blocked [s]
+    std::vector<std::string> relay_boards;  ///< topics io/<board>/state_unknown
+    double rear_timeout_s = 0.5;            ///< an older rear reading is not used [s]
+    double scan_timeout_s = 0.5;            ///< no scan evaluated for this long: the zone counts as blocked [s]
   };
   /// Reads the zone's parameters (zone/...) and the rear sensors' and relay boards' lists.
   static void readParams(thorvald_common::ParamReader& params, Config* c);
@@ -64,7 +65,8 @@ class ZoneWatch {
   ros::Time evaluated_;                          // when verdict_ was taken
   thorvald_map::OccupancyGrid map_;
   bool have_map_ = false;
-  thorvald_map::OccupancyGrid keep_out_;  // the rows beyond the headland edge (map_analyzer's keep_out_map; empty: none)
+  thorvald_map::OccupancyGrid
+      keep_out_;  // the rows beyond the headland edge (map_analyzer's keep_out_map; empty: none)
   std::vector<double> rear_range_;
   std::vector<ros::Time> rear_stamp_;
   std::vector<int> relay_unknown_;  // -1 not heard, 0 confirmed, 1 in doubt

@@ -87,7 +87,7 @@ class Costmap {
   std::vector<std::uint8_t> static_blocker_;
   std::vector<std::uint8_t> blocker_;
   std::vector<std::uint8_t> cost_;
-  std::vector<float> known_distance_;  // distance to the nearest wall / keep-out cell, clamped [m]
+  std::vector<float> known_distance_;    // distance to the nearest wall / keep-out cell, clamped [m]
   thorvald_map::OccupancyGrid blocked_;  // every blocked cell occupied: the sites of blocked_distance_
   DistanceField blocked_distance_;       // to the nearest blocked cell, clamped past the inflation radius
   std::vector<int> obstacle_cells_;      // cells the obstacle layer blocks now
