@@ -32,6 +32,7 @@ std::string UvMissionParams::validate() const {
   e << zone.validate();
   if (!(min_lit_fraction > 0.0 && min_lit_fraction <= 1.0)) e << "min_lit_fraction must be in (0, 1]; ";
   if (!(relight_overlap_m >= 0.0 && relight_overlap_m <= 1.0)) e << "relight_overlap must be in [0, 1] [m]; ";
+  if (!(relight_run_up_m >= 0.0 && relight_run_up_m <= 2.0)) e << "relight_run_up must be in [0, 2] [m]; ";
   return e.str();
 }
 

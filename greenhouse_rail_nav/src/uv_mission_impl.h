@@ -82,7 +82,7 @@ class UvMission::Impl {
   double litFraction() const { return rowKnown() ? row_lit_.fraction() : lit_.fraction(); }
   /// After a hold on the rails: reverse over the stretch braked through with the lights off, to the last point lit
   /// (relight_overlap_m before it); false when that failed (why in skip_reason_) or was preempted.
-  bool backToLit(tsm::ExecutionContext& ctx, double along_m, bool* preempted);
+  bool backToLit(tsm::ExecutionContext& ctx, double along_m, bool lamps_were_on, bool* preempted);
   bool surfaceStale() {
     const SurfaceReading s = io_.surface();
     return s.stamp_s < 0.0 || io_.now() - s.stamp_s > p_.surface_timeout_s;

@@ -160,6 +160,7 @@ std::string UvMission::Impl::driveAlongRails(tsm::ExecutionContext& ctx, const t
     setZone(ZonePhase::kRow, rowEnd(entered_m_ + along_now));
     if (mustHold(&why)) {
       v = 0.0;
+      const bool lamps_were_on = lights;
       lights = false;
       if (!holdWhileStopped(ctx)) return tsm::kPreempted;
       if (io_.odomPose(pose)) {  // braked on with the lights off
@@ -168,7 +169,7 @@ std::string UvMission::Impl::driveAlongRails(tsm::ExecutionContext& ctx, const t
         along_now = a;
       }
       bool preempted = false;
-      if (!backToLit(ctx, along_now, &preempted)) return preempted ? tsm::kPreempted : "failed";
+      if (!backToLit(ctx, along_now, lamps_were_on, &preempted)) return preempted ? tsm::kPreempted : "failed";
       if (!io_.odomPose(pose)) continue;  // railRunFault below says so
       along_last = (pose->position() - rail_start.position()).dot(rail_start.heading());
       setZone(ZonePhase::kRow, rowEnd(entered_m_ + along_last));

@@ -2,6 +2,7 @@
 // and the protected zone (obstacle_zones.h: a person or an obstacle near the robot, in the row ahead or behind it
 // while reversing). While holding, the robot stands with its lights off; on the rails it then comes back over the
 // stretch it braked through with the lights off before they go on again.
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -84,10 +85,15 @@ double UvMission::Impl::rowEnd(double entered_m) const {
   return std::max(1e-3, current_->rail_length_m - (x0 + entered_m));
 }
 
-bool UvMission::Impl::backToLit(tsm::ExecutionContext& ctx, double along_m, bool* preempted) {
+bool UvMission::Impl::backToLit(tsm::ExecutionContext& ctx, double along_m, bool lamps_were_on, bool* preempted) {
   *preempted = false;
-  const double back = along_m - lit_.litUpTo() + p_.relight_overlap_m;
-  if (lit_.litUpTo() >= lit_.end() - 1e-3 || back <= p_.relight_overlap_m + 0.02) return true;
+  const double unlit = std::max(0.0, along_m - lit_.litUpTo());
+  // The stretch under the lamps when they went off got part of its dose: they must come on again (after the run-up to
+  // the treatment speed) behind it, not where the robot stopped.
+  // Never back past where the treatment began (on the rails, the lamps' first lit point behind it).
+  const double back =
+      std::min(std::max(0.0, along_m), unlit + p_.relight_overlap_m + (lamps_were_on ? p_.relight_run_up_m : 0.0));
+  if (!lamps_were_on && (lit_.litUpTo() >= lit_.end() - 1e-3 || unlit <= 0.02)) return true;
   std::ostringstream o;
   o << "back " << back << " m over the stretch passed with the lights off";
   log(o.str());

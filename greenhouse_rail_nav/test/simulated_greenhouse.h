@@ -7,11 +7,13 @@
 #include <cmath>
 #include <iostream>
 #include <limits>
+#include <memory>
 #include <random>
 #include <set>
 #include <string>
 #include <vector>
 
+#include "greenhouse_rail_nav/uv_dose.h"
 #include "greenhouse_rail_nav/uv_mission.h"
 
 namespace grn = greenhouse_rail_nav;
@@ -45,6 +47,9 @@ class SimulatedGreenhouse : public grn::MissionIO {
   double person_x = 0.0, person_from = -1.0, person_to = -1.0;  ///< a person standing in set 0's row, from .. to [s]
   /// The lamps' relay confirms "on" this long after the request, "off" at once (< 0: no confirmed state reported).
   double relay_on_delay_s = -1.0;
+  /// > 0: the lamps light only while the robot moves at least this fast, as uv_interlock switches them [m/s].
+  double interlock_min_speed_mps = 0.0;
+  double response_s = 0.12;       ///< the drives' time constant: how fast the robot follows a twist (and brakes) [s]
   int lit_ticks_with_person = 0;  ///< control ticks with the lights on and the person ahead in the row
   double closest_to_person = std::numeric_limits<double>::infinity();  ///< [m] base_link to the person
 
@@ -60,6 +65,8 @@ class SimulatedGreenhouse : public grn::MissionIO {
   bool nav_goal_on_rails = false;  ///< a navigation goal was sent while the wheels read rail
   int localisation_resets = 0;
   std::vector<std::string> lines;
+  /// The UV dose along set 0's row (rails from x = 0 to rail_length) from the lamps as they lit (uv_dose's model).
+  std::unique_ptr<grn::RowDose> set0_dose;
 
   double now() override { return t_; }
   bool ok() override { return t_ < 3600.0; }
@@ -125,7 +132,7 @@ class SimulatedGreenhouse : public grn::MissionIO {
   }
   bool lampsConfirmed(bool* on) override {
     if (relay_on_delay_s < 0.0) return false;
-    *on = lights_on && t_ - lights_request_t_ >= relay_on_delay_s - 1e-9;
+    *on = lampsLit();
     return true;
   }
   void resetLocalisation(const thorvald_base::Pose2D&) override { ++localisation_resets; }
@@ -157,8 +164,16 @@ class SimulatedGreenhouse : public grn::MissionIO {
   }
 
  private:
+  bool lampsLit() const {
+    if (!lights_on) return false;
+    if (relay_on_delay_s >= 0.0 && t_ - lights_request_t_ < relay_on_delay_s - 1e-9) return false;
+    return !(interlock_min_speed_mps > 0.0 && std::fabs(v_) < interlock_min_speed_mps);
+  }
   void step(double dt) {
-    const double a = dt / 0.12;
+    if (!set0_dose) set0_dose = std::make_unique<grn::RowDose>(grn::UvDoseParams(), rail_length);
+    const double x_before = pose_.x;
+    const bool lit = lampsLit();
+    const double a = std::min(1.0, dt / response_s);
     v_ += a * (v_cmd_ - v_);
     w_ += a * (w_cmd_ - w_);
     pose_.yaw = thorvald_base::normalizeAngle(pose_.yaw + w_ * dt);
@@ -171,6 +186,8 @@ class SimulatedGreenhouse : public grn::MissionIO {
       for (const auto& set : sets_)
         if (std::fabs(pose_.y - set.y) < 0.05) pose_.y = set.y, pose_.yaw = 0.0;
     }
+    if (std::fabs(pose_.y - sets_[0].y) < 0.05 && x_before >= 0.0 && pose_.x >= 0.0)
+      set0_dose->add(x_before, pose_.x, dt, lit);
     t_ += dt;
     max_x = std::max(max_x, pose_.x);
     if (t_ - last_odom_ >= odom_period_s - 1e-9) {

@@ -319,6 +319,56 @@ TEST(UvMissionRobustness, SilentRangeFindersOnTheRailsStopTheMission) {
     for (const auto& l : world.lines) std::cout << l << "\n";
 }
 
+namespace {
+/// Share of set 0's row from `from_m` to `to_m` along the rails that got at least the set dose.
+double doseCoverage(const SimulatedGreenhouse& world, double from_m, double to_m) {
+  const auto& d = world.set0_dose->dose();
+  const double bin = world.set0_dose->params().bin_m, target = world.set0_dose->params().target_dose_j_per_m;
+  int n = 0, covered = 0;
+  for (std::size_t i = 0; i < d.size(); ++i) {
+    const double mid = (static_cast<double>(i) + 0.5) * bin;
+    if (mid < from_m || mid > to_m) continue;
+    ++n;
+    covered += d[i] >= target - 1e-9 ? 1 : 0;
+  }
+  return n > 0 ? static_cast<double>(covered) / n : 0.0;
+}
+}  // namespace
+
+// A person steps into the row while the robot treats it: the lamps go off at once and, behind an interlock that
+// lights them only at 0.4 m/s, come on again only after a run-up. Where they went off the row got part of its dose:
+// the robot backs far enough that they relight behind that stretch (relight_run_up), and every metre of the row (the
+// plants 1 m from either end, as thorvald_sim places them) gets the set dose. Relit where it stopped (no overlap,
+// no run-up: what the mission did when the braked stretch was too short to count) it did not.
+TEST(UvMission, AfterAHoldTheLampsComeOnBehindTheStretchTheyPartlyDosed) {
+  const std::vector<RailSetTruth> sets = {{0.0}};
+  double with_run_up = 0.0, without = 0.0;
+  for (const double run_up : {0.2, 0.0}) {  // 0: relit where the robot stopped (as before the run-up)
+    SimulatedGreenhouse world(sets, 3);
+    world.interlock_min_speed_mps = 0.4;
+    // The drives stop the robot within a centimetre: too short a braked stretch to back over (in thorvald_sim's 8-set
+    // run the robot braked 4 cm and did not back up at all).
+    world.response_s = 0.01;
+    world.person_x = 9.0;
+    world.person_from = 25.0;
+    world.person_to = 35.0;
+    grn::UvMissionParams p;
+    p.relight_run_up_m = run_up;
+    if (run_up == 0.0) p.relight_overlap_m = 0.0;
+    auto targets = targetsFor(sets, -1.2);
+    targets[0].rail_length_m = world.rail_length;
+    grn::UvMission mission(world, p, targets);
+    EXPECT_EQ(mission.run(), "done");
+    ASSERT_EQ(mission.reports().size(), 1u);
+    EXPECT_GE(mission.reports()[0].pauses, 1);
+    (run_up > 0.0 ? with_run_up : without) = doseCoverage(world, 1.0, world.rail_length - 1.0);
+    if (HasFailure())
+      for (const auto& l : world.lines) std::cout << l << "\n";
+  }
+  EXPECT_GE(with_run_up, 0.999);
+  EXPECT_LT(without, 0.99) << "the test's hold does leave a stretch short of the dose without the run-up";
+}
+
 TEST(UvMission, StopsShortOfAPersonInTheRowLightsOffAndTreatsTheSetAfterTheyLeave) {
   const std::vector<RailSetTruth> sets = {{0.0}};
   SimulatedGreenhouse world(sets, 3);

@@ -123,6 +123,10 @@ struct UvMissionParams {
   /// After a stop for the zone on the rails, reverse to the last lit point before the lights go on again (the
   /// robot brakes past it with the lights off); this much further back [m].
   double relight_overlap_m = 0.1;
+  /// ... and this much more when the lamps were on at the stop: the row under them got part of its dose, and an
+  /// interlock lights them again only once the robot is back at the treatment speed (uv_interlock: 0.4 m/s, reached
+  /// after 0.16 m at 0.5 m/s^2), so they must come on behind that stretch [m].
+  double relight_run_up_m = 0.2;
 
   std::string validate() const;
 };

@@ -61,6 +61,7 @@ void readStepParams(thorvald_common::ParamReader& params, UvMissionParams* p) {
   p->recover_reverse_max_m = params.number("recover_reverse_max", p->recover_reverse_max_m, R::closed(0.0, 5.0), "m");
   p->min_lit_fraction = params.number("min_lit_fraction", p->min_lit_fraction, R::aboveUpTo(0.0, 1.0));
   p->relight_overlap_m = params.number("relight_overlap", p->relight_overlap_m, R::closed(0.0, 1.0), "m");
+  p->relight_run_up_m = params.number("relight_run_up", p->relight_run_up_m, R::closed(0.0, 2.0), "m");
 }
 
 }  // namespace
