@@ -90,6 +90,35 @@ ActorPose ActorScripts::poseAt(size_t i, double t) const {
   return pose;
 }
 
+std::vector<ActorPose> ActorClocks::advance(double t, const std::vector<RobotCircle>& robots) {
+  if (!started_) {
+    std::fill(clock_.begin(), clock_.end(), t);
+    last_t_ = t;
+    started_ = true;
+  }
+  const double dt = std::max(0.0, t - last_t_);
+  last_t_ = t;
+  std::vector<ActorPose> poses;
+  for (size_t i = 0; i < clock_.size(); ++i) {
+    const double r = scripts_.spec(i).radius_m;
+    const ActorPose now = scripts_.poseAt(i, clock_[i]), next = scripts_.poseAt(i, clock_[i] + dt);
+    bool wait = false;
+    for (const RobotCircle& c : robots) {
+      const double gap_next = std::hypot(next.x - c.x, next.y - c.y) - c.radius - r;
+      const double gap_now = std::hypot(now.x - c.x, now.y - c.y) - c.radius - r;
+      wait = wait || (gap_next < clearance_m_ && gap_next < gap_now - 1e-9);
+    }
+    if (wait) {
+      waited_[i] += dt;
+      poses.push_back(now);
+    } else {
+      clock_[i] += dt;
+      poses.push_back(next);
+    }
+  }
+  return poses;
+}
+
 std::string actorBodyName(const std::string& actor_name) { return "actor_" + actor_name; }
 
 std::string actorBodies(const ActorScripts& actors, const std::function<double(double, double)>& floor_z) {

@@ -54,6 +54,33 @@ class ActorScripts {
   std::vector<ActorSpec> specs_;
 };
 
+/// A robot as the actors keep clear of it: a circle on the floor round its body [m].
+struct RobotCircle {
+  double x = 0, y = 0, radius = 0;
+};
+
+/// The actors' own clocks: a person does not walk into a machine, even one that stopped for them. Each actor runs its
+/// script (path or random walk) on a clock of its own that stands still while its next step would take it nearer
+/// than `clearance_m` to a robot's circle (and nearer than it is); it walks on as soon as the way is free, or when
+/// the step takes it away. Without robots in the way the clocks are the simulated time.
+class ActorClocks {
+ public:
+  explicit ActorClocks(const ActorScripts& scripts, double clearance_m = 0.3)
+      : scripts_(scripts), clearance_m_(clearance_m), clock_(scripts.size(), 0.0), waited_(scripts.size(), 0.0) {}
+  /// Moves every clock from the last call's time to `t` [s] (the first call starts them at `t`) with the robots at
+  /// `robots`; returns the actors' poses.
+  std::vector<ActorPose> advance(double t, const std::vector<RobotCircle>& robots);
+  /// How long actor `i` has stood waiting for a robot [s].
+  double waited(size_t i) const { return waited_.at(i); }
+
+ private:
+  const ActorScripts& scripts_;
+  double clearance_m_;
+  std::vector<double> clock_, waited_;
+  double last_t_ = 0.0;
+  bool started_ = false;
+};
+
 /// Body name of an actor in the MuJoCo model ("actor_<name>"); its one geom has the same name.
 std::string actorBodyName(const std::string& actor_name);
 

@@ -1,5 +1,6 @@
 #include "world_truth.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -36,9 +37,23 @@ WorldTruth::WorldTruth(ros::NodeHandle nh, Simulation& sim, ActorScripts actors,
 }
 
 void WorldTruth::moveActors(double t) {
+  if (actors_.size() == 0) return;
   mjData* d = sim_.mutableData();
+  const mjModel* m = sim_.model();
+  // Each robot as a circle round its root body: its geoms' bounding spheres seen from above.
+  std::vector<RobotCircle> robots;
+  for (size_t r = 0; r < sim_.robotCount(); ++r) {
+    const int root = sim_.robot(r).root_body;
+    RobotCircle c{d->xpos[3 * root], d->xpos[3 * root + 1], 0.0};
+    for (int g = 0; g < m->ngeom; ++g)
+      if (m->body_rootid[m->geom_bodyid[g]] == m->body_rootid[root])
+        c.radius = std::max(c.radius, std::hypot(d->geom_xpos[3 * g] - c.x, d->geom_xpos[3 * g + 1] - c.y) +
+                                          m->geom_rbound[g]);
+    robots.push_back(c);
+  }
+  const std::vector<ActorPose> poses = clocks_.advance(t, robots);
   for (size_t i = 0; i < actors_.size(); ++i) {
-    const ActorPose p = actors_.poseAt(i, t);
+    const ActorPose& p = poses[i];
     double* pos = d->mocap_pos + 3 * mocap_[i];
     double* q = d->mocap_quat + 4 * mocap_[i];
     pos[0] = p.x, pos[1] = p.y, pos[2] = floor_z_(p.x, p.y);
@@ -88,6 +103,9 @@ void WorldTruth::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) con
   stat.add("contacts begun", contacts_.started());
   stat.add("contacts ongoing", contacts_.active());
   stat.add("actors", actors_.size());
+  double waited = 0.0;
+  for (size_t i = 0; i < actors_.size(); ++i) waited += clocks_.waited(i);
+  stat.add("actors' time waiting for robots [s]", waited);
 }
 
 }  // namespace thorvald_sim
