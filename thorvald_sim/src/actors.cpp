@@ -90,7 +90,7 @@ ActorPose ActorScripts::poseAt(size_t i, double t) const {
   return pose;
 }
 
-std::vector<ActorPose> ActorClocks::advance(double t, const std::vector<RobotCircle>& robots) {
+std::vector<ActorPose> ActorClocks::advance(double t, const RobotGap& gap_to_robots) {
   if (!started_) {
     std::fill(clock_.begin(), clock_.end(), t);
     last_t_ = t;
@@ -103,10 +103,9 @@ std::vector<ActorPose> ActorClocks::advance(double t, const std::vector<RobotCir
     const double r = scripts_.spec(i).radius_m;
     const ActorPose now = scripts_.poseAt(i, clock_[i]), next = scripts_.poseAt(i, clock_[i] + dt);
     bool wait = false;
-    for (const RobotCircle& c : robots) {
-      const double gap_next = std::hypot(next.x - c.x, next.y - c.y) - c.radius - r;
-      const double gap_now = std::hypot(now.x - c.x, now.y - c.y) - c.radius - r;
-      wait = wait || (gap_next < clearance_m_ && gap_next < gap_now - 1e-9);
+    if (gap_to_robots) {
+      const double gap_next = gap_to_robots(next.x, next.y) - r, gap_now = gap_to_robots(now.x, now.y) - r;
+      wait = gap_next < clearance_m_ && gap_next < gap_now - 1e-9;
     }
     if (wait) {
       waited_[i] += dt;

@@ -56,25 +56,25 @@ TEST(Actors, ScriptedPathPositionAtTime) {
   EXPECT_NEAR(l.poseAt(0, 3.0 + 8.0).x, 2.0, 1e-9);  // period 8 s (first to last waypoint)
 }
 
-// A person does not walk into a machine: walking along x towards a robot standing in the way at x = 3 (circle of
-// 0.5 m), the walker (radius 0.25) stands 0.3 m short of it, walks on once the robot has gone, and its script runs
-// late by the time it waited; a step away from a robot is never held.
+// A person does not walk into a machine: walking along x towards a robot standing in the way at x = 3 (a body of
+// 0.5 m radius), the walker (radius 0.25) stands 0.3 m short of it, walks on once the robot has gone, and its script
+// runs late by the time it waited; a step away from a robot is never held.
 TEST(Actors, ActorsStandShortOfARobotInTheirWayAndWalkOnWhenItHasGone) {
   ts::ActorScripts a({walker()});
   ts::ActorClocks clocks(a, 0.3);
-  const std::vector<ts::RobotCircle> robot{{3.0, 0.0, 0.5}};
+  const ts::ActorClocks::RobotGap robot = [](double x, double y) { return std::hypot(x - 3.0, y) - 0.5; };
   double x = 0.0;
   for (double t = 0.0; t <= 8.0 + 1e-9; t += 0.01) x = clocks.advance(t, robot)[0].x;
   EXPECT_NEAR(x, 3.0 - 0.5 - 0.25 - 0.3, 0.02) << "stands the clearance short of the robot";
   EXPECT_GT(clocks.waited(0), 5.0);
-  for (double t = 8.01; t <= 20.0 + 1e-9; t += 0.01) x = clocks.advance(t, {})[0].x;  // the robot has gone
-  const ts::ActorPose end = clocks.advance(20.0, {})[0];
+  for (double t = 8.01; t <= 20.0 + 1e-9; t += 0.01) x = clocks.advance(t, nullptr)[0].x;  // the robot has gone
+  const ts::ActorPose end = clocks.advance(20.0, nullptr)[0];
   EXPECT_NEAR(end.x, 4.0, 1e-9);
-  EXPECT_NEAR(end.y, 2.0, 1e-9);  // finished its path, later than scripted
+  EXPECT_NEAR(end.y, 2.0, 1e-9);                    // finished its path, later than scripted
   EXPECT_NEAR(clocks.waited(0), 8.0 - 2.95, 0.05);  // reached 1.95 m at t = 2.95 (1 m/s from t = 1), stood to t = 8
   // Walking away from a robot right behind it is not held.
   ts::ActorClocks away(a, 0.3);
-  const std::vector<ts::RobotCircle> behind{{-0.6, 0.0, 0.3}};
+  const ts::ActorClocks::RobotGap behind = [](double x, double y) { return std::hypot(x + 0.6, y) - 0.3; };
   for (double t = 0.0; t <= 5.0 + 1e-9; t += 0.01) x = away.advance(t, behind)[0].x;
   EXPECT_NEAR(x, 4.0, 1e-9);
   EXPECT_EQ(away.waited(0), 0.0);

@@ -54,22 +54,19 @@ class ActorScripts {
   std::vector<ActorSpec> specs_;
 };
 
-/// A robot as the actors keep clear of it: a circle on the floor round its body [m].
-struct RobotCircle {
-  double x = 0, y = 0, radius = 0;
-};
-
 /// The actors' own clocks: a person does not walk into a machine, even one that stopped for them. Each actor runs its
 /// script (path or random walk) on a clock of its own that stands still while its next step would take it nearer
-/// than `clearance_m` to a robot's circle (and nearer than it is); it walks on as soon as the way is free, or when
-/// the step takes it away. Without robots in the way the clocks are the simulated time.
+/// than `clearance_m` to a robot's body (and nearer than it is); it walks on as soon as the way is free, or when the
+/// step takes it away. Without robots in the way the clocks are the simulated time.
 class ActorClocks {
  public:
   explicit ActorClocks(const ActorScripts& scripts, double clearance_m = 0.3)
       : scripts_(scripts), clearance_m_(clearance_m), clock_(scripts.size(), 0.0), waited_(scripts.size(), 0.0) {}
-  /// Moves every clock from the last call's time to `t` [s] (the first call starts them at `t`) with the robots at
-  /// `robots`; returns the actors' poses.
-  std::vector<ActorPose> advance(double t, const std::vector<RobotCircle>& robots);
+  /// Distance on the floor from a point to the nearest robot body [m] (infinite: none).
+  using RobotGap = std::function<double(double x, double y)>;
+  /// Moves every clock from the last call's time to `t` [s] (the first call starts them at `t`); returns the actors'
+  /// poses.
+  std::vector<ActorPose> advance(double t, const RobotGap& gap_to_robots);
   /// How long actor `i` has stood waiting for a robot [s].
   double waited(size_t i) const { return waited_.at(i); }
 
