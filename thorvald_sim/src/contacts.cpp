@@ -1,5 +1,8 @@
 #include "thorvald_sim/contacts.h"
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <regex>
 
 namespace thorvald_sim {
@@ -89,6 +92,43 @@ std::vector<ContactEvent> ContactMonitor::update(const mjData* d) {
     it = active_.erase(it);
   }
   return events;
+}
+
+double floorGapToBodies(const mjModel* m, const mjData* d, const std::vector<int>& roots, double x, double y) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const int root_body : roots) {
+    const int root = m->body_rootid[root_body];
+    for (int g = 0; g < m->ngeom; ++g) {
+      if (m->body_rootid[m->geom_bodyid[g]] != root) continue;
+      const double* c = d->geom_xpos + 3 * g;
+      const double* R = d->geom_xmat + 9 * g;  // row-major: local = R^T (p - c)
+      const double* s = m->geom_size + 3 * g;
+      double half[3];
+      switch (m->geom_type[g]) {
+        case mjGEOM_BOX:
+        case mjGEOM_ELLIPSOID:
+          half[0] = s[0], half[1] = s[1], half[2] = s[2];
+          break;
+        case mjGEOM_CAPSULE:
+          half[0] = half[1] = s[0], half[2] = s[1] + s[0];
+          break;
+        case mjGEOM_CYLINDER:
+          half[0] = half[1] = s[0], half[2] = s[1];
+          break;
+        default:
+          half[0] = half[1] = half[2] = m->geom_rbound[g];
+      }
+      const double p[3] = {x - c[0], y - c[1], 0.0};
+      double out2 = 0.0;
+      for (int k = 0; k < 3; ++k) {
+        const double l = R[k] * p[0] + R[3 + k] * p[1] + R[6 + k] * p[2];
+        const double o = std::max(0.0, std::fabs(l) - half[k]);
+        out2 += o * o;
+      }
+      best = std::min(best, std::sqrt(out2));
+    }
+  }
+  return best;
 }
 
 }  // namespace thorvald_sim

@@ -136,6 +136,22 @@ TEST(Actors, MocapBodiesMoveAndTheLidarSeesThem) {
   EXPECT_EQ(mj_id2name(world.model.get(), mjOBJ_GEOM, geom), ts::actorBodyName("worker1"));
 }
 
+// The actors' gap to a robot: from a point on the floor to the nearest of its geoms' boxes, turned with the body.
+TEST(Contacts, FloorGapToABodysGeoms) {
+  ts::WorldDescription w = ts::makeFlatWorld(20.0);
+  w.worldbody +=
+      "<body name=\"robot\" pos=\"1 2 0.3\" quat=\"0.70710678 0 0 0.70710678\"><geom name=\"plate\" type=\"box\" "
+      "size=\"0.5 0.2 0.1\"/></body>\n";
+  ts::test::StaticWorld s(w);
+  const int root = mj_name2id(s.model.get(), mjOBJ_BODY, "robot");
+  ASSERT_GE(root, 0);
+  // Turned 90 degrees: the plate reaches 0.2 m along x and 0.5 m along y from (1, 2).
+  EXPECT_NEAR(ts::floorGapToBodies(s.model.get(), s.data.get(), {root}, 2.0, 2.0), 0.8, 1e-6);
+  EXPECT_NEAR(ts::floorGapToBodies(s.model.get(), s.data.get(), {root}, 1.0, 3.0), 0.5, 1e-6);
+  EXPECT_NEAR(ts::floorGapToBodies(s.model.get(), s.data.get(), {root}, 1.1, 2.3), 0.0, 1e-9);  // over it
+  EXPECT_TRUE(std::isinf(ts::floorGapToBodies(s.model.get(), s.data.get(), {}, 2.0, 2.0)));
+}
+
 TEST(Contacts, CrateContactIsReportedWheelsOnTheFloorAreNot) {
   ts::test::TestScene s(floorWithCrate(), {ts::test::fourWheelSteered()});
   ts::ContactMonitor monitor(s.sim->model(), {{s.sim->robot(0).root_body, "r1"}});

@@ -21,6 +21,11 @@ struct ContactEvent {
   double start_time = 0.0;                             ///< when the contact began [s]
 };
 
+/// Distance on the floor from (x, y) to the nearest geom of the bodies under the root bodies `roots` [m] (infinite:
+/// none): each geom as its box in its own frame (ellipsoids, capsules and cylinders by their bounding boxes, meshes
+/// and others as their bounding spheres), the point taken at the geom centre's height. ActorClocks' gap to the robots.
+double floorGapToBodies(const mjModel* m, const mjData* d, const std::vector<int>& roots, double x, double y);
+
 /// Watches MuJoCo's contacts and reports each robot body contact once when it begins and once when it ends. A wheel
 /// (`wheel_link<i>`, casters, passive wheels) on the ground is normal driving and not reported: the ground is every
 /// world geom named row_ground*, headland_floor*, headland_bump*, floor*, rail*, rusty_rail* or hose*. Contacts

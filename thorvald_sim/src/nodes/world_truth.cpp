@@ -1,8 +1,6 @@
 #include "world_truth.h"
 
-#include <algorithm>
 #include <cmath>
-#include <limits>
 #include <stdexcept>
 
 #include "thorvald_sim/ActorArray.h"
@@ -40,45 +38,9 @@ WorldTruth::WorldTruth(ros::NodeHandle nh, Simulation& sim, ActorScripts actors,
 void WorldTruth::moveActors(double t) {
   if (actors_.size() == 0) return;
   mjData* d = sim_.mutableData();
-  const mjModel* m = sim_.model();
-  // The nearest robot geom from a point on the floor: each geom as its box (in its own frame, at the point's height
-  // taken as the geom's centre's), meshes and others as their bounding spheres.
-  const auto gap = [m, d, this](double x, double y) {
-    double best = std::numeric_limits<double>::infinity();
-    for (size_t r = 0; r < sim_.robotCount(); ++r) {
-      const int root = m->body_rootid[sim_.robot(r).root_body];
-      for (int g = 0; g < m->ngeom; ++g) {
-        if (m->body_rootid[m->geom_bodyid[g]] != root) continue;
-        const double* c = d->geom_xpos + 3 * g;
-        const double* R = d->geom_xmat + 9 * g;  // row-major: local = R^T (p - c)
-        const double* s = m->geom_size + 3 * g;
-        double half[3];
-        switch (m->geom_type[g]) {
-          case mjGEOM_BOX:
-          case mjGEOM_ELLIPSOID:
-            half[0] = s[0], half[1] = s[1], half[2] = s[2];
-            break;
-          case mjGEOM_CAPSULE:
-            half[0] = half[1] = s[0], half[2] = s[1] + s[0];
-            break;
-          case mjGEOM_CYLINDER:
-            half[0] = half[1] = s[0], half[2] = s[1];
-            break;
-          default:
-            half[0] = half[1] = half[2] = m->geom_rbound[g];
-        }
-        const double p[3] = {x - c[0], y - c[1], 0.0};
-        double out2 = 0.0;
-        for (int k = 0; k < 3; ++k) {
-          const double l = R[k] * p[0] + R[3 + k] * p[1] + R[6 + k] * p[2];
-          const double o = std::max(0.0, std::fabs(l) - half[k]);
-          out2 += o * o;
-        }
-        best = std::min(best, std::sqrt(out2));
-      }
-    }
-    return best;
-  };
+  std::vector<int> roots;
+  for (size_t r = 0; r < sim_.robotCount(); ++r) roots.push_back(sim_.robot(r).root_body);
+  const auto gap = [this, d, &roots](double x, double y) { return floorGapToBodies(sim_.model(), d, roots, x, y); };
   const std::vector<ActorPose> poses = clocks_.advance(t, gap);
   for (size_t i = 0; i < actors_.size(); ++i) {
     const ActorPose& p = poses[i];
