@@ -43,6 +43,7 @@ import json
 import math
 import re
 import sys
+import threading
 import time
 
 import rospy
@@ -179,6 +180,7 @@ class UvMissionScorer:
         self.in_zone = False
         self.zone_since = None  # a person entered the zone at this time and the robot has not yet stopped
         self.latencies = []
+        self.zone_lock = threading.Lock()
         self.uv_person_events = 0
         self.uv_person_now = False
         self.collisions = []
@@ -252,6 +254,10 @@ class UvMissionScorer:
         return False
 
     def update_zone(self, t):
+        with self.zone_lock:  # called from the truth's and the actors' callbacks, which rospy runs in two threads
+            self._update_zone(t)
+
+    def _update_zone(self, t):
         if self.pose is not None:
             for px, py, pr in self.people:
                 self.person_min_m = min(self.person_min_m, math.hypot(px - self.pose[1], py - self.pose[2]) - pr)
@@ -264,6 +270,8 @@ class UvMissionScorer:
                 self.zone_since = t
         if self.zone_since is not None and (stopped or not zone):
             self.latencies.append(t - self.zone_since)  # stopped, or the person left the zone first
+            rospy.loginfo("uv_mission_scorer: a person in the zone from %.2f s: %s after %.0f ms" %
+                          (self.zone_since, "stopped" if stopped else "left it", 1000.0 * self.latencies[-1]))
             self.zone_since = None
         uv = zone and self.lights
         if uv and not self.uv_person_now:

@@ -22,6 +22,7 @@ std::string ZoneParams::validate() const {
   if (!(headland_radius_m >= 0.0)) e << "headland_radius must be >= 0 [m]; ";
   if (!(map_clearance_m >= 0.0)) e << "map_clearance must be >= 0 [m]; ";
   if (!(row_half_width_m > 0.0)) e << "row_half_width must be > 0 [m]; ";
+  if (!(row_lamps_radius_m >= 0.0)) e << "row_lamps_radius must be >= 0 [m]; ";
   if (!(end_tolerance_m >= 0.0)) e << "end_tolerance must be >= 0 [m]; ";
   if (!(row_ahead_m > 0.0)) e << "row_ahead must be > 0 [m]; ";
   if (!(end_half_angle_rad > 0.0 && end_half_angle_rad < 0.5)) e << "end_half_angle must be in (0, 0.5) [rad]; ";
@@ -171,13 +172,28 @@ void rowZone(const std::vector<ScanPoint>& all_points, double lidar_x, const Zon
   const double r = forwardMedian(points, lidar_x, p.end_half_angle_rad);
   const bool length_known = ctx.row_end_m > 0.0;
   const double end_from = ctx.row_end_m - p.end_tolerance_m;  // base_link x from which a return is the far end
-  std::vector<ScanPoint> corridor;
-  for (const ScanPoint& q : points)
-    if (q.x > 0.0 && std::fabs(q.y) < p.row_half_width_m) corridor.push_back(q);
+  std::vector<ScanPoint> corridor, beside;
+  const double reach = p.row_lamps_radius_m + 1.0;  // a person's centroid can be this far and their centre within
+  for (const ScanPoint& q : points) {
+    if (q.x > 0.0 && std::fabs(q.y) < p.row_half_width_m)
+      corridor.push_back(q);
+    else if (ctx.lamps && p.row_lamps_radius_m > 0.0 && std::hypot(q.x, q.y) < reach)
+      beside.push_back(q);
+  }
   v->clusters = clusterScan(corridor, p, lidar_x);
-  for (const PointCluster& c : v->clusters) {
+  v->in_zone.assign(v->clusters.size(), false);
+  // People beside the corridor within the lamps' reach: in the zone, blocking once PersonConfirmation confirms them.
+  for (PointCluster c : clusterScan(beside, p, lidar_x)) {
+    if (!c.person || std::hypot(c.x, c.y) + 0.5 * c.width >= p.row_lamps_radius_m) continue;
+    c.beside = true;
+    v->clusters.push_back(c);
+    v->in_zone.push_back(true);
+  }
+  for (std::size_t i = 0; i < v->clusters.size(); ++i) {
+    const PointCluster& c = v->clusters[i];
+    if (c.beside) continue;
     const bool obstacle = length_known && c.near_x < end_from && c.near_x < p.row_ahead_m;
-    v->in_zone.push_back(obstacle);
+    v->in_zone[i] = obstacle;
     if (obstacle && !v->blocked) {
       v->blocked = true;
       v->person = c.person;
@@ -295,14 +311,29 @@ ZoneVerdict evaluateZone(const std::vector<ScanPoint>& points, double lidar_x, c
   return v;
 }
 
+void PersonConfirmation::confirmRowPerson(const PointCluster& c, ZoneVerdict* v) {
+  v->person = true;
+  if (v->blocked) return;  // the corridor's reason comes first
+  v->blocked = true;
+  v->why = where("a person beside the robot, in the lamps' reach,", c);
+}
+
 void PersonConfirmation::apply(ZonePhase phase, ZoneVerdict* v) {
-  if (phase == ZonePhase::kRow || scans_ <= 1) {
+  const bool row = phase == ZonePhase::kRow;
+  // In the row only the people beside the corridor wait for confirmation; the corridor's verdict stands as it is.
+  const auto waits = [&](size_t i) {
+    return v->in_zone[i] && v->clusters[i].person && (!row || v->clusters[i].beside);
+  };
+  if (scans_ <= 1) {
     seen_.clear();
+    if (row)
+      for (size_t i = 0; i < v->clusters.size(); ++i)
+        if (waits(i)) confirmRowPerson(v->clusters[i], v);
     return;
   }
   std::vector<ScanPoint> now;
   for (size_t i = 0; i < v->clusters.size(); ++i)
-    if (v->in_zone[i] && v->clusters[i].person) now.push_back({v->clusters[i].x, v->clusters[i].y});
+    if (waits(i)) now.push_back({v->clusters[i].x, v->clusters[i].y});
   auto seenIn = [&](const std::vector<ScanPoint>& scan, const PointCluster& c) {
     for (const ScanPoint& q : scan)
       if (std::hypot(q.x - c.x, q.y - c.y) <= radius_m_) return true;
@@ -310,18 +341,22 @@ void PersonConfirmation::apply(ZonePhase phase, ZoneVerdict* v) {
   };
   bool any = false;
   for (size_t i = 0; i < v->clusters.size(); ++i) {
-    if (!v->in_zone[i] || !v->clusters[i].person) continue;
+    if (!waits(i)) continue;
     bool confirmed = static_cast<int>(seen_.size()) >= scans_ - 1;
     for (const auto& scan : seen_) confirmed = confirmed && seenIn(scan, v->clusters[i]);
     v->in_zone[i] = confirmed;
-    if (confirmed && !any) {
+    if (row) {
+      if (confirmed) confirmRowPerson(v->clusters[i], v);
+    } else if (confirmed && !any) {
       any = true;
       if (!v->behind) v->why = where("a person near the robot", v->clusters[i]);
     }
   }
-  v->person = any;
-  v->blocked = any || v->behind;
-  if (!v->blocked) v->why.clear();
+  if (!row) {
+    v->person = any;
+    v->blocked = any || v->behind;
+    if (!v->blocked) v->why.clear();
+  }
   seen_.push_back(now);
   if (static_cast<int>(seen_.size()) > scans_ - 1) seen_.erase(seen_.begin());
 }

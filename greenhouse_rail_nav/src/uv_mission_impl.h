@@ -53,10 +53,16 @@ class UvMission::Impl {
   void setHoldReason(const std::string& why);
   /// `row_end_m`: ZoneContext::row_end_m (row); `reverse_left_m`: ZoneContext::reverse_left_m (reverse).
   void setZone(ZonePhase phase, double row_end_m = 0.0, double reverse_left_m = -1.0) {
+    setZoneContext(phase, row_end_m, reverse_left_m, false);
+  }
+  /// The row while treating: the lamps are lit or about to be (ZoneContext::lamps).
+  void setTreatZone(double row_end_m) { setZoneContext(ZonePhase::kRow, row_end_m, -1.0, true); }
+  void setZoneContext(ZonePhase phase, double row_end_m, double reverse_left_m, bool lamps) {
     ZoneContext c;
     c.phase = phase;
     c.row_end_m = row_end_m;
     c.reverse_left_m = reverse_left_m;
+    c.lamps = lamps;
     io_.setZoneContext(c);
   }
   /// Distance from base_link to the current set's far end when base_link is `entered_m` past the pose entering

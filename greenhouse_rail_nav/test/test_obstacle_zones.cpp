@@ -123,6 +123,60 @@ TEST(ObstacleZones, APersonInTheRowIsAPersonInTheZone) {
   EXPECT_NE(v.why.find("person"), std::string::npos) << v.why;
 }
 
+// Treating, the lamps light the plants beside the rails: a person standing in the plant row 0.8 m beside the robot is
+// in the zone once seen in person_confirm_scans scans, while anything in the corridor ahead still blocks at once. Not
+// while entering (lamps off), and not a person in the next row, whose centre is 1.9 m away.
+TEST(ObstacleZones, TreatingAPersonBesideTheRobotInTheLampsReachHoldsOnceConfirmed) {
+  grn::ZoneParams p;
+  ASSERT_EQ(p.person_confirm_scans, 3);
+  grn::ZoneContext treating = row(19.0);
+  treating.lamps = true;
+  SyntheticScan beside;
+  beside.bodies.push_back({0.8, 0.8, 0.25, true});
+  grn::PersonConfirmation confirm(p);
+  for (int scan = 1; scan <= 3; ++scan) {
+    grn::ZoneVerdict v = grn::evaluateZone(beside.points(), kLidarX, treating, p);
+    confirm.apply(grn::ZonePhase::kRow, &v);
+    EXPECT_EQ(v.blocked, scan == 3) << "scan " << scan << ": " << v.why;
+    EXPECT_EQ(v.person, scan == 3) << "scan " << scan;
+    if (scan == 3) {
+      EXPECT_NE(v.why.find("beside the robot"), std::string::npos) << v.why;
+    }
+  }
+  // Entering the rails (lamps off) the same person is no reason to hold.
+  grn::PersonConfirmation entering_confirm(p);
+  for (int scan = 1; scan <= 4; ++scan) {
+    grn::ZoneVerdict v = grn::evaluateZone(beside.points(), kLidarX, row(19.0), p);
+    entering_confirm.apply(grn::ZonePhase::kRow, &v);
+    EXPECT_FALSE(v.blocked) << v.why;
+  }
+  // A person standing between the next set's rails, 1.6 m to the side.
+  SyntheticScan next_row;
+  next_row.bodies.push_back({0.8, 1.6, 0.25, true});
+  grn::PersonConfirmation next_confirm(p);
+  for (int scan = 1; scan <= 4; ++scan) {
+    grn::ZoneVerdict v = grn::evaluateZone(next_row.points(), kLidarX, treating, p);
+    next_confirm.apply(grn::ZonePhase::kRow, &v);
+    EXPECT_FALSE(v.blocked) << v.why;
+  }
+  // The corridor is not delayed by the confirmation: a person 10 m ahead blocks at the first scan.
+  SyntheticScan ahead;
+  ahead.bodies.push_back({10.0, 0.05, 0.25, true});
+  grn::PersonConfirmation ahead_confirm(p);
+  grn::ZoneVerdict v = grn::evaluateZone(ahead.points(), kLidarX, treating, p);
+  ahead_confirm.apply(grn::ZonePhase::kRow, &v);
+  EXPECT_TRUE(v.blocked);
+  EXPECT_NE(v.why.find("in the row ahead"), std::string::npos) << v.why;
+  // With row_lamps_radius 0 the check is off.
+  p.row_lamps_radius_m = 0.0;
+  grn::PersonConfirmation off_confirm(p);
+  for (int scan = 1; scan <= 4; ++scan) {
+    grn::ZoneVerdict w = grn::evaluateZone(beside.points(), kLidarX, treating, p);
+    off_confirm.apply(grn::ZonePhase::kRow, &w);
+    EXPECT_FALSE(w.blocked) << w.why;
+  }
+}
+
 // A robot turned 4 degrees on the rails (a wheel jolted at an open pipe joint) sees the ventilation line beside the
 // row, 0.8 m to its right at the lidar's height, cross its corridor ahead: a straight line along the row is the
 // greenhouse's, not an obstacle nor the far end; a person standing against that line still is one.

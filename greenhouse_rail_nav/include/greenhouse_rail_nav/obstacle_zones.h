@@ -34,6 +34,10 @@ struct ZoneParams {
   double map_clearance_m = 0.2;  ///< headland: a point this close to an occupied map cell is the map [m]
   /// Row: the corridor between the rails, |y| below this, ahead of the robot [m].
   double row_half_width_m = 0.3;
+  /// Row: a person outside the corridor (in a plant row beside the robot, behind it at the rails' start) whose
+  /// estimated centre (cluster centroid plus half its width) is within this of base_link is in the lamps' reach and
+  /// in the zone, once confirmed over person_confirm_scans scans as near the robot on the headland [m]; 0: off.
+  double row_lamps_radius_m = 1.5;
   /// Row: a return at the set's length less this (or beyond) is the far end; anything shorter is an obstacle [m].
   double end_tolerance_m = 1.0;
   double row_ahead_m = 100.0;  ///< row: obstacles farther ahead than this are not in the zone [m]
@@ -74,6 +78,8 @@ struct PointCluster {
   double fit_inliers = 0.0;  ///< share of the points within person_fit_outlier_m of the circle
   int points = 0;
   bool person = false;  ///< of a person's size and shape
+  /// Row: a person beside the corridor within row_lamps_radius_m (in the zone once PersonConfirmation confirms it)
+  bool beside = false;
 };
 
 /// Groups points given in scan order: a point joins the cluster of the one before it when closer than
@@ -111,6 +117,9 @@ struct ZoneContext {
   /// Reverse: how much farther the robot reverses at most (to its stored pose, plus what it may go on to find the
   /// floor) [m]; < 0: unknown (rear_stop_range_m alone decides).
   double reverse_left_m = -1.0;
+  /// Row: the robot is treating, its lamps lit or about to be: people beside the corridor within row_lamps_radius_m
+  /// count (entering the rails the lamps are off, and the rows' structure beside the rails' start is no one).
+  bool lamps = false;
 };
 
 /// The zone at one scan.
@@ -143,9 +152,10 @@ ZoneVerdict evaluateZone(const std::vector<ScanPoint>& points, double lidar_x, c
                          const ZoneParams& p, const KnownPoint& known = {},
                          const std::vector<double>& rear_ranges = {});
 
-/// Confirms the people near the robot (headland, idle, reverse; not the row, where anything short of the end blocks
-/// at once) over consecutive scans: a person cluster in the zone stays in it only when person clusters were in the
-/// zone within person_confirm_radius_m of it in each of the person_confirm_scans - 1 scans before.
+/// Confirms the people near the robot (headland, idle, reverse; in the row the people beside the corridor, while
+/// anything in the corridor short of the end blocks at once) over consecutive scans: a person cluster in the zone
+/// stays in it only when person clusters were in the zone within person_confirm_radius_m of it in each of the
+/// person_confirm_scans - 1 scans before. In the row a confirmed person beside the robot blocks it.
 class PersonConfirmation {
  public:
   explicit PersonConfirmation(const ZoneParams& p)
@@ -154,6 +164,7 @@ class PersonConfirmation {
   void apply(ZonePhase phase, ZoneVerdict* v);
 
  private:
+  static void confirmRowPerson(const PointCluster& c, ZoneVerdict* v);
   int scans_;
   double radius_m_;
   std::vector<std::vector<ScanPoint>> seen_;  ///< people in the zone in the latest scans, oldest first
