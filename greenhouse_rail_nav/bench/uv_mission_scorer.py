@@ -16,8 +16,12 @@ mission's own outputs (uv_lights, nav_vel, mission/status, mission/report, safet
 - rail speed: truth speed while the lights are on and the mission commands its treatment speed (from
   `settle` s after it first does).
 - people (thorvald_sim's sim/actors, truth): a person is in the protected zone when within `zone_radius` of
-  base_link with the lights on, or ahead of base_link within `zone_radius` while it moves (its swept path), or, the
-  robot on a set's rails with the lights on or driving in, between that set's rails ahead of it.
+  base_link with the lights on (the lamps' reach), or when their body overlaps the robot's swept path while it
+  drives: the corridor of the footprint's width (`footprint`: front and rear of the frame from base_link, half its
+  width; the greenhouse robot's 0.2, 0.85, 0.46 m) from the footprint to `swept_reach` (1 m) beyond its leading edge
+  in the direction of the commanded motion, or, the robot on a set's rails with the lights on or driving in, between
+  that set's rails ahead of it. (Until this revision the swept path was a half-disc of `zone_radius` ahead of
+  base_link, which also took a person in the plant row beside a robot driving in with its lamps off.)
   `uv_on_with_person_events`: times the lights were on with a person in that zone (counted when it begins);
   `person_stop_latency_p99_ms`: from a person entering the zone to the mission's twist being zero with the lights
   off (0 when they already were).
@@ -159,7 +163,7 @@ def parse_report(text):
 class UvMissionScorer:
     def __init__(self, truth_file, treat_speed=0.5, lateral_tol=0.04, drop=0.01, tilt=0.02, start_margin=1.0,
                  end_margin=1.5, settle=0.5, zone_radius=1.5, scenario="none", lamps_file="",
-                 interlock_tolerance=0.1):
+                 interlock_tolerance=0.1, footprint=(0.2, 0.85, 0.46), swept_reach=1.0):
         with open(truth_file) as f:
             self.truth = yaml.safe_load(f)
         self.sets = self.truth["rail_sets"]
@@ -175,6 +179,8 @@ class UvMissionScorer:
             self.rails_dose[s["index"]] = RowDoseBins(self.lamps, 0.0, self.set_length(s))
             self.interlock_dose[s["index"]] = RowDoseBins(self.lamps, 0.0, self.set_length(s))
         self.zone_radius, self.scenario = zone_radius, scenario
+        self.front, self.rear, self.half_width = (float(v) for v in footprint)
+        self.swept_reach = swept_reach
         self.people = []  # (x, y, radius) of every person at the latest sim/actors
         self.pose = None  # (t, x, y, yaw) of base_link, truth
         self.in_zone = False
@@ -234,6 +240,16 @@ class UvMissionScorer:
                 return s["index"], along
         return None, None
 
+    def in_swept_path(self, fx, fy, pr):
+        """A body of radius pr at (fx, fy) in base_link overlaps the path the footprint sweeps while driving."""
+        if abs(fy) - pr >= self.half_width:
+            return False
+        if self.cmd_v > 1e-3:
+            return fx + pr > -self.rear and fx - pr < self.front + self.swept_reach
+        if self.cmd_v < -1e-3:
+            return fx - pr < self.front and fx + pr > -(self.rear + self.swept_reach)
+        return False
+
     def person_in_zone(self):
         """A person in the protected zone (truth): near the lit lamps, in the swept path, or in the row ahead."""
         if self.pose is None:
@@ -241,10 +257,11 @@ class UvMissionScorer:
         _, x, y, yaw = self.pose
         c, si = math.cos(yaw), math.sin(yaw)
         idx, along = self.on_rails(x, y)
-        for px, py, _ in self.people:
+        for px, py, pr in self.people:
             fx, fy = c * (px - x) + si * (py - y), -si * (px - x) + c * (py - y)
-            near = math.hypot(fx, fy) < self.zone_radius
-            if near and (self.lights or (self.cmd_v > 1e-3 and fx > 0.0) or (self.cmd_v < -1e-3 and fx < 0.0)):
+            if self.lights and math.hypot(fx, fy) < self.zone_radius:
+                return True
+            if self.in_swept_path(fx, fy, pr):
                 return True
             if idx is not None and (self.lights or self.cmd_v > 1e-3):
                 s = [q for q in self.sets if q["index"] == idx][0]
@@ -543,7 +560,9 @@ def main():
     rospy.init_node("uv_mission_scorer")
     s = make_scorer(rospy.get_param("~truth_file"), treat_speed=rospy.get_param("~treat_speed", 0.5),
                     zone_radius=rospy.get_param("~zone_radius", 1.5), scenario=rospy.get_param("~scenario", "none"),
-                    lamps_file=rospy.get_param("~lamps_file", ""))
+                    lamps_file=rospy.get_param("~lamps_file", ""),
+                    footprint=rospy.get_param("~footprint", [0.2, 0.85, 0.46]),
+                    swept_reach=rospy.get_param("~swept_reach", 1.0))
     timeout = float(rospy.get_param("~timeout", 900.0))
     s.subscribe()
     s.wait(timeout)

@@ -58,6 +58,19 @@ grn::ZoneContext row(double row_end_m) {
   return c;
 }
 
+/// The first of `scans` identical scans at which the confirmed row verdict holds the robot (0: none does); its
+/// verdict in `last`.
+int firstHoldingScan(const SyntheticScan& scan, const grn::ZoneContext& ctx, const grn::ZoneParams& p, int scans,
+                     grn::ZoneVerdict* last) {
+  grn::PersonConfirmation confirm(p);
+  for (int k = 1; k <= scans; ++k) {
+    *last = grn::evaluateZone(scan.points(), kLidarX, ctx, p);
+    confirm.apply(ctx.phase, last);
+    if (last->blocked) return k;
+  }
+  return 0;
+}
+
 }  // namespace
 
 TEST(ObstacleZones, APersonSizedClusterIsAPerson) {
@@ -131,50 +144,26 @@ TEST(ObstacleZones, TreatingAPersonBesideTheRobotInTheLampsReachHoldsOnceConfirm
   ASSERT_EQ(p.person_confirm_scans, 3);
   grn::ZoneContext treating = row(19.0);
   treating.lamps = true;
+  grn::ZoneVerdict v;
   SyntheticScan beside;
   beside.bodies.push_back({0.8, 0.8, 0.25, true});
-  grn::PersonConfirmation confirm(p);
-  for (int scan = 1; scan <= 3; ++scan) {
-    grn::ZoneVerdict v = grn::evaluateZone(beside.points(), kLidarX, treating, p);
-    confirm.apply(grn::ZonePhase::kRow, &v);
-    EXPECT_EQ(v.blocked, scan == 3) << "scan " << scan << ": " << v.why;
-    EXPECT_EQ(v.person, scan == 3) << "scan " << scan;
-    if (scan == 3) {
-      EXPECT_NE(v.why.find("beside the robot"), std::string::npos) << v.why;
-    }
-  }
+  EXPECT_EQ(firstHoldingScan(beside, treating, p, 5, &v), 3);
+  EXPECT_TRUE(v.person);
+  EXPECT_NE(v.why.find("beside the robot"), std::string::npos) << v.why;
   // Entering the rails (lamps off) the same person is no reason to hold.
-  grn::PersonConfirmation entering_confirm(p);
-  for (int scan = 1; scan <= 4; ++scan) {
-    grn::ZoneVerdict v = grn::evaluateZone(beside.points(), kLidarX, row(19.0), p);
-    entering_confirm.apply(grn::ZonePhase::kRow, &v);
-    EXPECT_FALSE(v.blocked) << v.why;
-  }
+  EXPECT_EQ(firstHoldingScan(beside, row(19.0), p, 5, &v), 0) << v.why;
   // A person standing between the next set's rails, 1.6 m to the side.
   SyntheticScan next_row;
   next_row.bodies.push_back({0.8, 1.6, 0.25, true});
-  grn::PersonConfirmation next_confirm(p);
-  for (int scan = 1; scan <= 4; ++scan) {
-    grn::ZoneVerdict v = grn::evaluateZone(next_row.points(), kLidarX, treating, p);
-    next_confirm.apply(grn::ZonePhase::kRow, &v);
-    EXPECT_FALSE(v.blocked) << v.why;
-  }
+  EXPECT_EQ(firstHoldingScan(next_row, treating, p, 5, &v), 0) << v.why;
   // The corridor is not delayed by the confirmation: a person 10 m ahead blocks at the first scan.
   SyntheticScan ahead;
   ahead.bodies.push_back({10.0, 0.05, 0.25, true});
-  grn::PersonConfirmation ahead_confirm(p);
-  grn::ZoneVerdict v = grn::evaluateZone(ahead.points(), kLidarX, treating, p);
-  ahead_confirm.apply(grn::ZonePhase::kRow, &v);
-  EXPECT_TRUE(v.blocked);
+  EXPECT_EQ(firstHoldingScan(ahead, treating, p, 5, &v), 1);
   EXPECT_NE(v.why.find("in the row ahead"), std::string::npos) << v.why;
   // With row_lamps_radius 0 the check is off.
   p.row_lamps_radius_m = 0.0;
-  grn::PersonConfirmation off_confirm(p);
-  for (int scan = 1; scan <= 4; ++scan) {
-    grn::ZoneVerdict w = grn::evaluateZone(beside.points(), kLidarX, treating, p);
-    off_confirm.apply(grn::ZonePhase::kRow, &w);
-    EXPECT_FALSE(w.blocked) << w.why;
-  }
+  EXPECT_EQ(firstHoldingScan(beside, treating, p, 5, &v), 0) << v.why;
 }
 
 // A robot turned 4 degrees on the rails (a wheel jolted at an open pipe joint) sees the ventilation line beside the

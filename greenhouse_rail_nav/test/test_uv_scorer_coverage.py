@@ -116,6 +116,56 @@ class ScorerCoverageTest(unittest.TestCase):
         self.assertAlmostEqual(out["coverage_pct"]["0"], 100.0 * (expect - 1.0) / 3.0, delta=2.0)
 
 
+
+class ScorerZoneTest(unittest.TestCase):
+    """The protected zone the scorer times the stops against: the lamps' reach with the lights on, the swept path
+    (the footprint's corridor to 1 m past its leading edge) while driving, the row ahead on the rails."""
+
+    def scorer_at(self, x, y, yaw=0.0):
+        with tempfile.TemporaryDirectory() as d:
+            truth = os.path.join(d, "truth.yaml")
+            with open(truth, "w") as f:
+                f.write("rail_length: 5.0\nrail_sets:\n  - {index: 0, x: 0.0, y: 0.0, yaw: 0.0}\n")
+            sc = scorer.UvMissionScorer(truth)
+        sc.pose = (0.0, x, y, yaw)
+        return sc
+
+    def test_a_person_in_the_plant_row_beside_a_robot_driving_in_with_the_lamps_off_is_not_in_its_path(self):
+        sc = self.scorer_at(-1.0, 0.0)  # on the headland, facing the rails
+        sc.people = [(0.0, 0.8, 0.25)]
+        sc.cmd_v = 0.2
+        self.assertFalse(sc.person_in_zone())
+        sc.lights = True  # the lamps' reach
+        self.assertTrue(sc.person_in_zone())
+
+    def test_the_swept_path_runs_in_the_direction_of_motion_across_the_footprints_width(self):
+        sc = self.scorer_at(-3.0, 0.0)
+        sc.cmd_v = -0.2  # reversing: 0.85 m of frame behind base_link, then 1 m of path
+        sc.people = [(-3.0 - 1.9, 0.3, 0.25)]
+        self.assertTrue(sc.person_in_zone())
+        sc.people = [(-3.0 - 2.2, 0.3, 0.25)]
+        self.assertFalse(sc.person_in_zone(), "beyond the swept reach")
+        sc.people = [(-3.0 - 1.5, 0.8, 0.25)]
+        self.assertFalse(sc.person_in_zone(), "beside the path")
+        sc.cmd_v = 0.2
+        sc.people = [(-3.0 - 1.9, 0.3, 0.25)]
+        self.assertFalse(sc.person_in_zone(), "behind a robot driving forwards")
+        sc.cmd_v = 0.0
+        sc.people = [(-3.0 + 0.6, 0.0, 0.25)]
+        self.assertFalse(sc.person_in_zone(), "a robot standing still sweeps nothing")
+
+    def test_a_zone_entry_is_timed_to_the_stop_once(self):
+        sc = self.scorer_at(-3.0, 0.0)
+        sc.cmd_v = 0.2
+        sc.people = [(-3.0 + 1.0, 0.0, 0.25)]
+        sc.update_zone(10.0)
+        sc.update_zone(10.05)
+        sc.cmd_v = 0.0
+        sc.update_zone(10.12)
+        sc.update_zone(10.2)
+        self.assertEqual(len(sc.latencies), 1)
+        self.assertAlmostEqual(sc.latencies[0], 0.12, places=6)
+
 if __name__ == "__main__":
     import rosunit
 

@@ -93,6 +93,7 @@ ActorPose ActorScripts::poseAt(size_t i, double t) const {
 std::vector<ActorPose> ActorClocks::advance(double t, const RobotGap& gap_to_robots) {
   if (!started_) {
     std::fill(clock_.begin(), clock_.end(), t);
+    start_.assign(clock_.size(), t);
     last_t_ = t;
     started_ = true;
   }
@@ -101,6 +102,19 @@ std::vector<ActorPose> ActorClocks::advance(double t, const RobotGap& gap_to_rob
   std::vector<ActorPose> poses;
   for (size_t i = 0; i < clock_.size(); ++i) {
     const double r = scripts_.spec(i).radius_m;
+    if (back_left_[i] > 0.0) {  // giving way: back along the path, unless that walks into a robot too
+      const double step = std::min({dt, back_left_[i], clock_[i] - start_[i]});
+      const ActorPose here = scripts_.poseAt(i, clock_[i]), back = scripts_.poseAt(i, clock_[i] - std::max(0.0, step));
+      const bool free = !gap_to_robots || gap_to_robots(back.x, back.y) - r >= clearance_m_ ||
+                        gap_to_robots(back.x, back.y) >= gap_to_robots(here.x, here.y);
+      if (step > 0.0 && free) {
+        clock_[i] -= step;
+        back_left_[i] -= dt;
+        poses.push_back(back);
+        continue;
+      }
+      back_left_[i] = 0.0;  // at the start of the script, or hemmed in: on as before
+    }
     const ActorPose now = scripts_.poseAt(i, clock_[i]), next = scripts_.poseAt(i, clock_[i] + dt);
     bool wait = false;
     if (gap_to_robots) {
@@ -109,8 +123,14 @@ std::vector<ActorPose> ActorClocks::advance(double t, const RobotGap& gap_to_rob
     }
     if (wait) {
       waited_[i] += dt;
+      standing_[i] += dt;
+      if (give_way_s_ > 0.0 && standing_[i] >= give_way_s_) {
+        standing_[i] = 0.0;
+        back_left_[i] = step_back_s_;
+      }
       poses.push_back(now);
     } else {
+      standing_[i] = 0.0;
       clock_[i] += dt;
       poses.push_back(next);
     }

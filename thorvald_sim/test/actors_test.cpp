@@ -80,6 +80,30 @@ TEST(Actors, ActorsStandShortOfARobotInTheirWayAndWalkOnWhenItHasGone) {
   EXPECT_EQ(away.waited(0), 0.0);
 }
 
+// A person kept waiting by a robot that does not move (it stopped because of them) gives way after give_way_s: steps
+// back along their path for step_back_s, then comes on again and stands short of the robot once more.
+TEST(Actors, APersonKeptWaitingStepsBackTheWayTheyCame) {
+  ts::ActorScripts a({walker()});
+  ts::ActorClocks clocks(a, 0.3, 4.0, 1.5);
+  const ts::ActorClocks::RobotGap robot = [](double x, double y) { return std::hypot(x - 3.0, y) - 0.5; };
+  const double stand_x = 3.0 - 0.5 - 0.25 - 0.3;
+  double x = 0.0, min_after_wait = 1e9;
+  for (double t = 0.0; t <= 2.95 + 4.0 - 0.05; t += 0.01) x = clocks.advance(t, robot)[0].x;
+  EXPECT_NEAR(x, stand_x, 0.02) << "stood short of the robot until give_way_s had passed";
+  for (double t = 6.91; t <= 8.5; t += 0.01) min_after_wait = std::min(min_after_wait, clocks.advance(t, robot)[0].x);
+  EXPECT_NEAR(min_after_wait, stand_x - 1.5, 0.05) << "stepped back 1.5 s of its path (1 m/s)";
+  for (double t = 8.51; t <= 12.0; t += 0.01) x = clocks.advance(t, robot)[0].x;
+  EXPECT_NEAR(x, stand_x, 0.02) << "came on again and stands short of the robot";
+  // Without give_way it stands for good.
+  ts::ActorClocks patient(a, 0.3);
+  double lowest = 1e9;
+  for (double t = 0.0; t <= 20.0; t += 0.01) {
+    x = patient.advance(t, robot)[0].x;
+    if (t > 3.0) lowest = std::min(lowest, x);
+  }
+  EXPECT_NEAR(lowest, stand_x, 0.02);
+}
+
 TEST(Actors, RandomWalkStaysInItsRegionAndRepeatsWithItsSeed) {
   ts::ActorScripts a({wanderer(5)}), b({wanderer(5)}), c({wanderer(6)});
   double travelled = 0.0, differs = 0.0;

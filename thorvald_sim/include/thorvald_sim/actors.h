@@ -57,11 +57,22 @@ class ActorScripts {
 /// The actors' own clocks: a person does not walk into a machine, even one that stopped for them. Each actor runs its
 /// script (path or random walk) on a clock of its own that stands still while its next step would take it nearer
 /// than `clearance_m` to a robot's body (and nearer than it is); it walks on as soon as the way is free, or when the
-/// step takes it away. Without robots in the way the clocks are the simulated time.
+/// step takes it away. Without robots in the way the clocks are the simulated time. A person who has stood
+/// `give_way_s` without a break gives way: their clock runs backwards for `step_back_s` (they step back the way they
+/// came), then forwards again (a robot that stopped because of them, beside its lamps, can go on; 0: they wait for
+/// good).
 class ActorClocks {
  public:
-  explicit ActorClocks(const ActorScripts& scripts, double clearance_m = 0.3)
-      : scripts_(scripts), clearance_m_(clearance_m), clock_(scripts.size(), 0.0), waited_(scripts.size(), 0.0) {}
+  explicit ActorClocks(const ActorScripts& scripts, double clearance_m = 0.3, double give_way_s = 0.0,
+                       double step_back_s = 5.0)
+      : scripts_(scripts),
+        clearance_m_(clearance_m),
+        give_way_s_(give_way_s),
+        step_back_s_(step_back_s),
+        clock_(scripts.size(), 0.0),
+        waited_(scripts.size(), 0.0),
+        standing_(scripts.size(), 0.0),
+        back_left_(scripts.size(), 0.0) {}
   /// Distance on the floor from a point to the nearest robot body [m] (infinite: none).
   using RobotGap = std::function<double(double x, double y)>;
   /// Moves every clock from the last call's time to `t` [s] (the first call starts them at `t`); returns the actors'
@@ -72,8 +83,11 @@ class ActorClocks {
 
  private:
   const ActorScripts& scripts_;
-  double clearance_m_;
+  double clearance_m_, give_way_s_, step_back_s_;
   std::vector<double> clock_, waited_;
+  std::vector<double> standing_;   ///< [s] stood without a break
+  std::vector<double> back_left_;  ///< [s] of stepping back still to go
+  std::vector<double> start_;      ///< each clock's first time (stepping back stops there)
   double last_t_ = 0.0;
   bool started_ = false;
 };

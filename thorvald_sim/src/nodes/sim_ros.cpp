@@ -123,6 +123,7 @@ bool SimRos::loadParams() {
           params.number("cotton_row/leaf_over_boll_fraction", c.leaf_over_boll_fraction, ParamRange::closed(0.0, 1.0));
     }
     params.raw("actors", &p.actors);
+    p.actors_give_way_s = params.number("actors_give_way", p.actors_give_way_s, ParamRange::closed(0.0, 3600.0), "s");
     params.alsoRead("diagnostic_period");
     params.finish();
   } catch (const thorvald_common::ParamError& e) {
@@ -241,7 +242,7 @@ bool SimRos::loadRobots(const WorldDescription& world) {
     sim_ = std::make_unique<Simulation>(composeScene(world, spawns, options), spawns);
     world_truth_ =
         std::make_unique<WorldTruth>(nh_, *sim_, actors_ ? std::move(*actors_) : ActorScripts(std::vector<ActorSpec>{}),
-                                     floor_z_, params_.world_frame);
+                                     floor_z_, params_.world_frame, params_.actors_give_way_s);
     actors_.reset();
     for (size_t i = 0; i < spawns.size(); ++i)
       robots_.push_back(std::make_unique<RobotIo>(

@@ -36,7 +36,8 @@ struct SimNodeParams {
   double flat_half_size_m = 100.0;
   GreenhouseParams greenhouse;
   CottonRowParams cotton_row;
-  XmlRpc::XmlRpcValue actors;  ///< ~actors (see world_params.h); none if unset
+  XmlRpc::XmlRpcValue actors;       ///< ~actors (see world_params.h); none if unset
+  double actors_give_way_s = 15.0;  ///< ~actors_give_way: a person kept waiting this long steps back (0: never) [s]
 };
 
 /// The simulator node: one MuJoCo world with every robot, stepped on one thread that also serves callbacks.

@@ -19,9 +19,10 @@ std::vector<std::pair<int, std::string>> robotRoots(const Simulation& sim) {
 }  // namespace
 
 WorldTruth::WorldTruth(ros::NodeHandle nh, Simulation& sim, ActorScripts actors,
-                       std::function<double(double, double)> floor_z, const std::string& world_frame)
+                       std::function<double(double, double)> floor_z, const std::string& world_frame, double give_way_s)
     : sim_(sim),
       actors_(std::move(actors)),
+      clocks_(actors_, 0.3, give_way_s),
       floor_z_(std::move(floor_z)),
       world_frame_(world_frame),
       contacts_(sim.model(), robotRoots(sim)) {

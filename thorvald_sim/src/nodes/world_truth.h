@@ -21,9 +21,9 @@ class WorldTruth {
  public:
   /// `floor_z(x, y)`: the floor under an actor [m].
   WorldTruth(ros::NodeHandle nh, Simulation& sim, ActorScripts actors, std::function<double(double, double)> floor_z,
-             const std::string& world_frame);
+             const std::string& world_frame, double give_way_s);
   /// Puts the actors where they are at simulated time `t` [s] (before stepping): on their scripts, each standing while
-  /// its next step would take it within 0.3 m of a robot (ActorClocks).
+  /// its next step would take it within 0.3 m of a robot, stepping back after give_way_s of it (ActorClocks).
   void moveActors(double t);
   /// After stepping: contact events, and the actors' poses when due.
   void publish(const ros::Time& now, double actor_period_s);
@@ -32,7 +32,7 @@ class WorldTruth {
  private:
   Simulation& sim_;
   ActorScripts actors_;
-  ActorClocks clocks_{actors_};  ///< the actors yield to robots
+  ActorClocks clocks_;  ///< the actors yield to robots
   std::function<double(double, double)> floor_z_;
   std::string world_frame_;
   std::vector<int> mocap_;  ///< actor -> mocap index
