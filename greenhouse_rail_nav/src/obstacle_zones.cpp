@@ -192,7 +192,8 @@ void rowZone(const std::vector<ScanPoint>& all_points, double lidar_x, const Zon
   for (std::size_t i = 0; i < v->clusters.size(); ++i) {
     const PointCluster& c = v->clusters[i];
     if (c.beside) continue;
-    const bool obstacle = length_known && c.near_x < end_from && c.near_x < p.row_ahead_m;
+    // Short of the end anything is an obstacle; in the end's tolerance a person still is one (the end is flat).
+    const bool obstacle = length_known && c.near_x < p.row_ahead_m && (c.near_x < end_from || c.person);
     v->in_zone[i] = obstacle;
     if (obstacle && !v->blocked) {
       v->blocked = true;

@@ -115,6 +115,18 @@ TEST(ObstacleZones, TheWallAtTheSetsLengthIsTheEnd) {
   EXPECT_NEAR(v.end_range_m, 21.0 - kLidarX, 0.01);
 }
 
+// A person standing at the far end of the row, within the end's tolerance of the set's length, is a person, not the
+// end: the robot would otherwise drive at them with its lamps on until the far wall's guard stopped it.
+TEST(ObstacleZones, APersonAtTheRowsFarEndIsNoEnd) {
+  grn::ZoneParams p;
+  SyntheticScan scan;  // the end 20 m ahead (end tolerance 1 m), the wall 1 m beyond it, a person 0.5 m short of it
+  scan.bodies.push_back({19.5, 0.0, 0.25, true});
+  const grn::ZoneVerdict v = grn::evaluateZone(scan.points(), kLidarX, row(20.0), p);
+  EXPECT_TRUE(v.blocked);
+  EXPECT_TRUE(v.person);
+  EXPECT_NE(v.why.find("a person in the row ahead"), std::string::npos) << v.why;
+}
+
 TEST(ObstacleZones, ACrateShortOfTheEndIsAnObstacleNeverTheEnd) {
   grn::ZoneParams p;
   SyntheticScan scan;
