@@ -19,12 +19,13 @@ mission's own outputs (uv_lights, nav_vel, mission/status, mission/report, safet
   base_link with the lights on (the lamps' reach), or when their body overlaps the robot's swept path while it
   drives: the corridor of the footprint's width (`footprint`: front and rear of the frame from base_link, half its
   width; the greenhouse robot's 0.2, 0.85, 0.46 m) from the footprint to `swept_reach` (1 m) beyond its leading edge
-  in the direction of the commanded motion, or, the robot on a set's rails with the lights on or driving in, between
-  that set's rails ahead of it. (Until this revision the swept path was a half-disc of `zone_radius` ahead of
+  in the direction of the commanded motion, or, the robot on a set's rails with the lights on, driving in or holding
+  there (mission/safety "holding: ..."), between that set's rails ahead of it. (Until this revision the swept path was a half-disc of `zone_radius` ahead of
   base_link, which also took a person in the plant row beside a robot driving in with its lamps off.)
   `uv_on_with_person_events`: times the lights were on with a person in that zone (counted when it begins);
   `person_stop_latency_p99_ms`: from a person entering the zone to the mission's twist being zero with the lights
-  off (0 when they already were).
+  off (0 when they already were: `person_zone_entries_already_stopped` counts those, a person stepping into the row
+  ahead of a robot that already holds for them).
 - `person_holds`, `phantom_person_holds`: the mission's holds for a person (mission/safety "holding: a person ... at
   (x, y) m", base_link), counted when each begins; a phantom when no person (truth) was within `phantom_radius` of
   that point then.
@@ -195,6 +196,7 @@ class UvMissionScorer:
         self.person_holds = 0
         self.phantom_holds = []  # (t, x, y) in the world of the holds for a person where nobody was
         self.holding_person = False
+        self.holding = False  # the mission holds (mission/safety "holding: ..."), for anything
         self.phantom_radius = 1.0
         self.treat_speed, self.lateral_tol, self.drop, self.tilt = treat_speed, lateral_tol, drop, tilt
         self.start_margin, self.end_margin, self.settle = start_margin, end_margin, settle
@@ -263,7 +265,7 @@ class UvMissionScorer:
                 return True
             if self.in_swept_path(fx, fy, pr):
                 return True
-            if idx is not None and (self.lights or self.cmd_v > 1e-3):
+            if idx is not None and (self.lights or self.cmd_v > 1e-3 or self.holding):
                 s = [q for q in self.sets if q["index"] == idx][0]
                 p_along, p_across = self.in_set(s, px, py)
                 if abs(p_across) < 0.3 and along < p_along <= self.set_length(s):
@@ -298,6 +300,7 @@ class UvMissionScorer:
 
     def on_safety(self, m):
         """A hold for a person begins: was anybody there (truth)?"""
+        self.holding = m.data.startswith("holding")
         found = re.search(r"a person [^(]*\(([-0-9.]+), ([-0-9.]+)\) m", m.data)
         if not m.data.startswith("holding") or not found:
             self.holding_person = False
@@ -528,6 +531,7 @@ class UvMissionScorer:
             "scenario": self.scenario,
             "uv_on_with_person_events": self.uv_person_events,
             "person_zone_entries": len(self.latencies),
+            "person_zone_entries_already_stopped": sum(1 for v in self.latencies if v == 0.0),
             "person_stop_latency_p99_ms": round(p99, 1),
             "person_stop_latency_max_ms": round(lat[-1] * 1000.0, 1) if lat else 0.0,
             "person_holds": self.person_holds,

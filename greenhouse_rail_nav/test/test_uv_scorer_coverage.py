@@ -154,6 +154,16 @@ class ScorerZoneTest(unittest.TestCase):
         sc.people = [(-3.0 + 0.6, 0.0, 0.25)]
         self.assertFalse(sc.person_in_zone(), "a robot standing still sweeps nothing")
 
+    def test_a_person_stepping_into_the_row_ahead_of_a_robot_holding_there_is_an_entry_of_0_ms(self):
+        sc = self.scorer_at(1.0, 0.0)  # on set 0's rails, stopped, lamps off
+        sc.people = [(3.5, 0.0, 0.25)]
+        self.assertFalse(sc.person_in_zone(), "a robot standing on the rails, not holding, has no row zone")
+        sc.holding = True
+        sc.update_zone(5.0)
+        self.assertEqual(sc.latencies, [0.0])
+        sc.cmd_v, sc.holding = -0.2, False  # reversing out: the row ahead is behind the motion
+        self.assertFalse(sc.person_in_zone())
+
     def test_a_zone_entry_is_timed_to_the_stop_once(self):
         sc = self.scorer_at(-3.0, 0.0)
         sc.cmd_v = 0.2
