@@ -23,6 +23,7 @@ std::string ZoneParams::validate() const {
   if (!(map_clearance_m >= 0.0)) e << "map_clearance must be >= 0 [m]; ";
   if (!(row_half_width_m > 0.0)) e << "row_half_width must be > 0 [m]; ";
   if (!(row_lamps_radius_m >= 0.0)) e << "row_lamps_radius must be >= 0 [m]; ";
+  if (!(row_ends_margin_m >= 0.0)) e << "row_ends_margin must be >= 0 [m]; ";
   if (!(end_tolerance_m >= 0.0)) e << "end_tolerance must be >= 0 [m]; ";
   if (!(row_ahead_m > 0.0)) e << "row_ahead must be > 0 [m]; ";
   if (!(end_half_angle_rad > 0.0 && end_half_angle_rad < 0.5)) e << "end_half_angle must be in (0, 0.5) [rad]; ";
@@ -185,6 +186,9 @@ void rowZone(const std::vector<ScanPoint>& all_points, double lidar_x, const Zon
   // People beside the corridor within the lamps' reach: in the zone, blocking once PersonConfirmation confirms them.
   for (PointCluster c : clusterScan(beside, p, lidar_x)) {
     if (!c.person || std::hypot(c.x, c.y) + 0.5 * c.width >= p.row_lamps_radius_m) continue;
+    const bool at_end = length_known && std::fabs(c.x - ctx.row_end_m) < p.row_ends_margin_m;
+    const bool at_start = ctx.row_along_m >= 0.0 && std::fabs(c.x + ctx.row_along_m) < p.row_ends_margin_m;
+    if (at_end || at_start) continue;
     c.beside = true;
     v->clusters.push_back(c);
     v->in_zone.push_back(true);

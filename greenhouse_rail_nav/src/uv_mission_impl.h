@@ -55,14 +55,19 @@ class UvMission::Impl {
   void setZone(ZonePhase phase, double row_end_m = 0.0, double reverse_left_m = -1.0) {
     setZoneContext(phase, row_end_m, reverse_left_m, false);
   }
-  /// The row while treating: the lamps are lit or about to be (ZoneContext::lamps).
-  void setTreatZone(double row_end_m) { setZoneContext(ZonePhase::kRow, row_end_m, -1.0, true); }
-  void setZoneContext(ZonePhase phase, double row_end_m, double reverse_left_m, bool lamps) {
+  /// The row while treating, base_link `entered_m` past the pose entering began at: the lamps are lit or about to be
+  /// (ZoneContext::lamps).
+  void setTreatZone(double entered_m) {
+    setZoneContext(ZonePhase::kRow, rowEnd(entered_m), -1.0, true, rowKnown() ? rowPosition(entered_m) : -1.0);
+  }
+  void setZoneContext(ZonePhase phase, double row_end_m, double reverse_left_m, bool lamps = false,
+                      double row_along_m = -1.0) {
     ZoneContext c;
     c.phase = phase;
     c.row_end_m = row_end_m;
     c.reverse_left_m = reverse_left_m;
     c.lamps = lamps;
+    c.row_along_m = row_along_m;
     io_.setZoneContext(c);
   }
   /// Distance from base_link to the current set's far end when base_link is `entered_m` past the pose entering

@@ -115,7 +115,7 @@ std::string UvMission::Impl::treat(tsm::ExecutionContext& ctx) {
   CruiseSpeedMeter speed;
   lit_ = LitCoverage();
   row_lit_ = RowLitCoverage(p_.rail_run, rowKnown() ? current_->rail_length_m : 0.0);
-  setTreatZone(rowEnd(entered_m_));
+  setTreatZone(entered_m_);
   if (!holdWhileStopped(ctx)) return tsm::kPreempted;
   io_.setLights(true);
   log("UV lights on, driving along the rails");
@@ -157,7 +157,7 @@ std::string UvMission::Impl::driveAlongRails(tsm::ExecutionContext& ctx, const t
     addLit(along_last, along_now, litNow(lights));
     along_last = along_now;
     std::string why;
-    setTreatZone(rowEnd(entered_m_ + along_now));
+    setTreatZone(entered_m_ + along_now);
     if (mustHold(&why)) {
       v = 0.0;
       const bool lamps_were_on = lights;
@@ -172,7 +172,7 @@ std::string UvMission::Impl::driveAlongRails(tsm::ExecutionContext& ctx, const t
       if (!backToLit(ctx, along_now, lamps_were_on, &preempted)) return preempted ? tsm::kPreempted : "failed";
       if (!io_.odomPose(pose)) continue;  // railRunFault below says so
       along_last = (pose->position() - rail_start.position()).dot(rail_start.heading());
-      setTreatZone(rowEnd(entered_m_ + along_last));
+      setTreatZone(entered_m_ + along_last);
       if (mustHold(&why)) continue;
       io_.setLights(true);
       lights = true;

@@ -35,13 +35,13 @@ struct SyntheticScan {
         if (std::fabs(rw * s) < 0.8) r = rw;
       }
       for (const Body& b : bodies) {
-        if (c <= 1e-6) continue;
-        if (b.round) {  // nearest hit of the ray on the circle
+        if (b.round) {  // nearest hit of the ray on the circle (behind the lidar too)
           const double dx = b.x - kLidarX, along = dx * c + b.y * s, miss2 = dx * dx + b.y * b.y - along * along;
           const double h2 = b.half_width * b.half_width - miss2;
           if (h2 >= 0.0 && along - std::sqrt(h2) > 0.0) r = std::min(r, along - std::sqrt(h2));
           continue;
         }
+        if (c <= 1e-6) continue;
         const double rb = (b.x - b.half_width - kLidarX) / c;
         if (std::fabs(rb * s - b.y) <= b.half_width && rb < r) r = rb;
       }
@@ -173,6 +173,18 @@ TEST(ObstacleZones, TreatingAPersonBesideTheRobotInTheLampsReachHoldsOnceConfirm
   ahead.bodies.push_back({10.0, 0.05, 0.25, true});
   EXPECT_EQ(firstHoldingScan(ahead, treating, p, 5, &v), 1);
   EXPECT_NE(v.why.find("in the row ahead"), std::string::npos) << v.why;
+  // Beside the rails' start and the row's end the ventilation lines' round caps stand where a person would: nobody is
+  // watched there (row_ends_margin).
+  grn::ZoneContext at_end = row(0.8);
+  at_end.lamps = true;
+  EXPECT_EQ(firstHoldingScan(beside, at_end, p, 5, &v), 0) << v.why;
+  SyntheticScan behind_beside;
+  behind_beside.bodies.push_back({-0.25, 0.8, 0.25, true});
+  grn::ZoneContext at_start = treating;
+  at_start.row_along_m = 0.3;
+  EXPECT_EQ(firstHoldingScan(behind_beside, at_start, p, 5, &v), 0) << v.why;
+  at_start.row_along_m = 3.0;
+  EXPECT_EQ(firstHoldingScan(behind_beside, at_start, p, 5, &v), 3) << "3 m into the row the same person is watched";
   // With row_lamps_radius 0 the check is off.
   p.row_lamps_radius_m = 0.0;
   EXPECT_EQ(firstHoldingScan(beside, treating, p, 5, &v), 0) << v.why;

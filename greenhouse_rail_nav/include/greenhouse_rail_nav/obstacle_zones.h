@@ -38,6 +38,10 @@ struct ZoneParams {
   /// estimated centre (cluster centroid plus half its width) is within this of base_link is in the lamps' reach and
   /// in the zone, once confirmed over person_confirm_scans scans as near the robot on the headland [m]; 0: off.
   double row_lamps_radius_m = 1.5;
+  /// Treating: nobody beside the corridor is watched within this of the rails' start or the row's end (along the row):
+  /// the lines along the rows (ventilation ducts) end there in round caps that a lidar grazing their top takes for a
+  /// person [m].
+  double row_ends_margin_m = 0.6;
   /// Row: a return at the set's length less this (or beyond) is the far end; anything shorter is an obstacle [m].
   double end_tolerance_m = 1.0;
   double row_ahead_m = 100.0;  ///< row: obstacles farther ahead than this are not in the zone [m]
@@ -120,6 +124,8 @@ struct ZoneContext {
   /// Row: the robot is treating, its lamps lit or about to be: people beside the corridor within row_lamps_radius_m
   /// count (entering the rails the lamps are off, and the rows' structure beside the rails' start is no one).
   bool lamps = false;
+  /// Row: how far base_link is past the rails' start [m]; < 0: unknown.
+  double row_along_m = -1.0;
 };
 
 /// The zone at one scan.
