@@ -196,8 +196,10 @@ void rowZone(const std::vector<ScanPoint>& all_points, double lidar_x, const Zon
   for (std::size_t i = 0; i < v->clusters.size(); ++i) {
     const PointCluster& c = v->clusters[i];
     if (c.beside) continue;
-    // Short of the end anything is an obstacle; in the end's tolerance a person still is one (the end is flat).
-    const bool obstacle = length_known && c.near_x < p.row_ahead_m && (c.near_x < end_from || c.person);
+    // Short of the end anything is an obstacle; in the end's tolerance, short of the rails' end, a person still is
+    // one (the end is flat), when seen with enough points to tell (a far wall's few noisy returns can fit a circle).
+    const bool person_at_end = c.person && c.points >= 2 * kMinFitPoints && c.near_x < ctx.row_end_m;
+    const bool obstacle = length_known && c.near_x < p.row_ahead_m && (c.near_x < end_from || person_at_end);
     v->in_zone[i] = obstacle;
     if (obstacle && !v->blocked) {
       v->blocked = true;

@@ -119,12 +119,24 @@ TEST(ObstacleZones, TheWallAtTheSetsLengthIsTheEnd) {
 // end: the robot would otherwise drive at them with its lamps on until the far wall's guard stopped it.
 TEST(ObstacleZones, APersonAtTheRowsFarEndIsNoEnd) {
   grn::ZoneParams p;
-  SyntheticScan scan;  // the end 20 m ahead (end tolerance 1 m), the wall 1 m beyond it, a person 0.5 m short of it
-  scan.bodies.push_back({19.5, 0.0, 0.25, true});
-  const grn::ZoneVerdict v = grn::evaluateZone(scan.points(), kLidarX, row(20.0), p);
+  SyntheticScan scan;  // the end 5 m ahead (end tolerance 1 m), the wall 1 m beyond it, a person 0.5 m short of it
+  scan.wall_x = 6.0;
+  scan.bodies.push_back({4.5, 0.0, 0.25, true});
+  const grn::ZoneVerdict v = grn::evaluateZone(scan.points(), kLidarX, row(5.0), p);
   EXPECT_TRUE(v.blocked);
   EXPECT_TRUE(v.person);
   EXPECT_NE(v.why.find("a person in the row ahead"), std::string::npos) << v.why;
+  // From 40 m away a person there is a few returns that cannot be told from the wall: the end, until the robot is
+  // near enough (about 10 m) to see them with 10 returns.
+  SyntheticScan far;
+  far.wall_x = 40.0;
+  far.bodies.push_back({39.5, 0.0, 0.25, true});
+  EXPECT_FALSE(grn::evaluateZone(far.points(), kLidarX, row(40.0), p).blocked);
+  // Nor is the far wall 1 m beyond the rails' end a person, whatever its few returns fit.
+  SyntheticScan wall;
+  wall.wall_x = 21.0;
+  for (double y = -0.3; y <= 0.3; y += 0.06) wall.bodies.push_back({21.0 - 0.05 * (1.0 - y * y / 0.09), y, 0.03, true});
+  EXPECT_FALSE(grn::evaluateZone(wall.points(), kLidarX, row(20.0), p).blocked);
 }
 
 TEST(ObstacleZones, ACrateShortOfTheEndIsAnObstacleNeverTheEnd) {
