@@ -18,8 +18,9 @@ mission's own outputs (uv_lights, nav_vel, mission/status, mission/report, safet
 - people (thorvald_sim's sim/actors, truth): a person is in the protected zone when within `zone_radius` of
   base_link with the lights on (the lamps' reach), or when their body overlaps the robot's swept path while it
   drives: the corridor of the footprint's width (`footprint`: front and rear of the frame from base_link, half its
-  width; the greenhouse robot's 0.2, 0.85, 0.46 m) from the footprint to `swept_reach` (1 m) beyond its leading edge
-  in the direction of the commanded motion, or, the robot on a set's rails with the lights on, driving in or holding
+  width; the greenhouse robot's 0.2, 0.85, 0.46 m) from the footprint to beyond its leading edge in the direction of
+  the commanded motion by what the robot covers in `swept_horizon` (1 s) at the commanded speed plus
+  `swept_clearance` (0.3 m), or, the robot on a set's rails with the lights on, driving in or holding
   there (mission/safety "holding: ..."), between that set's rails ahead of it. (Until this revision the swept path was a half-disc of `zone_radius` ahead of
   base_link, which also took a person in the plant row beside a robot driving in with its lamps off.)
   `uv_on_with_person_events`: times the lights were on with a person in that zone (counted when it begins);
@@ -164,7 +165,7 @@ def parse_report(text):
 class UvMissionScorer:
     def __init__(self, truth_file, treat_speed=0.5, lateral_tol=0.04, drop=0.01, tilt=0.02, start_margin=1.0,
                  end_margin=1.5, settle=0.5, zone_radius=1.5, scenario="none", lamps_file="",
-                 interlock_tolerance=0.1, footprint=(0.2, 0.85, 0.46), swept_reach=1.0):
+                 interlock_tolerance=0.1, footprint=(0.2, 0.85, 0.46), swept_horizon=1.0, swept_clearance=0.3):
         with open(truth_file) as f:
             self.truth = yaml.safe_load(f)
         self.sets = self.truth["rail_sets"]
@@ -181,7 +182,7 @@ class UvMissionScorer:
             self.interlock_dose[s["index"]] = RowDoseBins(self.lamps, 0.0, self.set_length(s))
         self.zone_radius, self.scenario = zone_radius, scenario
         self.front, self.rear, self.half_width = (float(v) for v in footprint)
-        self.swept_reach = swept_reach
+        self.swept_horizon, self.swept_clearance = swept_horizon, swept_clearance
         self.people = []  # (x, y, radius) of every person at the latest sim/actors
         self.pose = None  # (t, x, y, yaw) of base_link, truth
         self.in_zone = False
@@ -246,10 +247,11 @@ class UvMissionScorer:
         """A body of radius pr at (fx, fy) in base_link overlaps the path the footprint sweeps while driving."""
         if abs(fy) - pr >= self.half_width:
             return False
+        reach = abs(self.cmd_v) * self.swept_horizon + self.swept_clearance
         if self.cmd_v > 1e-3:
-            return fx + pr > -self.rear and fx - pr < self.front + self.swept_reach
+            return fx + pr > -self.rear and fx - pr < self.front + reach
         if self.cmd_v < -1e-3:
-            return fx - pr < self.front and fx + pr > -(self.rear + self.swept_reach)
+            return fx - pr < self.front and fx + pr > -(self.rear + reach)
         return False
 
     def person_in_zone(self):
@@ -566,7 +568,8 @@ def main():
                     zone_radius=rospy.get_param("~zone_radius", 1.5), scenario=rospy.get_param("~scenario", "none"),
                     lamps_file=rospy.get_param("~lamps_file", ""),
                     footprint=rospy.get_param("~footprint", [0.2, 0.85, 0.46]),
-                    swept_reach=rospy.get_param("~swept_reach", 1.0))
+                    swept_horizon=rospy.get_param("~swept_horizon", 1.0),
+                    swept_clearance=rospy.get_param("~swept_clearance", 0.3))
     timeout = float(rospy.get_param("~timeout", 900.0))
     s.subscribe()
     s.wait(timeout)

@@ -119,7 +119,8 @@ class ScorerCoverageTest(unittest.TestCase):
 
 class ScorerZoneTest(unittest.TestCase):
     """The protected zone the scorer times the stops against: the lamps' reach with the lights on, the swept path
-    (the footprint's corridor to 1 m past its leading edge) while driving, the row ahead on the rails."""
+    (the footprint's corridor to 1 s of travel plus 0.3 m past its leading edge) while driving, the row ahead on the
+    rails."""
 
     def scorer_at(self, x, y, yaw=0.0):
         with tempfile.TemporaryDirectory() as d:
@@ -140,15 +141,17 @@ class ScorerZoneTest(unittest.TestCase):
 
     def test_the_swept_path_runs_in_the_direction_of_motion_across_the_footprints_width(self):
         sc = self.scorer_at(-3.0, 0.0)
-        sc.cmd_v = -0.2  # reversing: 0.85 m of frame behind base_link, then 1 m of path
-        sc.people = [(-3.0 - 1.9, 0.3, 0.25)]
+        sc.cmd_v = -0.2  # reversing: 0.85 m of frame behind base_link, then 0.2 m/s x 1 s + 0.3 m of path
+        sc.people = [(-3.0 - 1.55, 0.3, 0.25)]
         self.assertTrue(sc.person_in_zone())
-        sc.people = [(-3.0 - 2.2, 0.3, 0.25)]
+        sc.people = [(-3.0 - 1.65, 0.3, 0.25)]
         self.assertFalse(sc.person_in_zone(), "beyond the swept reach")
+        sc.cmd_v = -0.5  # faster: 0.8 m of path
+        self.assertTrue(sc.person_in_zone())
         sc.people = [(-3.0 - 1.5, 0.8, 0.25)]
         self.assertFalse(sc.person_in_zone(), "beside the path")
         sc.cmd_v = 0.2
-        sc.people = [(-3.0 - 1.9, 0.3, 0.25)]
+        sc.people = [(-3.0 - 1.55, 0.3, 0.25)]
         self.assertFalse(sc.person_in_zone(), "behind a robot driving forwards")
         sc.cmd_v = 0.0
         sc.people = [(-3.0 + 0.6, 0.0, 0.25)]
@@ -167,7 +170,7 @@ class ScorerZoneTest(unittest.TestCase):
     def test_a_zone_entry_is_timed_to_the_stop_once(self):
         sc = self.scorer_at(-3.0, 0.0)
         sc.cmd_v = 0.2
-        sc.people = [(-3.0 + 1.0, 0.0, 0.25)]
+        sc.people = [(-3.0 + 0.8, 0.0, 0.25)]
         sc.update_zone(10.0)
         sc.update_zone(10.05)
         sc.cmd_v = 0.0
