@@ -20,9 +20,10 @@ mission's own outputs (uv_lights, nav_vel, mission/status, mission/report, safet
   drives: the corridor of the footprint's width (`footprint`: front and rear of the frame from base_link, half its
   width; the greenhouse robot's 0.2, 0.85, 0.46 m) from the footprint to beyond its leading edge in the direction of
   the commanded motion by what the robot covers in `swept_horizon` (1 s) at the commanded speed plus
-  `swept_clearance` (0.3 m), or, the robot on a set's rails with the lights on, driving in or holding
-  there (mission/safety "holding: ..."), between that set's rails ahead of it. (Until this revision the swept path was a half-disc of `zone_radius` ahead of
-  base_link, which also took a person in the plant row beside a robot driving in with its lamps off.)
+  `swept_clearance` (0.3 m), or, the robot on a set's rails with the lights on, driving in or holding there
+  (mission/safety "holding: ..."), between that set's rails ahead of it. (Until 2026-12-07 the swept path was a
+  half-disc of `zone_radius` ahead of base_link, which also took a person in the plant row beside a robot driving in
+  with its lamps off.)
   `uv_on_with_person_events`: times the lights were on with a person in that zone (counted when it begins);
   `person_stop_latency_p99_ms`: from a person entering the zone to the mission's twist being zero with the lights
   off (0 when they already were: `person_zone_entries_already_stopped` counts those, a person stepping into the row
@@ -304,7 +305,7 @@ class UvMissionScorer:
         """A hold for a person begins: was anybody there (truth)?"""
         self.holding = m.data.startswith("holding")
         found = re.search(r"a person [^(]*\(([-0-9.]+), ([-0-9.]+)\) m", m.data)
-        if not m.data.startswith("holding") or not found:
+        if not self.holding or not found:
             self.holding_person = False
             return
         if self.holding_person or self.pose is None:

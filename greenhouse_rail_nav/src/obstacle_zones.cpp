@@ -182,7 +182,20 @@ void rowZone(const std::vector<ScanPoint>& all_points, double lidar_x, const Zon
       beside.push_back(q);
   }
   v->clusters = clusterScan(corridor, p, lidar_x);
-  v->in_zone.assign(v->clusters.size(), false);
+  for (const PointCluster& c : v->clusters) {
+    // Short of the end anything is an obstacle; in the end's tolerance, short of the rails' end, a person still is
+    // one (the end is flat), when seen with enough points to tell (a far wall's few noisy returns can fit a circle).
+    const bool person_at_end = c.person && c.points >= 2 * kMinFitPoints && c.near_x < ctx.row_end_m;
+    const bool obstacle = length_known && c.near_x < p.row_ahead_m && (c.near_x < end_from || person_at_end);
+    v->in_zone.push_back(obstacle);
+    if (obstacle && !v->blocked) {
+      v->blocked = true;
+      v->person = c.person;
+      v->why = where(c.person ? "a person in the row ahead" : "an obstacle in the row ahead", c);
+    } else if (obstacle && c.person) {
+      v->person = true;
+    }
+  }
   // People beside the corridor within the lamps' reach: in the zone, blocking once PersonConfirmation confirms them.
   for (PointCluster c : clusterScan(beside, p, lidar_x)) {
     if (!c.person || std::hypot(c.x, c.y) + 0.5 * c.width >= p.row_lamps_radius_m) continue;
@@ -192,22 +205,6 @@ void rowZone(const std::vector<ScanPoint>& all_points, double lidar_x, const Zon
     c.beside = true;
     v->clusters.push_back(c);
     v->in_zone.push_back(true);
-  }
-  for (std::size_t i = 0; i < v->clusters.size(); ++i) {
-    const PointCluster& c = v->clusters[i];
-    if (c.beside) continue;
-    // Short of the end anything is an obstacle; in the end's tolerance, short of the rails' end, a person still is
-    // one (the end is flat), when seen with enough points to tell (a far wall's few noisy returns can fit a circle).
-    const bool person_at_end = c.person && c.points >= 2 * kMinFitPoints && c.near_x < ctx.row_end_m;
-    const bool obstacle = length_known && c.near_x < p.row_ahead_m && (c.near_x < end_from || person_at_end);
-    v->in_zone[i] = obstacle;
-    if (obstacle && !v->blocked) {
-      v->blocked = true;
-      v->person = c.person;
-      v->why = where(c.person ? "a person in the row ahead" : "an obstacle in the row ahead", c);
-    } else if (obstacle && c.person) {
-      v->person = true;
-    }
   }
   if (!std::isfinite(r)) return;
   if (!length_known || lidar_x + r >= end_from) {

@@ -53,7 +53,7 @@ class UvMission::Impl {
   void setHoldReason(const std::string& why);
   /// `row_end_m`: ZoneContext::row_end_m (row); `reverse_left_m`: ZoneContext::reverse_left_m (reverse).
   void setZone(ZonePhase phase, double row_end_m = 0.0, double reverse_left_m = -1.0) {
-    setZoneContext(phase, row_end_m, reverse_left_m, false);
+    setZoneContext(phase, row_end_m, reverse_left_m);
   }
   /// The row while treating, base_link `entered_m` past the pose entering began at: the lamps are lit or about to be
   /// (ZoneContext::lamps).

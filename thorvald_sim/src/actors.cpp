@@ -103,10 +103,10 @@ std::vector<ActorPose> ActorClocks::advance(double t, const RobotGap& gap_to_rob
   for (size_t i = 0; i < clock_.size(); ++i) {
     const double r = scripts_.spec(i).radius_m;
     if (back_left_[i] > 0.0) {  // giving way: back along the path, unless that walks into a robot too
-      const double step = std::min({dt, back_left_[i], clock_[i] - start_[i]});
-      const ActorPose here = scripts_.poseAt(i, clock_[i]), back = scripts_.poseAt(i, clock_[i] - std::max(0.0, step));
-      const bool free = !gap_to_robots || gap_to_robots(back.x, back.y) - r >= clearance_m_ ||
-                        gap_to_robots(back.x, back.y) >= gap_to_robots(here.x, here.y);
+      const double step = std::min({dt, back_left_[i], clock_[i] - start_[i]});  // >= 0: the clock never precedes start
+      const ActorPose here = scripts_.poseAt(i, clock_[i]), back = scripts_.poseAt(i, clock_[i] - step);
+      const double gap_back = gap_to_robots ? gap_to_robots(back.x, back.y) : 0.0;
+      const bool free = !gap_to_robots || gap_back - r >= clearance_m_ || gap_back >= gap_to_robots(here.x, here.y);
       if (step > 0.0 && free) {
         clock_[i] -= step;
         back_left_[i] -= dt;
