@@ -74,7 +74,10 @@ void readConfig(const std::string& path, tn::MapperParams* m) {
   num("odom_sigma_yaw", &m->odom_sigma_yaw_rad);
   num("odom_sigma_fraction", &m->odom_sigma_fraction);
   num("surfel_half_length", &m->surfel_half_length_m);
+  num("grazing_keep_max", &m->grazing_keep_max_m);
+  num("grazing_neighbour_gap", &m->grazing_neighbour_gap_m);
   if (y["match_surface"]) m->match_surface = y["match_surface"].as<bool>();
+  if (y["no_return_keeps_ends"]) m->no_return_keeps_ends = y["no_return_keeps_ends"].as<bool>();
 }
 
 using thorvald_common::percentile;
@@ -99,6 +102,11 @@ int main(int argc, char** argv) {
   app.add_option("--every", every_s, "print the trace every this many seconds (0: every integrated scan)");
   app.add_option("--odom-sigma-xy", params.odom_sigma_xy_m, "override the odometry prior [m]");
   app.add_option("--odom-sigma-fraction", params.odom_sigma_fraction, "override the prior's growth with motion");
+  double grazing_keep_max = -1.0;
+  app.add_option("--grazing-keep-max", grazing_keep_max,
+                 "override grazing_keep_max (0: grazing beams clear as any) [m]");
+  bool no_return_clears = false;
+  app.add_flag("--no-return-clears", no_return_clears, "beams without a return clear cells where beams ended too");
   bool cell_centres = false, surface = false;
   app.add_flag("--cell-centres", cell_centres, "match at wall cell centres (match_surface false)");
   app.add_flag("--match-surface", surface, "match at the walls' surface (match_surface true)");
@@ -113,6 +121,8 @@ int main(int argc, char** argv) {
     if (cli.odom_sigma_xy_m != defaults.odom_sigma_xy_m) params.odom_sigma_xy_m = cli.odom_sigma_xy_m;
     if (cli.odom_sigma_fraction != defaults.odom_sigma_fraction) params.odom_sigma_fraction = cli.odom_sigma_fraction;
   }
+  if (grazing_keep_max >= 0.0) params.grazing_keep_max_m = grazing_keep_max;
+  if (no_return_clears) params.no_return_keeps_ends = false;
   if (cell_centres) params.match_surface = false;
   if (surface) params.match_surface = true;
   const std::string problem = params.validate();

@@ -31,6 +31,8 @@ std::string MapperParams::validate() const {
   if (!(odom_sigma_xy_m >= 0.0) || !(odom_sigma_yaw_rad >= 0.0) || !(odom_sigma_fraction >= 0.0))
     return "odom_sigma_xy, odom_sigma_yaw and odom_sigma_fraction must be >= 0";
   if (!(surfel_half_length_m >= 0.0)) return "surfel_half_length must be >= 0 (0: the whole line)";
+  if (!(grazing_keep_max_m >= 0.0) || !(grazing_neighbour_gap_m > 0.0))
+    return "grazing_keep_max must be >= 0 and grazing_neighbour_gap > 0";
   return matcher.validate();
 }
 
@@ -92,7 +94,8 @@ bool OccupancyMapper::update(const Eigen::Vector2i& c, double log_odds) {
 // Walks the cells that the segment itself crosses (Amanatides and Woo), not a line between cell centres: near its end
 // a beam that meets a wall at a grazing angle crosses only the part of the wall's cells in front of the face, where a
 // centre-to-centre line would already run through the face's row of cells and clear it.
-void OccupancyMapper::traceFree(const Eigen::Vector2d& from, const Eigen::Vector2d& to, bool include_end) {
+void OccupancyMapper::traceFree(const Eigen::Vector2d& from, const Eigen::Vector2d& to, bool no_return,
+                                const GrazedFace& face) {
   const Eigen::Vector2i a = geometry_.cellOf(from), b = geometry_.cellOf(to);
   if (!geometry_.inside(a.x(), a.y()) || !geometry_.inside(b.x(), b.y())) return;
   const double res = geometry_.resolution_m;
@@ -107,9 +110,12 @@ void OccupancyMapper::traceFree(const Eigen::Vector2d& from, const Eigen::Vector
   const double dt_x = std::abs(d.x()) > 1e-12 ? res / std::abs(d.x()) : inf;
   const double dt_y = std::abs(d.y()) > 1e-12 ? res / std::abs(d.y()) : inf;
   int x = a.x(), y = a.y();
+  double t_enter = 0.0;  // where the segment entered the current cell
   const int max_steps = std::abs(b.x() - a.x()) + std::abs(b.y() - a.y());
   for (int step = 0; step < max_steps && (x != b.x() || y != b.y()); ++step) {
-    update({x, y}, params_.miss_log_odds);
+    const bool keep = t_enter >= face.from_t && face.crosses(geometry_.cellCentre(x, y), res);
+    if (!keep && !(no_return && holdsEnds({x, y}))) update({x, y}, params_.miss_log_odds);
+    t_enter = std::min(t_x, t_y);
     if (t_x < t_y) {
       x += sx;
       t_x += dt_x;
@@ -118,7 +124,12 @@ void OccupancyMapper::traceFree(const Eigen::Vector2d& from, const Eigen::Vector
       t_y += dt_y;
     }
   }
-  if (include_end) update(b, params_.miss_log_odds);
+  if (no_return && !holdsEnds(b)) update(b, params_.miss_log_odds);
+}
+
+bool OccupancyMapper::holdsEnds(const Eigen::Vector2i& c) const {
+  return params_.no_return_keeps_ends && geometry_.inside(c.x(), c.y()) &&
+         surface_.hits[geometry_.index(c.x(), c.y())] > 0.0f;
 }
 
 MapperUpdate OccupancyMapper::addScan(const thorvald_base::Pose2D& odom, const Eigen::Vector2d& sensor_base,
@@ -185,6 +196,27 @@ MapperUpdate OccupancyMapper::addScan(const thorvald_base::Pose2D& odom, const E
   return u;
 }
 
+OccupancyMapper::GrazedFace OccupancyMapper::grazedFace(const Eigen::Vector2d& origin,
+                                                        const std::vector<Eigen::Vector2d>& hits, std::size_t i) const {
+  GrazedFace face;
+  if (params_.grazing_keep_max_m <= 0.0 || i == 0 || i + 1 >= hits.size()) return face;
+  const Eigen::Vector2d t = hits[i + 1] - hits[i - 1];
+  const double len = t.norm();
+  if (len < 1e-9 || len > params_.grazing_neighbour_gap_m) return face;
+  const Eigen::Vector2d n(-t.y() / len, t.x() / len);
+  const double res = params_.resolution_m;
+  if (std::abs(n.dot(hits[i] - hits[i - 1])) > res) return face;  // a corner or two surfaces, not one face
+  const Eigen::Vector2d ray = hits[i] - origin;
+  const double r = ray.norm();
+  const double sin_angle = r > 1e-9 ? std::abs(n.dot(ray)) / r : 1.0;
+  if (sin_angle >= 1.0) return face;
+  const double keep = std::min(params_.grazing_keep_max_m, res * (1.0 / std::max(sin_angle, 1e-6) - 1.0));
+  face.from_t = std::max(0.0, 1.0 - keep / r);
+  face.point = hits[i];
+  face.normal = n;
+  return face;
+}
+
 // Every cell is updated at most once per scan, and a beam's end before any beam's free space: a beam that grazes a
 // wall crosses the cells holding the wall's face (their free part) before it ends, and without this those cells would
 // be cleared by the many grazing beams of each scan and the wall drawn behind its face, the headland too wide.
@@ -225,8 +257,10 @@ void OccupancyMapper::insert(const thorvald_base::Pose2D& pose, const Eigen::Vec
     const float h = ++surface_.hits[i];
     surface_.mean_m[i] += (p.cast<float>() - surface_.mean_m[i]) / h;
   }
-  for (const auto& p : hits) traceFree(origin, p, false);
-  for (const auto& p : free_ends) traceFree(origin, p, true);
+  for (std::size_t i = 0; i < hits.size(); ++i) {
+    traceFree(origin, hits[i], false, grazedFace(origin, hits, i));  // not the end cell: the hit is there
+  }
+  for (const auto& p : free_ends) traceFree(origin, p, true, GrazedFace{});
   // The occupancy values of the cells this scan updated.
   for (const int i : touched_)
     occupancy_.data[static_cast<std::size_t>(i)] = occupancyValue(log_odds_[static_cast<std::size_t>(i)]);

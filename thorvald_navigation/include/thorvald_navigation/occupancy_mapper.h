@@ -42,6 +42,21 @@ struct MapperParams {
   /// How far each wall cell's piece of line reaches either way [m]; 0: the whole line (point-to-line distance:
   /// along a straight wall only its ends and corners fix a position, and the odometry prior holds the rest).
   double surfel_half_length_m = 0.0;
+  /// A beam that meets a surface at a grazing angle runs within a cell of it for resolution / sin(angle) before its
+  /// end, through the cells that hold the surface's face further along; beams of later scans end there only here
+  /// and there. Clearing those cells scan after scan erased a ventilation line seen along its length beyond 3-4 m
+  /// (2.5 cm cells, 0.25 deg beams). So a beam whose end lies on a straight piece of surface with its neighbours
+  /// (within `grazing_neighbour_gap_m`, the middle end within a cell of their line) does not clear the cells that
+  /// line passes through over the last resolution * (1 / sin(angle) - 1) of its length, where it runs within a cell
+  /// of the line; the cells in front of the face it clears as before. This bounds that length [m]; 0: every beam
+  /// clears every cell up to its end cell.
+  double grazing_keep_max_m = 2.0;
+  /// A beam without a return (nothing within range, or a surface too dark or glancing for the lidar) does not clear
+  /// a cell where an earlier beam ended: it does not show that the cell is empty. In the MuJoCo greenhouse, beams
+  /// from a robot 15 cm beside a ventilation line's line met the line beyond the lidar's incidence limit, returned
+  /// nothing and, cleared to 25 m, erased the line's face that steeper beams had drawn.
+  bool no_return_keeps_ends = true;
+  double grazing_neighbour_gap_m = 2.0;  ///< neighbouring beam ends farther apart than this are no surface [m]
   ScanMatcherParams matcher;
   std::string validate() const;
 };
@@ -86,8 +101,24 @@ class OccupancyMapper {
   /// Traces one scan into the grid: hits first, then the free space of every beam.
   void insert(const thorvald_base::Pose2D& pose, const Eigen::Vector2d& sensor_base,
               const std::vector<Eigen::Vector2d>& points_base, const std::vector<Eigen::Vector2d>& free_ends_base);
-  /// Clears the cells from `from` to `to` (the last one only when include_end).
-  void traceFree(const Eigen::Vector2d& from, const Eigen::Vector2d& to, bool include_end);
+  /// The surface a beam ends on, where it meets it at a grazing angle (MapperParams::grazing_keep_max_m): from
+  /// `from_t` on (a fraction of the beam), the cells the surface's line passes through are not cleared.
+  struct GrazedFace {
+    double from_t = 2.0;  ///< beyond the beam's end: no such stretch
+    Eigen::Vector2d point = Eigen::Vector2d::Zero(), normal = Eigen::Vector2d::UnitY();
+    /// True when the line crosses the square cell of side `res` centred at `c`.
+    bool crosses(const Eigen::Vector2d& c, double res) const {
+      return std::abs(normal.dot(c - point)) <= 0.5 * res * (1.0 + std::abs(normal.x()) + std::abs(normal.y()));
+    }
+  };
+  /// The face that hit i's beam grazes, from its neighbouring ends (`hits` in beam order, map frame).
+  GrazedFace grazedFace(const Eigen::Vector2d& origin, const std::vector<Eigen::Vector2d>& hits, std::size_t i) const;
+  /// Clears the cells from `from` to `to`, except the cells of `face`'s line on its stretch (a default GrazedFace has
+  /// none). A beam that met something ends at `to` (its cell is not cleared); a beam without a return (`no_return`)
+  /// clears `to`'s cell too, but no cell where earlier beams ended (MapperParams::no_return_keeps_ends).
+  void traceFree(const Eigen::Vector2d& from, const Eigen::Vector2d& to, bool no_return, const GrazedFace& face);
+  /// True when no_return_keeps_ends is on and some earlier beam ended in cell c.
+  bool holdsEnds(const Eigen::Vector2i& c) const;
   /// Adds log-odds to a cell unless this scan already updated it; false when it did not.
   bool update(const Eigen::Vector2i& c, double log_odds);
 

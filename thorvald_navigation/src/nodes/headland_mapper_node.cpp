@@ -64,6 +64,9 @@ bool loadSettings(const ros::NodeHandle& pnh, Settings* s, std::string* error) {
     m.odom_sigma_fraction = r.number("odom_sigma_fraction", m.odom_sigma_fraction, R::atLeast(0.0));
     m.match_surface = r.flag("match_surface", true);  // the node matches at the wall surface unless told not to
     m.surfel_half_length_m = r.number("surfel_half_length", m.surfel_half_length_m, R::atLeast(0.0), "m");
+    m.grazing_keep_max_m = r.number("grazing_keep_max", m.grazing_keep_max_m, R::atLeast(0.0), "m");
+    m.no_return_keeps_ends = r.flag("no_return_keeps_ends", m.no_return_keeps_ends);
+    m.grazing_neighbour_gap_m = r.number("grazing_neighbour_gap", m.grazing_neighbour_gap_m, R::above(0.0), "m");
     // gmapping's particle-filter tuning: accepted, no meaning for a single scan-matched trajectory.
     for (const char* key : {"particles",
                             "minimumScore",
