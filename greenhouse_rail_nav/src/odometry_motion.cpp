@@ -33,6 +33,9 @@ void OdometryMotion::start(const MotionStep& step, const thorvald_base::Pose2D& 
   start_time_ = last_progress_time_ = t_s;
   last_progress_value_ = 0.0;
   last_command_ = 0.0;
+  rate_estimate_ = 0.0;
+  last_update_s_ = t_s;
+  settle_from_s_ = -1.0;
   active_ = true;
 }
 
@@ -62,12 +65,31 @@ OdometryMotion::Command OdometryMotion::update(const thorvald_base::Pose2D& pose
     progress_ = (pose.position() - start_pose_.position()).dot(start_pose_.heading());
   }
   last_pose_ = pose;
-  // What is still to go once the motion already commanded has come through (the base lags the command).
-  const double rem = remaining() - last_command_ * limits_.response_time_s;
+  // What is still to go once the motion already under way has come through (the base lags the command).
+  const double dt = std::max(0.0, t_s - last_update_s_);
+  last_update_s_ = t_s;
+  rate_estimate_ += (limits_.response_time_s > 0.0 ? 1.0 - std::exp(-dt / limits_.response_time_s) : 1.0) *
+                    (last_command_ - rate_estimate_);
+  // Coming through: the lower of the commanded and the modelled rate. While speeding up the base is below the
+  // command; while braking the command is below the base, and the profile's braking already takes the rest.
+  const double coming = std::min(std::fabs(last_command_), std::fabs(rate_estimate_));
+  const double rem = remaining() - std::copysign(coming, last_command_) * limits_.response_time_s;
+  if (settle_from_s_ >= 0.0) {
+    // Stopped: zero twist until the base has come to rest, so that the next step (whose heading hold takes the
+    // heading it starts at) does not cut off the end of this one.
+    last_command_ = 0.0;
+    if (t_s - settle_from_s_ >= 2.0 * limits_.response_time_s) {
+      active_ = false;
+      c.done = true;
+    }
+    return c;
+  }
   const double tol = rotate ? limits_.angle_tolerance_rad : limits_.position_tolerance_m;
   if (std::fabs(rem) <= tol || (rem * step_.amount < 0.0)) {  // reached or about to be: stop
-    active_ = false;
     last_command_ = 0.0;
+    settle_from_s_ = t_s;
+    if (limits_.response_time_s > 0.0) return c;
+    active_ = false;
     c.done = true;
     return c;
   }

@@ -9,6 +9,7 @@ std::string AlignmentParams::validate() const {
   std::ostringstream e;
   if (!std::isfinite(approach_x_m) || approach_x_m >= 0.0) e << "approach_x must be < 0 (in front of the rails) [m]; ";
   if (!(max_turn_rad > 0.05 && max_turn_rad < 1.5)) e << "max_turn must be in (0.05, 1.5) [rad]; ";
+  if (!(run_up_m > 0.0 && run_up_m <= 5.0)) e << "run_up must be in (0, 5] [m]; ";
   if (!(y_limit_m > 0.0)) e << "y_limit must be > 0 [m]; ";
   if (!(yaw_limit_rad > 0.0)) e << "yaw_limit must be > 0 [rad]; ";
   if (!(x_window_m > 0.0)) e << "x_window must be > 0 [m]; ";
@@ -38,8 +39,10 @@ std::vector<MotionStep> planAlignment(const thorvald_base::Pose2D& r, const Alig
   if (!std::isfinite(r.x) || !std::isfinite(r.y) || !std::isfinite(r.yaw)) return plan;
   addRotation(&plan, -thorvald_base::normalizeAngle(r.yaw), p, "rotate to align");
   const double xt = p.approach_x_m;
-  // Driving diagonally towards the centre line needs this much run-up along x to stay within max_turn.
-  const double run_up = std::fabs(r.y) / std::tan(p.max_turn_rad);
+  // Driving diagonally towards the centre line from run_up before the approach pose, turned by at most max_turn
+  // (a larger offset needs a longer run-up).
+  const double turn_limit = std::min(p.max_turn_rad, std::atan2(std::fabs(r.y), p.run_up_m));
+  const double run_up = std::fabs(r.y) < p.min_step_m ? 0.0 : std::fabs(r.y) / std::tan(turn_limit);
   const double x_start = (xt - r.x >= run_up) ? r.x : xt - run_up;
   addTranslation(&plan, x_start - r.x, p, "reverse");
   if (std::fabs(r.y) < p.min_step_m) {

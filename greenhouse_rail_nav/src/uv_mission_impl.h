@@ -160,6 +160,9 @@ class UvMission::Impl {
   bool rail_phase_ = false;      // the robot has started entering the current set's rails
   bool treat_complete_ = false;  // the current set's rails were driven to their end with the lights on
   double entered_m_ = 0.0;
+  /// entered_m_ when the wheel sensors (beside base_link) began to read rail for good: base_link was at the rails'
+  /// start then, which places the row when the camera did not see the start (< 0: not on the rails yet).
+  double rail_read_at_m_ = -1.0;
   double driven_in_m_ = 0.0;
   ZoneHold zone_hold_;
   std::string zone_why_;    // what was last in the zone

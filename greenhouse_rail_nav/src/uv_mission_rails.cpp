@@ -18,6 +18,7 @@ std::string UvMission::Impl::enter(tsm::ExecutionContext& ctx) {
   entry_map_known_ = io_.mapPose(&entry_map_);
   rail_phase_ = true;
   entered_m_ = 0.0;
+  rail_read_at_m_ = -1.0;
   MotionLimits slow = p_.motion;
   slow.max_speed_mps = p_.enter_speed_mps;
   slow.min_speed_mps = std::min(slow.min_speed_mps, 0.5 * p_.enter_speed_mps);
@@ -62,6 +63,7 @@ std::string UvMission::Impl::enter(tsm::ExecutionContext& ctx) {
     if (rail_seen_at_m >= 0.0 && entered_m_ - rail_seen_at_m >= p_.on_rails_margin_m) {
       stop();
       std::ostringstream o;
+      rail_read_at_m_ = rail_seen_at_m;
       o << "on the rails after " << entered_m_ << " m (rail read from " << rail_seen_at_m << " m)";
       log(o.str());
       return "on_rails";

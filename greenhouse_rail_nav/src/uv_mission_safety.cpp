@@ -77,11 +77,13 @@ bool UvMission::Impl::holdWhileStopped(tsm::ExecutionContext& ctx) {
 
 double UvMission::Impl::rowEnd(double entered_m) const {
   if (!current_ || !(current_->rail_length_m > 0.0)) return 0.0;
-  // base_link in the rail frame when entering began, from the last detection (the rail start out of view: at least
-  // the nearest x the camera sees).
+  // base_link in the rail frame when entering began, from the last detection. With the rail start out of the
+  // camera's view: where the wheel sensors began to read rail (base_link at the rails' start then), or before that
+  // at least the nearest x the camera sees. Taking the nearest x on the rails too ended the treatment 0.35 m short of
+  // the row's end, and counted the row lit all the same (thorvald_sim, the demo's 2-set house).
   double x0 = last_obs_.robot_in_rail.x;
   if (last_obs_.status == RailObservation::Status::kXUnobserved)
-    x0 = std::max(x0, p_.alignment.approach_x_m + p_.alignment.x_window_m);
+    x0 = rail_read_at_m_ >= 0.0 ? -rail_read_at_m_ : std::max(x0, p_.alignment.approach_x_m + p_.alignment.x_window_m);
   return std::max(1e-3, current_->rail_length_m - (x0 + entered_m));
 }
 

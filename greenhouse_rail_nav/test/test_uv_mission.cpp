@@ -369,6 +369,28 @@ TEST(UvMission, AfterAHoldTheLampsComeOnBehindTheStretchTheyPartlyDosed) {
   EXPECT_LT(without, 0.99) << "the test's hold does leave a stretch short of the dose without the run-up";
 }
 
+// Entering from where the camera does not see the rails' start (x unobserved), the row is placed by where the wheel
+// sensors began to read rail: the treatment runs to the row's end. Placed by the nearest x the camera sees, it ended
+// 0.35 m short and the row was counted lit all the same.
+TEST(UvMission, WithTheRailStartOutOfViewTheRowIsPlacedWhereTheWheelsMetTheRails) {
+  const std::vector<RailSetTruth> sets = {{0.0}};
+  SimulatedGreenhouse world(sets, 5);
+  world.nav_xy_error = world.nav_yaw_error = 0.0;
+  grn::UvMissionParams p;
+  p.alignment.approach_x_m = -0.6;  // the simulated camera sees the rails' start from x < -0.65 only
+  auto targets = targetsFor(sets, -0.6);
+  targets[0].rail_length_m = world.rail_length;
+  grn::UvMission mission(world, p, targets);
+  EXPECT_EQ(mission.run(), "done");
+  ASSERT_EQ(mission.reports().size(), 1u);
+  EXPECT_TRUE(mission.reports()[0].treated) << mission.reports()[0].result;
+  EXPECT_TRUE(logSays(world, "(unobserved)"));
+  EXPECT_GT(world.last_lights_off_x, world.rail_length - p.rail_run.rail_end_margin_m - 0.1);
+  EXPECT_GE(doseCoverage(world, 1.0, world.rail_length - 1.0), 0.999);
+  if (HasFailure())
+    for (const auto& l : world.lines) std::cout << l << "\n";
+}
+
 TEST(UvMission, StopsShortOfAPersonInTheRowLightsOffAndTreatsTheSetAfterTheyLeave) {
   const std::vector<RailSetTruth> sets = {{0.0}};
   SimulatedGreenhouse world(sets, 3);

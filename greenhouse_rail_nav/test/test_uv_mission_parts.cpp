@@ -95,6 +95,26 @@ TEST(RailAlignment, SmallOffsetsNeedFewSteps) {
   EXPECT_TRUE(grn::planAlignment({std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0}, p).empty());
 }
 
+// A few centimetres off the centre line, the turn towards it is small (atan(|y| / run_up)): the frame's corners
+// (1.1 m x 1.02 m about base_link) swing out little, where a turn of max_turn swept them 0.2 m out, into the side wall
+// beside an outer rail set.
+TEST(RailAlignment, SmallSidewaysOffsetsTurnLittle) {
+  grn::AlignmentParams p;
+  for (const double y : {0.025, 0.04, -0.06, 0.1}) {
+    const auto plan = grn::planAlignment({p.approach_x_m - 0.02, y, 0.0}, p);
+    double largest_turn = 0.0;
+    for (const auto& s : plan)
+      if (s.kind == grn::MotionStep::Kind::kRotate) largest_turn = std::max(largest_turn, std::fabs(s.amount));
+    EXPECT_NEAR(largest_turn, std::atan2(std::fabs(y), p.run_up_m), 0.02) << "y " << y;
+    // How far the frame's corners swing out sideways in that turn.
+    const double half_length = 0.55, half_width = 0.51;
+    const double swing = half_width * std::cos(largest_turn) + half_length * std::sin(largest_turn) - half_width;
+    EXPECT_LT(swing, 0.2) << "y " << y;
+    const thorvald_base::Pose2D end = grn::applyPlan({p.approach_x_m - 0.02, y, 0.0}, plan);
+    EXPECT_NEAR(end.y, 0.0, p.min_step_m + 1e-9);
+  }
+}
+
 TEST(RailAlignment, EntryLimits) {
   grn::AlignmentParams p;
   EXPECT_TRUE(grn::withinEntryLimits({p.approach_x_m, 0.01, 0.01}, true, p));
@@ -123,8 +143,9 @@ namespace {
 struct LaggedRobot {
   thorvald_base::Pose2D pose;
   double v = 0.0, w = 0.0;
+  double lag_s = 0.15;
   void step(double v_cmd, double w_cmd, double dt) {
-    const double a = dt / 0.15;
+    const double a = dt / lag_s;
     v += a * (v_cmd - v);
     w += a * (w_cmd - w);
     pose.yaw = thorvald_base::normalizeAngle(pose.yaw + (w + 0.02 * v) * dt);
@@ -162,6 +183,34 @@ TEST(OdometryMotion, ExecutesAnAlignmentPlanOnALaggedRobot) {
     EXPECT_NEAR(robot.pose.x, p.approach_x_m, 0.02);
     EXPECT_NEAR(robot.pose.y, 0.0, p.y_limit_m);
     EXPECT_NEAR(robot.pose.yaw, 0.0, p.yaw_limit_rad);
+  }
+}
+
+// Short rotations and the steps after them, back to back as the mission runs them, on a base whose lag (0.12 s) is
+// not the one the motion assumes (0.15 s): each rotation must turn its angle. Before, a step ended while the base
+// was still turning and the next one's heading hold cut the rest off, and the lag was counted from the commanded
+// rate the base had not reached yet: a 0.037 rad rotation turned 0.019 rad, and the mission gave up on a rail set
+// "still outside the limits" after its alignments.
+TEST(OdometryMotion, ShortRotationsTurnTheirAngleWithTheNextStepRightAfter) {
+  grn::MotionLimits limits;
+  for (const double angle : {0.01, 0.03, 0.05, 0.1, -0.04, 0.6}) {
+    LaggedRobot robot;
+    robot.lag_s = 0.12;
+    grn::OdometryMotion motion(limits);
+    double t = 0.0;
+    for (const grn::MotionStep& s : {grn::MotionStep{grn::MotionStep::Kind::kRotate, angle, "rotate"},
+                                     grn::MotionStep{grn::MotionStep::Kind::kTranslate, 0.3, "drive"}}) {
+      motion.start(s, robot.pose, t);
+      grn::OdometryMotion::Command c;
+      for (int i = 0; i < 3000 && !c.done; ++i, t += 0.02) {
+        c = motion.update(robot.pose, t);
+        ASSERT_FALSE(c.failed) << c.reason;
+        robot.step(c.linear_mps, c.angular_rps, 0.02);
+      }
+      ASSERT_TRUE(c.done) << s.label;
+    }
+    // The drive's own yaw drift (0.02 rad per metre) is held by its heading hold.
+    EXPECT_NEAR(robot.pose.yaw, angle, 0.008) << "rotation of " << angle << " rad";
   }
 }
 

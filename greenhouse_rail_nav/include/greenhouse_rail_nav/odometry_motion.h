@@ -57,6 +57,13 @@ class OdometryMotion {
   double start_time_ = 0.0;
   double last_progress_time_ = 0.0, last_progress_value_ = 0.0;
   double last_command_ = 0.0;  ///< last commanded rate along the step (m/s or rad/s)
+  /// The rate the base has reached by now, modelled as a first-order lag of response_time behind the commands
+  /// (from rest at the start): what is still to come once the command drops to zero is this rate times
+  /// response_time. Taking the commanded rate instead stopped short rotations at half their angle (a 0.03 rad
+  /// rotation turned 0.016 rad), as the base had not yet reached the rate commanded.
+  double rate_estimate_ = 0.0;
+  double last_update_s_ = 0.0;
+  double settle_from_s_ = -1.0;  ///< when the target was reached (< 0: not yet); done 2 response times later
   bool active_ = false;
 };
 

@@ -19,8 +19,13 @@ struct MotionStep {
 /// Where the robot should stand before it enters a rail set, and how far it may turn on the way there
 /// (greenhouse paper §V-A2: rotate to align, reverse, rotate towards the rails, drive forward, rotate to align).
 struct AlignmentParams {
-  double approach_x_m = -0.8;       ///< desired base_link x in the rail frame (in front of the rail start) [m]
-  double max_turn_rad = 0.6;        ///< largest heading change towards the rails' centre line [rad]
+  double approach_x_m = -0.8;  ///< desired base_link x in the rail frame (in front of the rail start) [m]
+  double max_turn_rad = 0.6;   ///< largest heading change towards the rails' centre line [rad]
+  /// Length of the diagonal leg that takes out a sideways offset (the robot reverses as far as it needs): the turn
+  /// towards the centre line is atan(|y| / run_up), at most max_turn. A small turn sweeps little of the frame
+  /// sideways: at a rail set 0.8 m from a side wall a 0.6 rad turn for a 4 cm offset swept the frame's rear corner
+  /// into the wall; 0.13 rad sweeps its corners about 7 cm out [m].
+  double run_up_m = 0.3;
   double y_limit_m = 0.02;          ///< |y| allowed for entering (the rail wheels tolerate about ±0.03 m) [m]
   double yaw_limit_rad = 0.02;      ///< |yaw| allowed for entering [rad]
   double x_window_m = 0.35;         ///< |x - approach_x| allowed for entering when x is observed [m]

@@ -33,6 +33,7 @@ void readMotionParams(thorvald_common::ParamReader& params, NodeSettings* s) {
   p.alignment.y_limit_m = params.number("y_limit", p.alignment.y_limit_m, R::aboveUpTo(0.0, 0.1), "m");
   p.alignment.yaw_limit_rad = params.number("yaw_limit", p.alignment.yaw_limit_rad, R::aboveUpTo(0.0, 0.2), "rad");
   p.alignment.max_turn_rad = params.number("max_turn", p.alignment.max_turn_rad, R::closed(0.1, 1.4), "rad");
+  p.alignment.run_up_m = params.number("run_up", p.alignment.run_up_m, R::aboveUpTo(0.0, 5.0), "m");
   p.motion.max_speed_mps = params.number("align_speed", p.motion.max_speed_mps, R::aboveUpTo(0.0, 1.0), "m/s");
   p.motion.max_turn_rate_rps = params.number("turn_rate", p.motion.max_turn_rate_rps, R::aboveUpTo(0.0, 2.0), "rad/s");
   p.motion.response_time_s = params.number("response_time", p.motion.response_time_s, R::closed(0.0, 1.0), "s");
