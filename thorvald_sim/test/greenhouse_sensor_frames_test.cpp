@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <map>
 #include <sstream>
+#include <set>
 #include <string>
 
 #include "thorvald_sim/sensor_config.h"
@@ -70,7 +71,8 @@ TEST_P(GreenhouseSensorFrames, UrdfLinksWhereTheSensorFileMountsTheSensors) {
   ASSERT_FALSE(mounts.empty()) << "urdf_generator gave no URDF";
   const auto sensors = thorvald_sim::loadSensorConfigFile(std::string(SIM_CONFIG_DIR) + "/" + GetParam());
   ASSERT_GE(sensors.size(), 9u);
-  bool rear_left = false, rear_right = false, rear_centre = false;
+  // The rear range finders greenhouse_rail_nav's uv_mission watches while reversing (its ~rear_sensors default).
+  std::set<std::string> rear = {"rear_left", "rear_right", "rear_centre", "rear_left_corner", "rear_right_corner"};
   for (const auto& s : sensors) {
     SCOPED_TRACE(GetParam() + ": " + s.name);
     const auto it = mounts.find(s.name);
@@ -80,11 +82,9 @@ TEST_P(GreenhouseSensorFrames, UrdfLinksWhereTheSensorFileMountsTheSensors) {
         << "URDF " << it->second.xyz.transpose() << ", sensor file " << s.xyz.transpose();
     const double angle = Eigen::AngleAxisd(it->second.rotation.transpose() * s.mountRotation()).angle();
     EXPECT_LT(angle, 1e-3) << "rotations differ by " << angle << " rad";
-    rear_left |= s.name == "rear_left";
-    rear_right |= s.name == "rear_right";
-    rear_centre |= s.name == "rear_centre";
+    rear.erase(s.name);
   }
-  EXPECT_TRUE(rear_left && rear_right && rear_centre) << "the sensor file lacks a rear range finder";
+  for (const auto& missing : rear) ADD_FAILURE() << "the sensor file lacks the rear range finder " << missing;
 }
 
 TEST(GreenhouseSensorFrames, CameraOpticalFrameLooksAlongTheCamera) {
