@@ -1,5 +1,7 @@
 #include "thorvald_navigation/planar_ekf.h"
 
+#include <limits>
+
 #include <cmath>
 #include <vector>
 
@@ -52,18 +54,25 @@ bool PlanarEkf::predict(double t) {
 }
 
 std::string PlanarEkf::update(const State6& z, const State6& variance, const std::array<bool, 6>& mask) {
+  return update(z, variance, mask, std::numeric_limits<double>::infinity()).error;
+}
+
+UpdateResult PlanarEkf::update(const State6& z, const State6& variance, const std::array<bool, 6>& mask,
+                               double gate_sigma) {
   std::vector<MeasuredEntry> entries;
   for (int i = 0; i < 6; ++i)
     if (mask[i]) entries.push_back({i, z(i), variance(i)});
   // A first measurement starts the filter at the origin; a refused one leaves it as it was.
   State6 x = initialized_ ? x_ : State6::Zero();
   Cov6 p = initialized_ ? p_ : Cov6(p0_.asDiagonal());
-  const UpdateResult result = kalmanUpdate(x, p, entries, {kYaw});
-  if (!result.fused()) return result.error;
+  // No gate before the filter has started: nothing to compare with.
+  const UpdateResult result =
+      kalmanUpdate(x, p, entries, {kYaw}, initialized_ ? gate_sigma : std::numeric_limits<double>::infinity());
+  if (!result.fused()) return result;
   initialized_ = true;
   x_ = x;
   p_ = p;
-  return {};
+  return result;
 }
 
 }  // namespace thorvald_navigation

@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 
 #include "thorvald_base/pose2d.h"
+#include "thorvald_navigation/ekf_update.h"
 
 namespace thorvald_navigation {
 
@@ -33,6 +34,9 @@ class PlanarEkf {
   /// Fuses the entries `mask` selects from `z` with variances `variance` (each > 0). Angles are compared modulo
   /// 2 pi. Returns an empty string when fused, else why it was rejected.
   std::string update(const State6& z, const State6& variance, const std::array<bool, 6>& mask);
+  /// The same behind a Mahalanobis gate of `gate_sigma` standard deviations (robot_localization's
+  /// *_rejection_threshold; infinity: none): a measurement that far from the prediction is refused (`gated`).
+  UpdateResult update(const State6& z, const State6& variance, const std::array<bool, 6>& mask, double gate_sigma);
 
   bool initialized() const { return initialized_; }
   double time() const { return t_; }

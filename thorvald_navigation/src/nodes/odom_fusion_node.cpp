@@ -1,8 +1,10 @@
 // odom_fusion: planar EKF fusing wheel odometry twists with an IMU's yaw rate (and yaw), a stand-in for
 // robot_localization's ekf_localization_node with its parameter names for what it supports. Thin shell around
 // PlanarEkf.
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -41,6 +43,11 @@ struct Settings {
   std::string odom_frame = "odom", base_link_frame = "base_link", world_frame = "odom", map_frame = "map";
   double sensor_timeout = 0.1;
   SensorSettings odom0, imu0;
+  /// Mahalanobis gates [sigma] (robot_localization's *_rejection_threshold; infinity: none): the wheel twist, the
+  /// IMU's yaw and its yaw rate. Against the gyro, the twist of wheels that slip or push against something.
+  double odom0_twist_gate = std::numeric_limits<double>::infinity();
+  double imu0_pose_gate = std::numeric_limits<double>::infinity();
+  double imu0_rate_gate = std::numeric_limits<double>::infinity();
   State6 process_noise;
   State6 initial_covariance;
   double min_variance = 1e-6;
@@ -101,9 +108,16 @@ bool loadSettings(const ros::NodeHandle& pnh, Settings* s, std::string* error) {
     // Tuning of robot_localization's own machinery: accepted, has no meaning here.
     for (const char* key :
          {"odom0_queue_size", "imu0_queue_size", "print_diagnostics", "debug", "transform_time_offset",
-          "transform_timeout", "odom0_nodelay", "imu0_nodelay", "publish_acceleration",
-          "odom0_pose_rejection_threshold", "odom0_twist_rejection_threshold", "imu0_pose_rejection_threshold",
-          "imu0_angular_velocity_rejection_threshold", "imu0_linear_acceleration_rejection_threshold"})
+          "transform_timeout", "odom0_nodelay", "imu0_nodelay", "publish_acceleration"})
+      r.alsoRead(key);
+    // Gates of what is fused here (odom0's pose and the IMU's acceleration are not: their gates have no effect).
+    const double none = std::numeric_limits<double>::infinity();
+    s->odom0_twist_gate = r.number("odom0_twist_rejection_threshold", none, R::above(0.0), "sigma");
+    s->imu0_pose_gate = r.number("imu0_pose_rejection_threshold", none, R::above(0.0), "sigma");
+    // robot_localization's template names the IMU's rate gate *_twist_rejection_threshold; both are read.
+    s->imu0_rate_gate = std::min(r.number("imu0_angular_velocity_rejection_threshold", none, R::above(0.0), "sigma"),
+                                 r.number("imu0_twist_rejection_threshold", none, R::above(0.0), "sigma"));
+    for (const char* key : {"odom0_pose_rejection_threshold", "imu0_linear_acceleration_rejection_threshold"})
       r.alsoRead(key);
     r.finish();
     if (!s->two_d_mode) check("~two_d_mode: false is not supported (this filter is planar)");
@@ -171,7 +185,7 @@ class OdomFusionNode {
     var(kVx) = std::max(s_.min_variance, c[0]);
     var(kVy) = std::max(s_.min_variance, c[7]);
     var(kVyaw) = std::max(s_.min_variance, c[35]);
-    fuse(msg->header.stamp, z, var, s_.odom0.mask, "odom0");
+    fuse(msg->header.stamp, z, var, s_.odom0.mask, s_.odom0_twist_gate, "odom0 twist");
     last_odom_ = ros::Time::now();
   }
 
@@ -201,19 +215,28 @@ class OdomFusionNode {
         var(kYaw) = std::max(s_.min_variance, msg->orientation_covariance[8]);
       }
     }
-    bool any = false;
-    for (bool b : mask) any = any || b;
-    if (any) fuse(msg->header.stamp, z, var, mask, "imu0");
+    // Yaw and yaw rate each behind its own gate, as robot_localization gates an IMU's parts.
+    std::array<bool, 6> yaw_mask{}, rate_mask{};
+    yaw_mask[kYaw] = mask[kYaw];
+    rate_mask[kVyaw] = mask[kVyaw];
+    if (yaw_mask[kYaw]) fuse(msg->header.stamp, z, var, yaw_mask, s_.imu0_pose_gate, "imu0 yaw");
+    if (rate_mask[kVyaw]) fuse(msg->header.stamp, z, var, rate_mask, s_.imu0_rate_gate, "imu0 yaw rate");
     last_imu_ = ros::Time::now();
   }
 
   void fuse(const ros::Time& stamp, const State6& z, const State6& var, const std::array<bool, 6>& mask,
-            const char* name) {
+            double gate_sigma, const char* name) {
     if (!advanceTo(stamp.isZero() ? ros::Time::now() : stamp)) return;
-    const std::string e = ekf_.update(z, var, mask);
-    if (!e.empty()) {
+    const UpdateResult r = ekf_.update(z, var, mask, gate_sigma);
+    if (r.gated) {
+      ++gated_;
+      ROS_WARN_STREAM_THROTTLE(5.0, "odom_fusion: " << name << " refused by its rejection threshold: " << r.mahalanobis
+                                                    << " sigma from the prediction (" << gate_sigma << ")");
+      return;
+    }
+    if (!r.fused()) {
       ++rejected_;
-      ROS_WARN_STREAM_THROTTLE(5.0, "odom_fusion: " << name << " measurement rejected: " << e);
+      ROS_WARN_STREAM_THROTTLE(5.0, "odom_fusion: " << name << " measurement rejected: " << r.error);
       return;
     }
     ++fused_;
@@ -276,6 +299,7 @@ class OdomFusionNode {
     }
     st.add("fused measurements", fused_);
     st.add("rejected measurements", rejected_);
+    st.add("measurements over their rejection threshold", gated_);
     st.add("late measurements", late_);
   }
 
@@ -289,7 +313,7 @@ class OdomFusionNode {
   ros::Time last_odom_, last_imu_;
   bool have_yaw0_ = false;
   double yaw0_ = 0.0;
-  long fused_ = 0, rejected_ = 0, late_ = 0;
+  long fused_ = 0, rejected_ = 0, gated_ = 0, late_ = 0;
 };
 
 }  // namespace
