@@ -61,8 +61,9 @@ TEST(PlanarEkf, GyroCorrectsABiasedWheelYawRate) {
 }
 
 // Wheels that slip or push against something report a turn the gyro does not feel: for 2 s of a straight 20 s drive
-// (from rest, 0.5 m/s^2 up to 0.5 m/s) the wheel odometry says 0.3 rad/s. Behind a 5 sigma gate (odom_fusion's odom0_twist_rejection_threshold) those
-// twists are refused and the heading holds; without one the filter takes part of the false turn.
+// (from rest, 0.5 m/s^2 up to 0.5 m/s) the wheel odometry says 0.3 rad/s. Behind a 5 sigma gate (odom_fusion's
+// odom0_twist_rejection_threshold) those twists are refused and the heading holds; without one the filter takes part of
+// the false turn.
 double headingAfterAFalseWheelTurn(double gate_sigma, int* gated, int* gated_while_true) {
   tn::PlanarEkf ekf;
   ekf.reset({}, 0.0);

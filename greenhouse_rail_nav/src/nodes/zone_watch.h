@@ -30,9 +30,9 @@ class ZoneWatch {
     std::string map_frame = "map", base_frame = "base_link";
     std::vector<std::string> rear_sensors{"rear_left", "rear_right", "rear_centre", "rear_left_corner",
                                           "rear_right_corner"};  ///< topics ultrasonic/<name>
-    std::vector<std::string> relay_boards;  ///< topics io/<board>/state_unknown
-    double rear_timeout_s = 0.5;            ///< an older rear reading is not used [s]
-    double scan_timeout_s = 0.5;            ///< no scan evaluated for this long: the zone counts as blocked [s]
+    std::vector<std::string> relay_boards;                       ///< topics io/<board>/state_unknown
+    double rear_timeout_s = 0.5;                                 ///< an older rear reading is not used [s]
+    double scan_timeout_s = 0.5;  ///< no scan evaluated for this long: the zone counts as blocked [s]
   };
   /// Reads the zone's parameters (zone/...) and the rear sensors' and relay boards' lists.
   static void readParams(thorvald_common::ParamReader& params, Config* c);
