@@ -65,6 +65,15 @@ OdometryMotion::Command OdometryMotion::update(const thorvald_base::Pose2D& pose
     progress_ = (pose.position() - start_pose_.position()).dot(start_pose_.heading());
   }
   last_pose_ = pose;
+  if (settle_from_s_ >= 0.0) {
+    // Stopped: zero twist until the base has come to rest, so that the next step (whose heading hold takes the
+    // heading it starts at) does not cut off the end of this one.
+    if (t_s - settle_from_s_ >= 2.0 * limits_.response_time_s) {
+      active_ = false;
+      c.done = true;
+    }
+    return c;
+  }
   // What is still to go once the motion already under way has come through (the base lags the command).
   const double dt = std::max(0.0, t_s - last_update_s_);
   last_update_s_ = t_s;
@@ -74,16 +83,6 @@ OdometryMotion::Command OdometryMotion::update(const thorvald_base::Pose2D& pose
   // command; while braking the command is below the base, and the profile's braking already takes the rest.
   const double coming = std::min(std::fabs(last_command_), std::fabs(rate_estimate_));
   const double rem = remaining() - std::copysign(coming, last_command_) * limits_.response_time_s;
-  if (settle_from_s_ >= 0.0) {
-    // Stopped: zero twist until the base has come to rest, so that the next step (whose heading hold takes the
-    // heading it starts at) does not cut off the end of this one.
-    last_command_ = 0.0;
-    if (t_s - settle_from_s_ >= 2.0 * limits_.response_time_s) {
-      active_ = false;
-      c.done = true;
-    }
-    return c;
-  }
   const double tol = rotate ? limits_.angle_tolerance_rad : limits_.position_tolerance_m;
   if (std::fabs(rem) <= tol || (rem * step_.amount < 0.0)) {  // reached or about to be: stop
     last_command_ = 0.0;

@@ -62,8 +62,8 @@ std::string UvMission::Impl::enter(tsm::ExecutionContext& ctx) {
     }
     if (rail_seen_at_m >= 0.0 && entered_m_ - rail_seen_at_m >= p_.on_rails_margin_m) {
       stop();
-      std::ostringstream o;
       rail_read_at_m_ = rail_seen_at_m;
+      std::ostringstream o;
       o << "on the rails after " << entered_m_ << " m (rail read from " << rail_seen_at_m << " m)";
       log(o.str());
       return "on_rails";

@@ -87,10 +87,6 @@ void readMatrix(thorvald_common::ParamReader& r, const std::string& name, Cov15*
   *out = 0.5 * (c + c.transpose());
 }
 
-double gate(thorvald_common::ParamReader& r, const std::string& name) {
-  return r.number(name, std::numeric_limits<double>::infinity(), R::above(0.0), "sigma");
-}
-
 // Entries a kind of message can carry; robot_localization ignores the others.
 bool carries(EkfInput::Kind kind, int i) {
   switch (kind) {
@@ -122,19 +118,17 @@ EkfInput readInput(thorvald_common::ParamReader& r, EkfInput::Kind kind, const s
   in.config.relative = r.flag(name + "_relative", false);
   in.queue_size = r.integer(name + "_queue_size", 1, 1, 10000);
   if (kind == EkfInput::kOdom) {
-    in.config.pose_gate = gate(r, name + "_pose_rejection_threshold");
-    in.config.twist_gate = gate(r, name + "_twist_rejection_threshold");
+    in.config.pose_gate = readRejectionThreshold(r, name + "_pose_rejection_threshold");
+    in.config.twist_gate = readRejectionThreshold(r, name + "_twist_rejection_threshold");
   } else if (kind == EkfInput::kImu) {
-    in.config.pose_gate = gate(r, name + "_pose_rejection_threshold");
-    // robot_localization's template names the IMU's rate gate *_twist_rejection_threshold; both are read.
-    in.config.angular_velocity_gate =
-        std::min(gate(r, name + "_angular_velocity_rejection_threshold"), gate(r, name + "_twist_rejection_threshold"));
-    in.config.linear_acceleration_gate = gate(r, name + "_linear_acceleration_rejection_threshold");
+    in.config.pose_gate = readRejectionThreshold(r, name + "_pose_rejection_threshold");
+    in.config.angular_velocity_gate = readImuRateRejectionThreshold(r, name);
+    in.config.linear_acceleration_gate = readRejectionThreshold(r, name + "_linear_acceleration_rejection_threshold");
     in.config.remove_gravity = r.flag(name + "_remove_gravitational_acceleration", false);
   } else if (kind == EkfInput::kPose) {
-    in.config.pose_gate = gate(r, name + "_rejection_threshold");
+    in.config.pose_gate = readRejectionThreshold(r, name + "_rejection_threshold");
   } else {
-    in.config.twist_gate = gate(r, name + "_rejection_threshold");
+    in.config.twist_gate = readRejectionThreshold(r, name + "_rejection_threshold");
   }
   for (const char* suffix : kUnsupportedPerInput)
     if (r.has(name + suffix)) s->unsupported_set.push_back(name + suffix);
@@ -193,6 +187,15 @@ std::string unsupportedWarning(const EkfSettings& s) {
   for (const std::string& k : s.unsupported_set) w += " " + k + ",";
   w.pop_back();
   return w + " (see the README's ekf_localization limits)";
+}
+
+double readRejectionThreshold(thorvald_common::ParamReader& r, const std::string& name) {
+  return r.number(name, std::numeric_limits<double>::infinity(), thorvald_common::ParamRange::above(0.0), "sigma");
+}
+
+double readImuRateRejectionThreshold(thorvald_common::ParamReader& r, const std::string& imu) {
+  return std::min(readRejectionThreshold(r, imu + "_angular_velocity_rejection_threshold"),
+                  readRejectionThreshold(r, imu + "_twist_rejection_threshold"));
 }
 
 }  // namespace thorvald_navigation

@@ -46,6 +46,13 @@ struct EkfSettings {
 /// thorvald_common::ParamError on a wrong value (a config of the wrong length, a gate <= 0, no input at all).
 EkfSettings readEkfSettings(thorvald_common::ParamReader& r);
 
+/// robot_localization's `name` (a *_rejection_threshold) [sigma]: a Mahalanobis gate, > 0; infinity (no gate) when
+/// not set. odom_fusion reads its gates with it too.
+double readRejectionThreshold(thorvald_common::ParamReader& r, const std::string& name);
+/// The yaw-rate gate of IMU `imu` ("imu0"): `imu`_angular_velocity_rejection_threshold or, as robot_localization's
+/// template names it, `imu`_twist_rejection_threshold; the lower of the two when both are set.
+double readImuRateRejectionThreshold(thorvald_common::ParamReader& r, const std::string& imu);
+
 /// The one start-up warning: which keys were set but are not implemented, and what happens instead.
 std::string unsupportedWarning(const EkfSettings& s);
 

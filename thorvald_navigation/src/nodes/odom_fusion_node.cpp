@@ -18,6 +18,7 @@
 #include <tf2_ros/transform_broadcaster.h>
 #include <thorvald_common/ros/param_reader.h>
 
+#include "ekf_settings.h"
 #include "ros_conversions.h"
 #include "thorvald_navigation/planar_ekf.h"
 
@@ -111,12 +112,9 @@ bool loadSettings(const ros::NodeHandle& pnh, Settings* s, std::string* error) {
           "transform_timeout", "odom0_nodelay", "imu0_nodelay", "publish_acceleration"})
       r.alsoRead(key);
     // Gates of what is fused here (odom0's pose and the IMU's acceleration are not: their gates have no effect).
-    const double none = std::numeric_limits<double>::infinity();
-    s->odom0_twist_gate = r.number("odom0_twist_rejection_threshold", none, R::above(0.0), "sigma");
-    s->imu0_pose_gate = r.number("imu0_pose_rejection_threshold", none, R::above(0.0), "sigma");
-    // robot_localization's template names the IMU's rate gate *_twist_rejection_threshold; both are read.
-    s->imu0_rate_gate = std::min(r.number("imu0_angular_velocity_rejection_threshold", none, R::above(0.0), "sigma"),
-                                 r.number("imu0_twist_rejection_threshold", none, R::above(0.0), "sigma"));
+    s->odom0_twist_gate = readRejectionThreshold(r, "odom0_twist_rejection_threshold");
+    s->imu0_pose_gate = readRejectionThreshold(r, "imu0_pose_rejection_threshold");
+    s->imu0_rate_gate = readImuRateRejectionThreshold(r, "imu0");
     for (const char* key : {"odom0_pose_rejection_threshold", "imu0_linear_acceleration_rejection_threshold"})
       r.alsoRead(key);
     r.finish();
