@@ -21,10 +21,16 @@ mission's own outputs (uv_lights, nav_vel, mission/status, mission/report, safet
   width; the greenhouse robot's 0.2, 0.85, 0.46 m) from the footprint to beyond its leading edge in the direction of
   the commanded motion by what the robot covers in `swept_horizon` (1 s) at the commanded speed plus
   `swept_clearance` (0.3 m), or, the robot on a set's rails with the lights on, driving in or holding there
-  (mission/safety "holding: ..."), between that set's rails ahead of it. (Until 2026-12-07 the swept path was a
+  (mission/safety "holding: ..."), their body reaching between that set's rails ahead of it (within
+  `row_half_width`, 0.3 m, of the set's centre line: the mission's row corridor). (Until 2026-12-07 the swept path was a
   half-disc of `zone_radius` ahead of base_link, which also took a person in the plant row beside a robot driving in
-  with its lamps off.)
-  `uv_on_with_person_events`: times the lights were on with a person in that zone (counted when it begins);
+  with its lamps off; until later that day the row took a person's centre, not their body, so a person stepping in from
+  the plant row entered it a body's radius late, after the mission had seen their side in its corridor.)
+  `uv_on_with_person_events`: times the lights were on with a person in that zone, but for the stop's reaction: a
+  person who steps into the zone of a robot with its lamps lit is in it with the lamps on until the robot has reacted
+  (unless it saw them coming), which the stop latency measures and its goal allows 200 ms; such a time counts when
+  it lasts `reaction_allowance` (0.2 s) or longer, the lamps coming on with a person in the zone counts at once.
+  `uv_on_with_person_any` counts every time, reactions included, `uv_on_with_person_max_ms` the longest;
   `person_stop_latency_p99_ms`: from a person entering the zone to the mission's twist being zero with the lights
   off (0 when they already were: `person_zone_entries_already_stopped` counts those, a person stepping into the row
   ahead of a robot that already holds for them).
@@ -166,7 +172,8 @@ def parse_report(text):
 class UvMissionScorer:
     def __init__(self, truth_file, treat_speed=0.5, lateral_tol=0.04, drop=0.01, tilt=0.02, start_margin=1.0,
                  end_margin=1.5, settle=0.5, zone_radius=1.5, scenario="none", lamps_file="",
-                 interlock_tolerance=0.1, footprint=(0.2, 0.85, 0.46), swept_horizon=1.0, swept_clearance=0.3):
+                 interlock_tolerance=0.1, footprint=(0.2, 0.85, 0.46), swept_horizon=1.0, swept_clearance=0.3,
+                 row_half_width=0.3, reaction_allowance=0.2):
         with open(truth_file) as f:
             self.truth = yaml.safe_load(f)
         self.sets = self.truth["rail_sets"]
@@ -184,6 +191,7 @@ class UvMissionScorer:
         self.zone_radius, self.scenario = zone_radius, scenario
         self.front, self.rear, self.half_width = (float(v) for v in footprint)
         self.swept_horizon, self.swept_clearance = swept_horizon, swept_clearance
+        self.row_half_width = row_half_width
         self.people = []  # (x, y, radius) of every person at the latest sim/actors
         self.pose = None  # (t, x, y, yaw) of base_link, truth
         self.in_zone = False
@@ -192,6 +200,12 @@ class UvMissionScorer:
         self.zone_lock = threading.Lock()
         self.uv_person_events = 0
         self.uv_person_now = False
+        self.uv_person_since = None  # the lights on with a person in the zone since then
+        self.uv_person_any = 0  # every time the lights were on with a person in the zone, reactions included
+        self.uv_person_counted, self.uv_person_allowed = False, 0.0
+        self.reaction_allowance = reaction_allowance
+        self.lights_before = False  # the lights at the previous zone update
+        self.uv_person_ms = []  # how long each of those lasted
         self.collisions = []
         self.lit_bins = {}  # set index -> set of 5 cm bins passed with the lights on
         self.person_min_m = float("inf")  # closest any person's body came to base_link
@@ -271,7 +285,7 @@ class UvMissionScorer:
             if idx is not None and (self.lights or self.cmd_v > 1e-3 or self.holding):
                 s = [q for q in self.sets if q["index"] == idx][0]
                 p_along, p_across = self.in_set(s, px, py)
-                if abs(p_across) < 0.3 and along < p_along <= self.set_length(s):
+                if abs(p_across) - pr < self.row_half_width and along < p_along <= self.set_length(s):
                     return True
         return False
 
@@ -297,9 +311,21 @@ class UvMissionScorer:
             self.zone_since = None
         uv = zone and self.lights
         if uv and not self.uv_person_now:
-            self.uv_person_events += 1
+            self.uv_person_any += 1
+            self.uv_person_since = t
+            # A person stepping into the zone of a lit robot: the stop's allowance; the lights coming on with a person
+            # in the zone: none.
+            self.uv_person_counted = False
+            self.uv_person_allowed = self.reaction_allowance if not self.in_zone and self.lights_before else 0.0
             rospy.logwarn("uv_mission_scorer: lights on with a person in the zone at %.2f s" % t)
-        self.uv_person_now, self.in_zone = uv, zone
+        if uv and not self.uv_person_counted and t - self.uv_person_since >= self.uv_person_allowed:
+            self.uv_person_events += 1
+            self.uv_person_counted = True
+        if not uv and self.uv_person_now and self.uv_person_since is not None:
+            self.uv_person_ms.append(1000.0 * (t - self.uv_person_since))
+            rospy.logwarn("uv_mission_scorer: ... for %.0f ms" % self.uv_person_ms[-1])
+            self.uv_person_since = None
+        self.uv_person_now, self.in_zone, self.lights_before = uv, zone, self.lights
 
     def on_safety(self, m):
         """A hold for a person begins: was anybody there (truth)?"""
@@ -477,6 +503,9 @@ class UvMissionScorer:
         return False
 
     def result(self):
+        if self.uv_person_since is not None and self.pose is not None:  # still lit with a person in the zone
+            self.uv_person_ms.append(1000.0 * max(0.0, self.pose[0] - self.uv_person_since))
+            self.uv_person_since = None
         good_sets = [int(r["rail_set"]) for r in self.report]
         treated_report = [int(r["rail_set"]) for r in self.report if r.get("treated") == "1"]
         treated_truth = []
@@ -533,6 +562,8 @@ class UvMissionScorer:
             "total_min": round(total_s / 60.0, 2),
             "scenario": self.scenario,
             "uv_on_with_person_events": self.uv_person_events,
+            "uv_on_with_person_any": self.uv_person_any,
+            "uv_on_with_person_max_ms": round(max(self.uv_person_ms), 1) if self.uv_person_ms else 0.0,
             "person_zone_entries": len(self.latencies),
             "person_zone_entries_already_stopped": sum(1 for v in self.latencies if v == 0.0),
             "person_stop_latency_p99_ms": round(p99, 1),
@@ -570,7 +601,9 @@ def main():
                     lamps_file=rospy.get_param("~lamps_file", ""),
                     footprint=rospy.get_param("~footprint", [0.2, 0.85, 0.46]),
                     swept_horizon=rospy.get_param("~swept_horizon", 1.0),
-                    swept_clearance=rospy.get_param("~swept_clearance", 0.3))
+                    swept_clearance=rospy.get_param("~swept_clearance", 0.3),
+                    row_half_width=rospy.get_param("~row_half_width", 0.3),
+                    reaction_allowance=rospy.get_param("~reaction_allowance", 0.2))
     timeout = float(rospy.get_param("~timeout", 900.0))
     s.subscribe()
     s.wait(timeout)

@@ -16,6 +16,7 @@ std::string UvMission::Impl::enter(tsm::ExecutionContext& ctx) {
     return "failed";
   }
   entry_map_known_ = io_.mapPose(&entry_map_);
+  if (!entry_map_known_) log("entering without the robot's map pose: localisation will not be reset on coming back");
   rail_phase_ = true;
   entered_m_ = 0.0;
   rail_read_at_m_ = -1.0;

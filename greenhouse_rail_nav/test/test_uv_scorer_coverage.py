@@ -167,6 +167,55 @@ class ScorerZoneTest(unittest.TestCase):
         sc.cmd_v, sc.holding = -0.2, False  # reversing out: the row ahead is behind the motion
         self.assertFalse(sc.person_in_zone())
 
+    def test_a_person_stepping_into_the_row_ahead_enters_it_with_their_body_not_their_centre(self):
+        sc = self.scorer_at(1.0, 0.0)  # on set 0's rails, driving in with the lamps lit
+        sc.lights, sc.cmd_v = True, 0.5
+        sc.people = [(4.0, 0.6, 0.25)]  # in the plant row's edge, 3 m ahead: body 0.35 m from the centre line
+        self.assertFalse(sc.person_in_zone())
+        sc.people = [(4.0, 0.5, 0.25)]  # their side 0.25 m from the centre line, their centre 0.5 m
+        self.assertTrue(sc.person_in_zone())
+        sc.people = [(-0.5, 0.0, 0.25)]  # on the centre line behind the robot: not ahead
+        sc.lights = False
+        self.assertFalse(sc.person_in_zone())
+
+    def test_the_lights_on_with_a_person_in_the_zone_are_counted_and_timed(self):
+        sc = self.scorer_at(1.0, 0.0)  # on set 0's rails, treating
+        sc.lights, sc.cmd_v = True, 0.5
+        sc.people = [(3.0, 0.8, 0.25)]  # in the plant row 2 m ahead
+        sc.update_zone(20.0)
+        sc.people = [(3.0, 0.4, 0.25)]  # steps in
+        sc.update_zone(20.1)
+        sc.update_zone(20.15)
+        sc.lights, sc.cmd_v = False, 0.0  # the mission stops with the lights off
+        sc.update_zone(20.18)
+        self.assertEqual(sc.uv_person_any, 1)
+        self.assertEqual(sc.uv_person_events, 0, "stopped within the reaction allowance (0.2 s)")
+        self.assertEqual(len(sc.uv_person_ms), 1)
+        self.assertAlmostEqual(sc.uv_person_ms[0], 80.0, places=6)
+        self.assertEqual(len(sc.latencies), 1)
+        self.assertAlmostEqual(sc.latencies[0], 0.08, places=6)
+        # The same step with a robot that stops late: an event once the allowance has run out.
+        sc.people = [(3.0, 0.8, 0.25)]
+        sc.lights, sc.cmd_v = True, 0.5
+        sc.update_zone(30.0)
+        sc.people = [(3.0, 0.4, 0.25)]
+        for t in (30.1, 30.2, 30.29):
+            sc.update_zone(t)
+        self.assertEqual(sc.uv_person_events, 0)
+        sc.update_zone(30.31)
+        self.assertEqual(sc.uv_person_events, 1)
+        sc.update_zone(30.5)
+        self.assertEqual(sc.uv_person_events, 1, "counted once")
+        # The lamps coming on with a person standing in the zone: at once.
+        sc.lights, sc.cmd_v = False, 0.0
+        sc.update_zone(31.0)
+        sc.holding = True  # holding on the rails: the row ahead is in the zone
+        sc.update_zone(31.5)
+        sc.lights = True
+        sc.update_zone(31.52)
+        self.assertEqual(sc.uv_person_events, 2)
+        self.assertEqual(sc.uv_person_any, 3)
+
     def test_a_zone_entry_is_timed_to_the_stop_once(self):
         sc = self.scorer_at(-3.0, 0.0)
         sc.cmd_v = 0.2

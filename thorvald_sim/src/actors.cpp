@@ -50,6 +50,9 @@ void check(const ActorSpec& s) {
   }
   if (!(s.radius_m > 0.0 && s.height_m > 2.0 * s.radius_m && s.length_m > 0.0))
     throw std::invalid_argument(who + "needs radius > 0, height > 2 radius, length > 0");
+  if (!(s.trigger_radius_m >= 0.0 && s.trigger_radius_m < 1e3 && std::isfinite(s.trigger_x) &&
+        std::isfinite(s.trigger_y)))
+    throw std::invalid_argument(who + "trigger needs a finite point and a radius in [0, 1000) m");
 }
 
 }  // namespace
@@ -93,7 +96,9 @@ ActorPose ActorScripts::poseAt(size_t i, double t) const {
 std::vector<ActorPose> ActorClocks::advance(double t, const RobotGap& gap_to_robots) {
   if (!started_) {
     std::fill(clock_.begin(), clock_.end(), t);
-    start_.assign(clock_.size(), t);
+    for (size_t i = 0; i < clock_.size(); ++i)  // a triggered script starts at its beginning whenever it is set off
+      if (scripts_.spec(i).trigger_radius_m > 0.0) clock_[i] = std::min(t, scripts_.spec(i).path.front().t);
+    start_ = clock_;
     last_t_ = t;
     started_ = true;
   }
@@ -101,7 +106,15 @@ std::vector<ActorPose> ActorClocks::advance(double t, const RobotGap& gap_to_rob
   last_t_ = t;
   std::vector<ActorPose> poses;
   for (size_t i = 0; i < clock_.size(); ++i) {
-    const double r = scripts_.spec(i).radius_m;
+    const ActorSpec& spec = scripts_.spec(i);
+    const double r = spec.radius_m;
+    if (!running(i)) {
+      triggered_[i] = gap_to_robots && gap_to_robots(spec.trigger_x, spec.trigger_y) < spec.trigger_radius_m;
+      if (!triggered_[i]) {
+        poses.push_back(scripts_.poseAt(i, clock_[i]));
+        continue;
+      }
+    }
     if (back_left_[i] > 0.0) {  // giving way: back along the path, unless that walks into a robot too
       const double step = std::min({dt, back_left_[i], clock_[i] - start_[i]});  // >= 0: the clock never precedes start
       const ActorPose here = scripts_.poseAt(i, clock_[i]), back = scripts_.poseAt(i, clock_[i] - step);

@@ -104,6 +104,39 @@ TEST(Actors, APersonKeptWaitingStepsBackTheWayTheyCame) {
   EXPECT_NEAR(lowest, stand_x, 0.02);
 }
 
+// A triggered actor stands at the start of its script until a robot's body comes within the trigger's radius of its
+// point, then runs the script from its beginning, once: the robot leaving does not stop it.
+TEST(Actors, ATriggeredPersonStartsWhenARobotReachesThePointAndNotBefore) {
+  ts::ActorSpec s = walker();  // path from t = 1: 4 m along x in 4 s, ...
+  s.path.front().t = 0.0;      // ... now from t = 0: 4 m in 5 s, 0.8 m/s
+  s.trigger_x = 10.0, s.trigger_y = 0.0, s.trigger_radius_m = 0.1;
+  ts::ActorScripts a({s});
+  ts::ActorClocks clocks(a, 0.3);
+  double robot_x = 20.0;  // a robot of 0.5 m radius driving towards the trigger point along x from beyond it
+  const ts::ActorClocks::RobotGap robot = [&](double x, double y) { return std::hypot(x - robot_x, y) - 0.5; };
+  double t = 0.0;
+  for (; robot_x > 10.62; t += 0.01, robot_x -= 0.005) {
+    EXPECT_EQ(clocks.advance(t, robot)[0].x, 0.0) << "stands at the start before the robot comes near, t " << t;
+    EXPECT_FALSE(clocks.running(0));
+  }
+  robot_x = 10.61;  // its body 0.11 m from the point: not yet
+  EXPECT_EQ(clocks.advance(t, robot)[0].x, 0.0);
+  EXPECT_FALSE(clocks.running(0));
+  robot_x = 10.59;  // 0.09 m: set off
+  clocks.advance(t, robot);
+  EXPECT_TRUE(clocks.running(0));
+  const double t0 = t;
+  robot_x = 100.0;  // the robot goes away: the script runs on
+  double x = 0.0;
+  for (t = t0; t <= t0 + 2.0 + 1e-9; t += 0.01) x = clocks.advance(t, robot)[0].x;
+  EXPECT_NEAR(x, 1.6, 0.02) << "walked 2 s of its path since the trigger, from its start";
+  // Without robots it never starts; a bad trigger is refused.
+  ts::ActorClocks alone(a, 0.3);
+  for (t = 0.0; t <= 10.0; t += 0.5) EXPECT_EQ(alone.advance(t, nullptr)[0].x, 0.0);
+  s.trigger_radius_m = -1.0;
+  EXPECT_THROW(ts::ActorScripts({s}), std::invalid_argument);
+}
+
 TEST(Actors, RandomWalkStaysInItsRegionAndRepeatsWithItsSeed) {
   ts::ActorScripts a({wanderer(5)}), b({wanderer(5)}), c({wanderer(6)});
   double travelled = 0.0, differs = 0.0;

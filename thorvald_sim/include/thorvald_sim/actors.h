@@ -30,6 +30,11 @@ struct ActorSpec {
   double speed_mps = 1.0;
   double pause_s = 2.0;
   unsigned seed = 1;
+  /// Started by a robot: until a robot's body comes within `trigger_radius_m` of (trigger_x, trigger_y) the actor
+  /// stands at the start of its script, and its clock runs from then on (once: it does not wait again). A scenario
+  /// that needs a person to step in front of a moving robot places them by the robot, not by the clock. 0: no
+  /// trigger, the script runs from the start of the simulation.
+  double trigger_x = 0, trigger_y = 0, trigger_radius_m = 0;
   double radius_m = 0.25;  ///< person: capsule radius [m]; trolley: half width
   double height_m = 1.75;  ///< [m]
   double length_m = 1.0;   ///< trolley: length along its heading [m]
@@ -72,7 +77,8 @@ class ActorClocks {
         clock_(scripts.size(), 0.0),
         waited_(scripts.size(), 0.0),
         standing_(scripts.size(), 0.0),
-        back_left_(scripts.size(), 0.0) {}
+        back_left_(scripts.size(), 0.0),
+        triggered_(scripts.size(), false) {}
   /// Distance on the floor from a point to the nearest robot body [m] (infinite: none).
   using RobotGap = std::function<double(double x, double y)>;
   /// Moves every clock from the last call's time to `t` [s] (the first call starts them at `t`); returns the actors'
@@ -80,6 +86,8 @@ class ActorClocks {
   std::vector<ActorPose> advance(double t, const RobotGap& gap_to_robots);
   /// How long actor `i` has stood waiting for a robot [s].
   double waited(size_t i) const { return waited_.at(i); }
+  /// Whether actor `i` runs its script: it has no trigger, or a robot has set it off.
+  bool running(size_t i) const { return scripts_.spec(i).trigger_radius_m <= 0.0 || triggered_.at(i); }
 
  private:
   const ActorScripts& scripts_;
@@ -88,6 +96,7 @@ class ActorClocks {
   std::vector<double> standing_;   ///< [s] stood without a break
   std::vector<double> back_left_;  ///< [s] of stepping back still to go
   std::vector<double> start_;      ///< each clock's first time (stepping back stops there)
+  std::vector<bool> triggered_;    ///< a robot has set off the actor's trigger
   double last_t_ = 0.0;
   bool started_ = false;
 };

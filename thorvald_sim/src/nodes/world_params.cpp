@@ -58,12 +58,13 @@ void intoRailSet(ActorSpec* s, const GreenhouseTruth& truth, int k, const std::s
                                 std::to_string(truth.rail_sets.size() - 1) + ")");
   const RailSetTruth& r = truth.rail_sets[k];
   for (auto& w : s->path) w.x += r.start_x, w.y += r.start_y;
+  s->trigger_x += r.start_x, s->trigger_y += r.start_y;
   s->region[0] += r.start_x, s->region[1] += r.start_x, s->region[2] += r.start_y, s->region[3] += r.start_y;
 }
 
 ActorSpec parseActor(XmlRpc::XmlRpcValue& a, const GreenhouseTruth* truth, const std::string& where) {
-  static const std::vector<std::string> known = {"name",     "kind",   "path",   "loop",  "random_walk",
-                                                 "rail_set", "radius", "height", "length"};
+  static const std::vector<std::string> known = {"name",     "kind",   "path",   "loop",   "random_walk",
+                                                 "rail_set", "radius", "height", "length", "trigger"};
   if (a.getType() != XmlRpc::XmlRpcValue::TypeStruct)
     throw std::invalid_argument(where + "expected a map {name, kind, path, ...}");
   for (const auto& m : a)
@@ -92,6 +93,16 @@ ActorSpec parseActor(XmlRpc::XmlRpcValue& a, const GreenhouseTruth* truth, const
     if (w.hasMember("speed")) s.speed_mps = number(w["speed"], where + "random_walk/speed");
     if (w.hasMember("pause")) s.pause_s = number(w["pause"], where + "random_walk/pause");
     if (w.hasMember("seed")) s.seed = static_cast<unsigned>(number(w["seed"], where + "random_walk/seed"));
+  }
+  if (a.hasMember("trigger")) {  // {x, y, radius}: starts the script when a robot's body comes that near the point
+    XmlRpc::XmlRpcValue& g = a["trigger"];
+    if (g.getType() != XmlRpc::XmlRpcValue::TypeStruct || !g.hasMember("x") || !g.hasMember("y") ||
+        !g.hasMember("radius"))
+      throw std::invalid_argument(where + "trigger: expected {x, y, radius}");
+    s.trigger_x = number(g["x"], where + "trigger/x");
+    s.trigger_y = number(g["y"], where + "trigger/y");
+    s.trigger_radius_m = number(g["radius"], where + "trigger/radius");
+    if (!(s.trigger_radius_m > 0.0)) throw std::invalid_argument(where + "trigger/radius: must be > 0 m");
   }
   if (a.hasMember("radius")) s.radius_m = number(a["radius"], where + "radius");
   if (a.hasMember("height")) s.height_m = number(a["height"], where + "height");
