@@ -32,8 +32,10 @@ mission's own outputs (uv_lights, nav_vel, mission/status, mission/report, safet
   it lasts `reaction_allowance` (0.2 s) or longer, the lamps coming on with a person in the zone counts at once.
   `uv_on_with_person_any` counts every time, reactions included, `uv_on_with_person_max_ms` the longest;
   `person_stop_latency_p99_ms`: from a person entering the zone to the mission's twist being zero with the lights
-  off (0 when they already were: `person_zone_entries_already_stopped` counts those, a person stepping into the row
-  ahead of a robot that already holds for them).
+  off (0 when they already were; `person_zone_entries_moving` counts the entries that came while the robot moved or
+  within `reaction_allowance` after it stopped (it saw the person coming and stopped just before their body was in
+  the zone), `person_zone_entries_already_stopped` the others, e.g. a person stepping into the row ahead of a robot
+  that already holds for them).
 - `person_holds`, `phantom_person_holds`: the mission's holds for a person (mission/safety "holding: a person ... at
   (x, y) m", base_link), counted when each begins; a phantom when no person (truth) was within `phantom_radius` of
   that point then.
@@ -198,6 +200,9 @@ class UvMissionScorer:
         self.zone_since = None  # a person entered the zone at this time and the robot has not yet stopped
         self.latencies = []
         self.zone_lock = threading.Lock()
+        self.zone_t = float("-inf")  # the latest time update_zone was given
+        self.moving_at = float("-inf")  # the latest zone update with the robot moving or its lights on
+        self.entries_moving = []  # per zone entry: whether the robot moved within reaction_allowance before it
         self.uv_person_events = 0
         self.uv_person_now = False
         self.uv_person_since = None  # the lights on with a person in the zone since then
@@ -291,7 +296,9 @@ class UvMissionScorer:
 
     def update_zone(self, t):
         with self.zone_lock:  # called from the truth's and the actors' callbacks, which rospy runs in two threads
-            self._update_zone(t)
+            # Their stamps interleave out of order by a message period: time here never runs backwards.
+            self.zone_t = max(t, self.zone_t)
+            self._update_zone(self.zone_t)
 
     def _update_zone(self, t):
         if self.pose is not None:
@@ -300,6 +307,9 @@ class UvMissionScorer:
         zone = self.person_in_zone()
         stopped = not self.lights and abs(self.cmd_v) < 1e-6 and abs(self.cmd_w) < 1e-6
         if zone and not self.in_zone:
+            # Moving within the reaction allowance before: a stop timed on a moving robot (0 when the mission saw the
+            # person's side reach the zone and stopped a few milliseconds before the truth says their body is in it).
+            self.entries_moving.append(t - self.moving_at <= self.reaction_allowance)
             if stopped:
                 self.latencies.append(0.0)
             else:
@@ -309,6 +319,8 @@ class UvMissionScorer:
             rospy.loginfo("uv_mission_scorer: a person in the zone from %.2f s: %s after %.0f ms" %
                           (self.zone_since, "stopped" if stopped else "left it", 1000.0 * self.latencies[-1]))
             self.zone_since = None
+        if not stopped:
+            self.moving_at = t
         uv = zone and self.lights
         if uv and not self.uv_person_now:
             self.uv_person_any += 1
@@ -565,7 +577,8 @@ class UvMissionScorer:
             "uv_on_with_person_any": self.uv_person_any,
             "uv_on_with_person_max_ms": round(max(self.uv_person_ms), 1) if self.uv_person_ms else 0.0,
             "person_zone_entries": len(self.latencies),
-            "person_zone_entries_already_stopped": sum(1 for v in self.latencies if v == 0.0),
+            "person_zone_entries_already_stopped": sum(1 for m in self.entries_moving if not m),
+            "person_zone_entries_moving": sum(1 for m in self.entries_moving if m),
             "person_stop_latency_p99_ms": round(p99, 1),
             "person_stop_latency_max_ms": round(lat[-1] * 1000.0, 1) if lat else 0.0,
             "person_holds": self.person_holds,

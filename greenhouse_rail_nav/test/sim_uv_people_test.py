@@ -2,7 +2,9 @@
 """The UV mission in the MuJoCo greenhouse with a person standing in a row (sim_uv_people.test), scored against the
 simulator's truth by bench/uv_mission_scorer.py: the lights are never on with the person in the protected zone, the
 robot never touches them (nor anything else), it holds short of them and says so on mission/safety, and every set,
-the person's too, is treated once they have left (by the mission's report and by the truth)."""
+the person's too, is treated once they have left (by the mission's report and by the truth). A second person steps
+into the other row ahead of the moving robot: the stop (zero twist, lamps off) comes within 200 ms of their entering
+the zone."""
 import json
 import sys
 import unittest
@@ -32,6 +34,8 @@ class SimUvPeople(unittest.TestCase):
         self.assertEqual(out["collisions"], 0, "contacts: %r" % out["collisions_first"])
         self.assertGreater(out["person_min_distance_m"], 0.5, "stopped short of the person")
         self.assertLessEqual(out["person_stop_latency_p99_ms"], 200.0)
+        self.assertGreaterEqual(out["person_zone_entries_moving"], 1,
+                                "the person stepping into the row ahead entered the zone of a moving robot: %r" % out)
         self.assertEqual(sorted(out["treated_by_report"]), list(range(n_sets)), "treated by the mission's report")
         self.assertEqual(out["treated_by_truth"], list(range(n_sets)), "lights on over every rail (truth)")
         self.assertGreaterEqual(out["coverage_base_link_min_pct"], 99.0,

@@ -164,6 +164,8 @@ class ScorerZoneTest(unittest.TestCase):
         sc.holding = True
         sc.update_zone(5.0)
         self.assertEqual(sc.latencies, [0.0])
+        self.assertEqual(sc.result()["person_zone_entries_already_stopped"], 1)
+        self.assertEqual(sc.result()["person_zone_entries_moving"], 0)
         sc.cmd_v, sc.holding = -0.2, False  # reversing out: the row ahead is behind the motion
         self.assertFalse(sc.person_in_zone())
 
@@ -194,6 +196,7 @@ class ScorerZoneTest(unittest.TestCase):
         self.assertAlmostEqual(sc.uv_person_ms[0], 80.0, places=6)
         self.assertEqual(len(sc.latencies), 1)
         self.assertAlmostEqual(sc.latencies[0], 0.08, places=6)
+        self.assertEqual(sc.entries_moving, [True])
         # The same step with a robot that stops late: an event once the allowance has run out.
         sc.people = [(3.0, 0.8, 0.25)]
         sc.lights, sc.cmd_v = True, 0.5
@@ -215,6 +218,24 @@ class ScorerZoneTest(unittest.TestCase):
         sc.update_zone(31.52)
         self.assertEqual(sc.uv_person_events, 2)
         self.assertEqual(sc.uv_person_any, 3)
+
+    def test_a_robot_that_stops_just_before_the_persons_body_is_in_the_zone_stopped_for_them(self):
+        sc = self.scorer_at(1.0, 0.0)
+        sc.lights, sc.cmd_v = True, 0.5
+        sc.people = [(3.0, 0.8, 0.25)]
+        sc.update_zone(40.0)
+        sc.lights, sc.cmd_v, sc.holding = False, 0.0, True  # the mission saw their side and holds
+        sc.update_zone(40.02)
+        sc.people = [(3.0, 0.5, 0.25)]
+        sc.update_zone(40.04)
+        self.assertEqual(sc.entries_moving, [True])
+        self.assertEqual(sc.latencies, [0.0])
+        sc.people = [(3.0, 0.8, 0.25)]  # steps out and in again 3 s later: the robot stood all that time
+        for t in (41.0, 42.0, 43.0):
+            sc.update_zone(t)
+        sc.people = [(3.0, 0.5, 0.25)]
+        sc.update_zone(43.02)
+        self.assertEqual(sc.entries_moving, [True, False])
 
     def test_a_zone_entry_is_timed_to_the_stop_once(self):
         sc = self.scorer_at(-3.0, 0.0)
