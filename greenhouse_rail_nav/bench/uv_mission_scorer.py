@@ -204,8 +204,7 @@ class UvMissionScorer:
         self.moving_at = float("-inf")  # the latest zone update with the robot moving or its lights on
         self.entries_moving = []  # per zone entry: whether the robot moved within reaction_allowance before it
         self.uv_person_events = 0
-        self.uv_person_now = False
-        self.uv_person_since = None  # the lights on with a person in the zone since then
+        self.uv_person_since = None  # the lights on with a person in the zone since then (None: not now)
         self.uv_person_any = 0  # every time the lights were on with a person in the zone, reactions included
         self.uv_person_counted, self.uv_person_allowed = False, 0.0
         self.reaction_allowance = reaction_allowance
@@ -322,7 +321,7 @@ class UvMissionScorer:
         if not stopped:
             self.moving_at = t
         uv = zone and self.lights
-        if uv and not self.uv_person_now:
+        if uv and self.uv_person_since is None:
             self.uv_person_any += 1
             self.uv_person_since = t
             # A person stepping into the zone of a lit robot: the stop's allowance; the lights coming on with a person
@@ -333,11 +332,11 @@ class UvMissionScorer:
         if uv and not self.uv_person_counted and t - self.uv_person_since >= self.uv_person_allowed:
             self.uv_person_events += 1
             self.uv_person_counted = True
-        if not uv and self.uv_person_now and self.uv_person_since is not None:
+        if not uv and self.uv_person_since is not None:
             self.uv_person_ms.append(1000.0 * (t - self.uv_person_since))
             rospy.logwarn("uv_mission_scorer: ... for %.0f ms" % self.uv_person_ms[-1])
             self.uv_person_since = None
-        self.uv_person_now, self.in_zone, self.lights_before = uv, zone, self.lights
+        self.in_zone, self.lights_before = zone, self.lights
 
     def on_safety(self, m):
         """A hold for a person begins: was anybody there (truth)?"""
@@ -515,9 +514,9 @@ class UvMissionScorer:
         return False
 
     def result(self):
+        uv_person_ms = list(self.uv_person_ms)
         if self.uv_person_since is not None and self.pose is not None:  # still lit with a person in the zone
-            self.uv_person_ms.append(1000.0 * max(0.0, self.pose[0] - self.uv_person_since))
-            self.uv_person_since = None
+            uv_person_ms.append(1000.0 * max(0.0, self.pose[0] - self.uv_person_since))
         good_sets = [int(r["rail_set"]) for r in self.report]
         treated_report = [int(r["rail_set"]) for r in self.report if r.get("treated") == "1"]
         treated_truth = []
@@ -575,7 +574,7 @@ class UvMissionScorer:
             "scenario": self.scenario,
             "uv_on_with_person_events": self.uv_person_events,
             "uv_on_with_person_any": self.uv_person_any,
-            "uv_on_with_person_max_ms": round(max(self.uv_person_ms), 1) if self.uv_person_ms else 0.0,
+            "uv_on_with_person_max_ms": round(max(uv_person_ms), 1) if uv_person_ms else 0.0,
             "person_zone_entries": len(self.latencies),
             "person_zone_entries_already_stopped": sum(1 for m in self.entries_moving if not m),
             "person_zone_entries_moving": sum(1 for m in self.entries_moving if m),
