@@ -36,6 +36,12 @@ std::string RailRunParams::validate() const {
   if (!(wall_guard_range_m > 0.0)) e << "wall_guard_range must be > 0 [m]; ";
   if (!(lamp_length_m > 0.0 && lamp_length_m <= 5.0)) e << "lamp_length must be in (0, 5] [m]; ";
   if (!(std::fabs(lamp_offset_m) <= 5.0)) e << "lamp_offset must be in [-5, 5] [m]; ";
+  if (!(return_overrun_m >= 0.0 && return_overrun_m <= 10.0)) e << "return_overrun must be in [0, 10] [m]; ";
+  if (!(return_overrun_fraction >= 0.0 && return_overrun_fraction <= 1.0))
+    e << "return_overrun_fraction must be in [0, 1]; ";
+  if (!(return_stall_s > 0.0 && return_stall_s <= 60.0)) e << "return_stall_time must be in (0, 60] [s]; ";
+  if (!(return_max_heading_error_rad > 0.0 && return_max_heading_error_rad <= 3.14))
+    e << "return_max_heading_error must be in (0, 3.14] [rad]; ";
   return e.str();
 }
 
@@ -122,6 +128,43 @@ bool CruiseSpeedMeter::stats(double* mean_mps, double* std_mps) const {
   *mean_mps = sum_ / n_;
   *std_mps = std::sqrt(std::max(0.0, sum2_ / n_ - *mean_mps * *mean_mps));
   return true;
+}
+
+ReturnWatch::ReturnWatch(const RailRunParams& p, const thorvald_base::Pose2D& entry, double driven_in_m, double now_s)
+    : p_(p), entry_(entry), last_(entry), driven_in_m_(driven_in_m), best_along_(driven_in_m), progress_at_s_(now_s) {}
+
+std::string ReturnWatch::update(const thorvald_base::Pose2D& odom, bool on_rails, bool driving, double now_s) {
+  constexpr double kProgressM = 0.05;  // nearer by at least this counts as progress (odometry's jitter below it)
+  if (started_) backed_m_ += (odom.position() - last_.position()).norm();
+  started_ = true;
+  last_ = odom;
+  const double along = (odom.position() - entry_.position()).dot(entry_.heading());
+  if (along < best_along_ - kProgressM || !driving) {
+    best_along_ = std::min(best_along_, along);
+    progress_at_s_ = now_s;
+  }
+  std::ostringstream o;
+  o.setf(std::ios::fixed);
+  o.precision(2);
+  const double limit_m = driven_in_m_ * (1.0 + p_.return_overrun_fraction) + p_.return_overrun_m;
+  if (backed_m_ > limit_m) {
+    o << "backed " << backed_m_ << " m by odometry after driving " << driven_in_m_
+      << " m in, without reaching the stored pose (" << along << " m from it along the rails' line)";
+    return o.str();
+  }
+  if (now_s - progress_at_s_ > p_.return_stall_s) {
+    o << "no progress towards the stored pose for " << now_s - progress_at_s_ << " s while driving back (" << along
+      << " m from it along the rails' line)";
+    return o.str();
+  }
+  const double heading_error = thorvald_base::normalizeAngle(odom.yaw - entry_.yaw);
+  if (!on_rails && std::fabs(heading_error) > p_.return_max_heading_error_rad) {
+    o.precision(0);
+    o << "off the rails, the heading is " << heading_error * 180.0 / M_PI
+      << " deg off the rails' line by odometry (at most " << p_.return_max_heading_error_rad * 180.0 / M_PI << " deg)";
+    return o.str();
+  }
+  return {};
 }
 
 }  // namespace greenhouse_rail_nav

@@ -233,6 +233,7 @@ UvMission::Impl::Loop UvMission::Impl::reverseToEntry(tsm::ExecutionContext& ctx
   const double yaw_ref = entry_odom_.yaw;
   double v = 0.0, t_last = io_.now();
   const double extra_m = 0.5;  // beyond the stored pose, to find the floor if odometry came up short
+  ReturnWatch watch(p_.rail_run, entry_odom_, driven_in_m_, t_last);
   while (io_.ok()) {
     if (ctx.preemptRequested()) {
       stop();
@@ -249,8 +250,10 @@ UvMission::Impl::Loop UvMission::Impl::reverseToEntry(tsm::ExecutionContext& ctx
       left_m = to_stored > 0.0 ? to_stored : std::max(0.0, to_stored + extra_m);
     }
     setZone(ZonePhase::kReverse, 0.0, left_m);
+    bool held = false;
     if (mustHold(&stop_why)) {
       v = 0.0;
+      held = true;
       if (!holdWhileStopped(ctx)) return Loop::kPreempted;
     }
     if (surfaceStale() || !io_.odomPose(&pose)) {
@@ -268,6 +271,12 @@ UvMission::Impl::Loop UvMission::Impl::reverseToEntry(tsm::ExecutionContext& ctx
       stop();
       *why = "edge under a wheel";
       return Loop::kEdge;
+    }
+    const std::string wrong = watch.update(pose, s.wheels == Surface::kRail, !held, now);
+    if (!wrong.empty()) {
+      stop();
+      *why = wrong;
+      return Loop::kFailed;
     }
     if (along <= 0.0 && s.wheels == Surface::kFloor) break;  // back at the stored pose, on the floor
     if (along < -extra_m) {

@@ -49,6 +49,11 @@ class SimulatedGreenhouse : public grn::MissionIO {
   double relay_on_delay_s = -1.0;
   /// > 0: the lamps light only while the robot moves at least this fast, as uv_interlock switches them [m/s].
   double interlock_min_speed_mps = 0.0;
+  /// From when the robot, backing off set 0's rails, first has its wheels on the floor: it stands pinned (against
+  /// something it backed into), its wheels turning. Odometry then integrates the commanded speed along its own heading,
+  /// which is off the robot's by this much [rad], and turns only as the robot does (the gyro's yaw). NaN: never.
+  double pinned_odom_yaw_error = std::numeric_limits<double>::quiet_NaN();
+  double pinned_driving_s = 0.0;  ///< time the wheels turned (a speed commanded) while pinned [s]
   double response_s = 0.12;       ///< the drives' time constant: how fast the robot follows a twist (and brakes) [s]
   int lit_ticks_with_person = 0;  ///< control ticks with the lights on and the person ahead in the row
   double closest_to_person = std::numeric_limits<double>::infinity();  ///< [m] base_link to the person
@@ -89,6 +94,7 @@ class SimulatedGreenhouse : public grn::MissionIO {
       pose_ = thorvald_base::Pose2D(goal_.x + exy(rng_), goal_.y + exy(rng_), goal_.yaw + eyaw(rng_));
       odom_ = thorvald_base::Pose2D(pose_.x + odom_extra_x_, pose_.y, pose_.yaw);
       v_ = w_ = 0.0;
+      pinned_ = false;
       nav_done_at_ = 0.0;
     }
     return grn::NavState::kSucceeded;
@@ -176,6 +182,22 @@ class SimulatedGreenhouse : public grn::MissionIO {
     const double a = std::min(1.0, dt / response_s);
     v_ += a * (v_cmd_ - v_);
     w_ += a * (w_cmd_ - w_);
+    if (surface_.wheels == grn::Surface::kRail) been_on_rails_ = true;
+    if (!std::isnan(pinned_odom_yaw_error) && been_on_rails_ && surface_.wheels == grn::Surface::kFloor &&
+        v_cmd_ < 0.0) {
+      pinned_ = true;
+      pinned_yaw_offset_ = pinned_odom_yaw_error;
+      pinned_odom_yaw_error = std::numeric_limits<double>::quiet_NaN();  // once
+    }
+    if (pinned_) {
+      if (v_cmd_ != 0.0) pinned_driving_s += dt;
+      odom_.yaw = thorvald_base::normalizeAngle(pose_.yaw + pinned_yaw_offset_);
+      odom_.x += v_ * std::cos(odom_.yaw) * dt;
+      odom_.y += v_ * std::sin(odom_.yaw) * dt;
+      t_ += dt;
+      updateSensors();
+      return;
+    }
     pose_.yaw = thorvald_base::normalizeAngle(pose_.yaw + w_ * dt);
     pose_.x += v_ * std::cos(pose_.yaw) * dt;
     if (v_ < 0.0 && surface_.wheels == grn::Surface::kRail)
@@ -242,6 +264,8 @@ class SimulatedGreenhouse : public grn::MissionIO {
   std::mt19937 rng_;
   thorvald_base::Pose2D pose_, goal_;
   double odom_extra_x_ = 0.0;
+  bool been_on_rails_ = false, pinned_ = false;
+  double pinned_yaw_offset_ = 0.0;
   thorvald_base::Pose2D odom_;     ///< the last odometry message's pose
   double last_odom_ = -1.0;        ///< when it came
   double lights_request_t_ = 0.0;  ///< when the lights were last asked on

@@ -271,6 +271,46 @@ TEST(UvMissionRobustness, StopsAndSaysWhyWhenTheFloorCannotBeFound) {
     for (const auto& l : world.lines) std::cout << l << "\n";
 }
 
+// Backing off the rails the robot is pinned against something as its wheels reach the floor; its wheels turn on and
+// odometry (heading off the robot's, turning only as the robot does) runs away from the stored pose, sideways or
+// backwards. The return must stop with the reason, not drive on: each of the return's watches catches one case.
+struct PinnedReturn {
+  double odom_yaw_error_rad;
+  double max_heading_error_rad;  ///< the heading watch's limit (3.14: effectively off)
+  const char* expected_reason;
+};
+
+class UvMissionPinnedReturn : public ::testing::TestWithParam<PinnedReturn> {};
+
+TEST_P(UvMissionPinnedReturn, ThePinnedRobotStopsWithTheReasonAndTheMissionGoesOn) {
+  const PinnedReturn c = GetParam();
+  const std::vector<RailSetTruth> sets = {{0.0}, {1.6}};
+  SimulatedGreenhouse world(sets, 23);
+  world.pinned_odom_yaw_error = c.odom_yaw_error_rad;
+  grn::UvMissionParams p;
+  p.rail_run.return_max_heading_error_rad = c.max_heading_error_rad;
+  grn::UvMission mission(world, p, targetsFor(sets, -1.2));
+  EXPECT_EQ(mission.run(), "done");
+  ASSERT_EQ(mission.reports().size(), 2u);
+  // The lamps lit the whole row: set 0 is treated, the failed return named in its report.
+  EXPECT_TRUE(mission.reports()[0].treated) << mission.reports()[0].result;
+  EXPECT_NE(mission.reports()[0].result.find(c.expected_reason), std::string::npos) << mission.reports()[0].result;
+  EXPECT_TRUE(mission.reports()[1].treated) << mission.reports()[1].result;
+  EXPECT_GT(world.pinned_driving_s, 0.0) << "the fault was never injected";
+  // Driven no longer than the watch allows: the stall's 5 s, or the ~2.9 m odometry has left before it overruns, at the
+  // return's slow 0.12 m/s.
+  EXPECT_LT(world.pinned_driving_s, 30.0);
+  EXPECT_FALSE(world.lights_on_off_rails);
+  if (HasFailure())
+    for (const auto& l : world.lines) std::cout << l << "\n";
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Watches, UvMissionPinnedReturn,
+    ::testing::Values(PinnedReturn{2.8, 0.5, "deg off the rails' line by odometry"},   // heading: at once
+                      PinnedReturn{2.8, 3.14, "no progress towards the stored pose"},  // odometry goes away
+                      PinnedReturn{1.4, 3.14, "without reaching the stored pose"}));   // odometry goes sideways
+
 // A target pose with no rails in front of it: the search finds nothing, the set is reported with that reason, the
 // robot stands on the floor, and the next sets are treated.
 TEST(UvMissionRobustness, PerSetFailuresAreReportedAndTheMissionGoesOn) {

@@ -3,6 +3,8 @@
 #include <string>
 #include <vector>
 
+#include "thorvald_base/pose2d.h"
+
 namespace greenhouse_rail_nav {
 
 /// Distance [m] to what lies straight ahead in a planar scan: the median of the finite returns within
@@ -33,6 +35,17 @@ struct RailRunParams {
   /// (config/uv_lamps.yaml, the one lamp geometry of uv_dose, the mission and the bench's scorer) [m].
   double lamp_length_m = 0.75;
   double lamp_offset_m = -0.325;
+  /// The way back is watched with odometry alone (what else there is on the rails): it stops with a reason when the
+  /// robot has backed, by odometry, `return_overrun_m` plus `return_overrun_fraction` of the driven length more than
+  /// it drove in, ...
+  double return_overrun_m = 1.0;
+  double return_overrun_fraction = 0.1;
+  /// ... when it has come no nearer the headland for `return_stall_s` while driving (the wheels turn but odometry's
+  /// heading points elsewhere, or the drives do not move the robot) [s], ...
+  double return_stall_s = 5.0;
+  /// ... or when, off the rails (no pipe to guide it), its heading is more than this off the heading it entered with
+  /// [rad]: backing on would swing the frame through the headland, not along the rails' line.
+  double return_max_heading_error_rad = 0.5;
 
   std::string validate() const;
 };
@@ -71,6 +84,29 @@ class RowLitCoverage {
 /// Speed magnitude [m/s] on the way back after `reversed_m` of `driven_in_m`.
 double returnSpeed(const RailRunParams& p, double current_speed_mps, double reversed_m, double driven_in_m,
                    double dt_s);
+
+/// Watches the way back from the rails to the pose stored before entering them, with what odometry alone tells (the
+/// lidar sees only the row's end on the rails): the path odometry has backed, the progress towards the stored pose,
+/// and the heading once off the rails. A return that drives on while one of them is wrong swings the robot through the
+/// headland or pushes it against what stops it, wheels turning, for as long as nothing stops it.
+class ReturnWatch {
+ public:
+  /// `entry`: the odometry pose stored before entering, `driven_in_m` along its heading; `now_s` the start.
+  ReturnWatch(const RailRunParams& p, const thorvald_base::Pose2D& entry, double driven_in_m, double now_s);
+  /// One control tick: the odometry pose, whether the wheels read rail, whether the robot is being driven back (a
+  /// hold for a person does not count towards a stall). Returns why the return must stop, empty while all is well.
+  std::string update(const thorvald_base::Pose2D& odom, bool on_rails, bool driving, double now_s);
+  double backedM() const { return backed_m_; }  ///< odometry's path length so far [m]
+
+ private:
+  RailRunParams p_;
+  thorvald_base::Pose2D entry_, last_;
+  double driven_in_m_;
+  double backed_m_ = 0.0;
+  double best_along_;     ///< the nearest odometry came to the stored pose along its heading [m]
+  double progress_at_s_;  ///< when it last came nearer (or the robot last stood still for a hold)
+  bool started_ = false;
+};
 
 /// The speed held at cruise while treating, as the report gives it: odometry comes at its own rate, so over one
 /// control tick the pose may not have moved at all, or moved twice; the speed is measured over windows of at least

@@ -42,6 +42,13 @@ void readMotionParams(thorvald_common::ParamReader& params, NodeSettings* s) {
       params.number("return_speed", p.rail_run.return_speed_mps, R::aboveUpTo(0.0, 1.5), "m/s");
   p.rail_run.end_wall_range_m = params.number("end_wall_range", p.rail_run.end_wall_range_m, R::above(0.0), "m");
   p.rail_run.slow_fraction = params.number("slow_fraction", p.rail_run.slow_fraction, R::closed(0.1, 0.99));
+  p.rail_run.return_overrun_m = params.number("return_overrun", p.rail_run.return_overrun_m, R::closed(0.0, 10.0), "m");
+  p.rail_run.return_overrun_fraction =
+      params.number("return_overrun_fraction", p.rail_run.return_overrun_fraction, R::closed(0.0, 1.0));
+  p.rail_run.return_stall_s =
+      params.number("return_stall_time", p.rail_run.return_stall_s, R::aboveUpTo(0.0, 60.0), "s");
+  p.rail_run.return_max_heading_error_rad = params.number(
+      "return_max_heading_error", p.rail_run.return_max_heading_error_rad, R::aboveUpTo(0.0, 3.14), "rad");
   readRowEndParams(params, &p.rail_run);
 }
 
