@@ -85,6 +85,7 @@ std::string HarvestMachine::run() {
     target_id_ = 0;
     decision_points_.reset();
     searched_m_.clear();
+    abort_reason_.clear();
   }
   tsm::UserData userdata;
   return machine_->run(userdata);
@@ -119,6 +120,17 @@ int HarvestMachine::rejectedFrames() const {
   return rejected_frames_;
 }
 
+std::string HarvestMachine::abortReason() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return abort_reason_;
+}
+
+std::string HarvestMachine::missedObservation(const std::string& why) {
+  if (++missed_ < params_.max_missed_observations) return "retry";
+  abort_reason_ = std::to_string(missed_) + " frames in a row unusable, the last: " + why;
+  return "lost";
+}
+
 std::string HarvestMachine::observe(tsm::UserData& ud, tsm::ExecutionContext& ctx) {
   const auto preempted = [&ctx] { return ctx.preemptRequested(); };
   const auto observation = plant_.observe(preempted);
@@ -126,7 +138,10 @@ std::string HarvestMachine::observe(tsm::UserData& ud, tsm::ExecutionContext& ct
   last_time_s_ = plant_.now();
   last_position_m_ = plant_.roverPositionM();
   if (ctx.preemptRequested()) return tsm::kPreempted;
-  if (!observation) return ++missed_ >= params_.max_missed_observations ? "lost" : "retry";
+  if (!observation) {
+    const std::string failure = plant_.lastFailure();
+    return missedObservation(failure.empty() ? "no frame" : failure);
+  }
 
   const std::vector<int> ids = tracker_.update(*observation);
   while (true) {
@@ -150,7 +165,7 @@ std::string HarvestMachine::observe(tsm::UserData& ud, tsm::ExecutionContext& ct
     const auto& ee = observation->end_effector;
     if (!ee || !std::isfinite(ee->x) || !std::isfinite(ee->y) || !std::isfinite(ee->z)) {
       ++rejected_frames_;
-      return ++missed_ >= params_.max_missed_observations ? "lost" : "retry";
+      return missedObservation("no end effector in the frame");
     }
     missed_ = 0;
     HarvestDecision decision = decide(*boll, *ee, params_.decision);
@@ -224,8 +239,13 @@ std::string HarvestMachine::resultOutcome(MoveResult result) {
     case MoveResult::kPreempted:
       return tsm::kPreempted;
     case MoveResult::kFailed:
-    default:
-      return ++failed_actions_ >= params_.max_failed_actions ? "give_up" : "failed";
+    default: {
+      if (++failed_actions_ < params_.max_failed_actions) return "failed";
+      const std::string failure = plant_.lastFailure();
+      abort_reason_ = std::to_string(failed_actions_) + " rover/arm actions failed in a row" +
+                      (failure.empty() ? "" : ", the last: " + failure);
+      return "give_up";
+    }
   }
 }
 

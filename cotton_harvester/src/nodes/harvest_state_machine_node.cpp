@@ -147,15 +147,20 @@ class HarvestNode {
     if (worker_.joinable()) worker_.join();
     running_ = true;
     worker_ = std::thread([this] {
-      std::string outcome;
+      std::string outcome, reason;
       try {
         outcome = machine_.run();
+        if (outcome == "aborted") reason = machine_.abortReason();
       } catch (const std::exception& e) {
         outcome = "aborted";
-        ROS_ERROR("harvest machine stopped: %s", e.what());
+        reason = std::string("harvest machine stopped: ") + e.what();
       }
-      setOutcome(outcome);
-      ROS_INFO("harvest run '%s' ended: %s", run_name_.c_str(), outcome.c_str());
+      setOutcome(outcome, reason);
+      if (reason.empty()) {
+        ROS_INFO("harvest run '%s' ended: %s", run_name_.c_str(), outcome.c_str());
+      } else {
+        ROS_ERROR("harvest run '%s' ended: %s: %s", run_name_.c_str(), outcome.c_str(), reason.c_str());
+      }
       publishMetrics();
       if (!csv_path_.empty()) {
         std::string error;
@@ -186,9 +191,15 @@ class HarvestNode {
     std::lock_guard<std::mutex> lock(outcome_mutex_);
     return outcome_;
   }
-  void setOutcome(const std::string& outcome) {
+  /// The last run's outcome, with why it aborted when it did.
+  std::string outcomeText() const {
+    std::lock_guard<std::mutex> lock(outcome_mutex_);
+    return abort_reason_.empty() ? outcome_ : outcome_ + ": " + abort_reason_;
+  }
+  void setOutcome(const std::string& outcome, const std::string& abort_reason) {
     std::lock_guard<std::mutex> lock(outcome_mutex_);
     outcome_ = outcome;
+    abort_reason_ = abort_reason;
   }
 
   void publishMetrics() {
@@ -198,7 +209,7 @@ class HarvestNode {
     msg.name = "harvest_metrics";
     msg.hardware_id = run_name_;
     msg.level = diagnostic_msgs::DiagnosticStatus::OK;
-    msg.message = running_ ? "running" : ("ended: " + outcome());
+    msg.message = running_ ? "running" : ("ended: " + outcomeText());
     auto add = [&msg](const std::string& key, const std::string& value) {
       diagnostic_msgs::KeyValue kv;
       kv.key = key;
@@ -256,7 +267,7 @@ class HarvestNode {
     const auto machine = machine_.machine().status();
     const std::string last = outcome();
     if (last == "aborted") {
-      status.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "harvest aborted");
+      status.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "harvest " + outcomeText());
     } else {
       status.summary(diagnostic_msgs::DiagnosticStatus::OK,
                      running_ ? "running " + machine.active_state : "idle (" + last + ")");
@@ -277,6 +288,7 @@ class HarvestNode {
   std::string csv_path_, run_name_, camera_frame_;
   mutable std::mutex outcome_mutex_;
   std::string outcome_ = "not started";  ///< guarded by outcome_mutex_ (written by the machine's thread)
+  std::string abort_reason_;             ///< guarded by outcome_mutex_
   std::atomic<bool> running_{false};
   int runs_ = 0;
   std::thread worker_;

@@ -4,10 +4,25 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdarg>
+#include <cstdio>
 #include <limits>
 
 namespace cotton_harvester {
 namespace control {
+namespace {
+
+/// printf into a string (the failures' texts).
+__attribute__((format(printf, 1, 2))) std::string format(const char* fmt, ...) {
+  char text[512];
+  va_list args;
+  va_start(args, fmt);
+  std::vsnprintf(text, sizeof(text), fmt, args);
+  va_end(args);
+  return text;
+}
+
+}  // namespace
 
 TopicHarvestPlant::TopicHarvestPlant(ros::NodeHandle& nh, const TopicPlantParams& params, const ArmWorkspace& arm)
     : params_(params), arm_(arm) {
@@ -123,6 +138,16 @@ double TopicHarvestPlant::roverPositionM() const {
   return rover_position_.value_or(0.0);
 }
 
+std::string TopicHarvestPlant::lastFailure() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return last_failure_;
+}
+
+void TopicHarvestPlant::noteFailure(const std::string& what) {
+  ROS_WARN("harvest plant: %s", what.c_str());
+  last_failure_ = what;
+}
+
 std::size_t TopicHarvestPlant::rejectedFrames() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return rejected_frames_;
@@ -225,8 +250,10 @@ std::optional<HarvestObservation> TopicHarvestPlant::observe(const Preempted& pr
   }
   const auto fresh = [&] { return bolls_ && bolls_->header.stamp >= fresh_after; };
   if (!waitFor(fresh, params_.observe_timeout_s, preempted, &was_preempted)) {
-    if (!was_preempted)
-      ROS_WARN("harvest plant: no frame from perception (bolls) within %.1f s", params_.observe_timeout_s);
+    if (!was_preempted) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      noteFailure(format("no frame from perception (bolls) within %.1f s", params_.observe_timeout_s));
+    }
     return std::nullopt;
   }
   // The frame's own end effector follows its bolls; perception reports none when it did not find the housing,
@@ -249,11 +276,21 @@ std::optional<HarvestObservation> TopicHarvestPlant::observe(const Preempted& pr
 }
 
 MoveResult TopicHarvestPlant::moveRover(double distance_m, const ArmPose& arm, const Preempted& preempted) {
+  const double timeout = params_.rover_timeout_s + params_.rover_timeout_per_m_s * std::abs(distance_m);
+  const ros::Time start = ros::Time::now();
+  bool was_preempted = false;
+  // The move starts from the rover's position. The rover node reports it once the navigation controller's telemetry
+  // comes, which can be after perception's first frames (it opens its port again every reconnect_period_s).
+  const bool known = waitFor([this] { return rover_position_.has_value(); }, timeout, preempted, &was_preempted);
+  if (was_preempted) return MoveResult::kPreempted;
   double target = 0.0;
   bool move_arm = false;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (!rover_position_) return MoveResult::kFailed;
+    if (!known) {
+      noteFailure(format("no rover position (rover/position) within %.1f s", timeout));
+      return MoveResult::kFailed;
+    }
     target = *rover_position_ + distance_m;
     // The arm moves only when an axis is asked elsewhere than where it is (an unknown axis is asked too).
     const auto away = [this](const std::optional<double>& at, double want) {
@@ -265,11 +302,9 @@ MoveResult TopicHarvestPlant::moveRover(double distance_m, const ArmPose& arm, c
   std_msgs::Float64 msg;
   msg.data = target;
   rover_target_pub_.publish(msg);
-  const double timeout = params_.rover_timeout_s + params_.rover_timeout_per_m_s * std::abs(distance_m);
   // A short move must really happen: arrive within half of it when that is tighter than the tolerance.
   const double tolerance = std::min(params_.rover_tolerance_m, 0.5 * std::abs(distance_m));
   ros::Time inside_since;
-  bool was_preempted = false;
   const bool arrived = waitFor(
       [&] {
         if (!rover_position_ || std::abs(*rover_position_ - target) > tolerance || (move_arm && !armAt(arm))) {
@@ -279,13 +314,14 @@ MoveResult TopicHarvestPlant::moveRover(double distance_m, const ArmPose& arm, c
         if (inside_since.isZero()) inside_since = ros::Time::now();
         return (ros::Time::now() - inside_since).toSec() >= params_.rover_settle_s;
       },
-      timeout, preempted, &was_preempted);
+      timeout - (ros::Time::now() - start).toSec(), preempted, &was_preempted);
   markActionEnd();
   if (was_preempted) return MoveResult::kPreempted;
   if (!arrived) {
     std::lock_guard<std::mutex> lock(mutex_);
-    ROS_WARN("harvest plant: the rover did not settle at %.3f m within %.1f s: at %.3f m%s", target, timeout,
-             rover_position_.value_or(std::nan("")), move_arm && !armAt(arm) ? ", the arm still moving" : "");
+    noteFailure(format("the rover did not settle at %.3f m within %.1f s: at %.3f m%s", target, timeout,
+                       rover_position_.value_or(std::nan("")),
+                       move_arm && !armAt(arm) ? ", the arm still moving" : ""));
   }
   return arrived ? MoveResult::kDone : MoveResult::kFailed;
 }
@@ -320,9 +356,9 @@ MoveResult TopicHarvestPlant::moveArm(const ArmPose& target, const Preempted& pr
   if (was_preempted) return MoveResult::kPreempted;
   if (!arrived) {
     std::lock_guard<std::mutex> lock(mutex_);
-    ROS_WARN("harvest plant: the arm did not reach (%.3f, %.3f) within %.1f s: at (%.3f, %.3f)%s", target.extension_m,
-             target.depth_m, params_.arm_timeout_s, arm_extension_.value_or(std::nan("")),
-             arm_depth_.value_or(std::nan("")), arm_busy_ ? ", still busy" : "");
+    noteFailure(format("the arm did not reach (%.3f, %.3f) within %.1f s: at (%.3f, %.3f)%s", target.extension_m,
+                       target.depth_m, params_.arm_timeout_s, arm_extension_.value_or(std::nan("")),
+                       arm_depth_.value_or(std::nan("")), arm_busy_ ? ", still busy" : ""));
   }
   return arrived ? MoveResult::kDone : MoveResult::kFailed;
 }

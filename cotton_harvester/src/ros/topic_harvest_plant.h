@@ -66,6 +66,7 @@ class TopicHarvestPlant : public HarvestPlant {
   std::optional<CameraCloud> lastCloud(const Preempted& preempted) override;
   double now() const override { return ros::Time::now().toSec(); }
   double roverPositionM() const override;
+  std::string lastFailure() const override;
 
   /// Frames dropped: NaN points, frames without an end effector close in time.
   std::size_t rejectedFrames() const;
@@ -93,6 +94,8 @@ class TopicHarvestPlant : public HarvestPlant {
   /// The arm is at `target` and not busy (mutex held).
   bool armAt(const ArmPose& target) const;
   void markActionEnd();
+  /// Logs a failed primitive and keeps it as the last failure (mutex held).
+  void noteFailure(const std::string& what);
   /// The current frame as an observation (mutex held); marks the frame used. `effector`: the frame's own.
   HarvestObservation makeObservation(const geometry_msgs::PointStamped::ConstPtr& effector);
   /// The frame's end effector among the last few reported (mutex held), or null.
@@ -118,6 +121,7 @@ class TopicHarvestPlant : public HarvestPlant {
   ros::Time action_end_;
   ros::Time last_used_stamp_;
   std::size_t rejected_frames_ = 0;
+  std::string last_failure_;
   std::deque<sensor_msgs::PointCloud2::ConstPtr> clouds_;  ///< the last few, to find the observed frame's
   ros::Publisher rover_target_pub_, arm_target_pub_, brush_pub_;
   ros::Subscriber bolls_sub_, effector_sub_, rover_sub_, joints_sub_, busy_sub_, cloud_sub_;

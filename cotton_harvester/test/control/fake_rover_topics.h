@@ -26,10 +26,11 @@ namespace control {
 namespace fake {
 
 /// A manipulator that goes to each target at once and reports it (joint states at 50 Hz of wall time), a
-/// perception that publishes what the test gives it, and a rover standing at 0.
+/// perception that publishes what the test gives it, and a rover standing at 0 (reporting its position from the
+/// start, or from reportRoverPosition(true) on).
 class FakeRover {
  public:
-  explicit FakeRover(const std::string& ns) : nh_(ns) {
+  explicit FakeRover(const std::string& ns, bool rover_position = true) : nh_(ns), rover_position_(rover_position) {
     bolls_pub_ = nh_.advertise<cotton_harvester::BollArray>("bolls", 2);
     effector_pub_ = nh_.advertise<geometry_msgs::PointStamped>("end_effector/position", 5);
     joints_pub_ = nh_.advertise<sensor_msgs::JointState>("manipulator/joint_states", 5);
@@ -46,6 +47,8 @@ class FakeRover {
            joints_pub_.getNumSubscribers() > 0 && busy_pub_.getNumSubscribers() > 0 &&
            target_sub_.getNumPublishers() > 0 && brush_sub_.getNumPublishers() > 0;
   }
+
+  void reportRoverPosition(bool on) { rover_position_ = on; }
 
   void publishFrame(const ros::Time& stamp, bool with_effector, double ee_x = 0.0, double ee_z = 0.0) {
     cotton_harvester::BollArray bolls;
@@ -137,6 +140,7 @@ class FakeRover {
     std_msgs::Bool busy;
     busy.data = moving;
     busy_pub_.publish(busy);
+    if (!rover_position_) return;
     std_msgs::Float64 rover;
     rover.data = 0.0;
     rover_pub_.publish(rover);
@@ -146,6 +150,7 @@ class FakeRover {
   ros::Publisher bolls_pub_, effector_pub_, joints_pub_, busy_pub_, rover_pub_, cloud_pub_;
   ros::Subscriber target_sub_, brush_sub_;
   ros::WallTimer timer_;
+  std::atomic<bool> rover_position_;
   mutable std::mutex mutex_;
   static constexpr double kStep = 0.01;
   double extension_ = 0.35, depth_ = 1.2, target_extension_ = 0.35, target_depth_ = 1.2;

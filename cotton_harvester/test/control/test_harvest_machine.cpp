@@ -227,6 +227,7 @@ TEST(HarvestMachine, NoFramesAborts) {
   EXPECT_EQ(machine.run(), "aborted");
   EXPECT_TRUE(plant.actions.empty());
   EXPECT_EQ(machine.machine().status().transitions, 5u);
+  EXPECT_EQ(machine.abortReason(), "5 frames in a row unusable, the last: no frame");
 }
 
 TEST(HarvestMachine, BollsWithoutEndEffectorAreRejected) {
@@ -239,6 +240,7 @@ TEST(HarvestMachine, BollsWithoutEndEffectorAreRejected) {
   HarvestMachine machine(plant, params);
   EXPECT_EQ(machine.run(), "aborted");
   EXPECT_EQ(machine.rejectedFrames(), 3);
+  EXPECT_EQ(machine.abortReason(), "3 frames in a row unusable, the last: no end effector in the frame");
 }
 
 TEST(HarvestMachine, ActionsThatKeepFailingAbort) {
@@ -247,6 +249,7 @@ TEST(HarvestMachine, ActionsThatKeepFailingAbort) {
   HarvestMachine machine(plant, shortRow());
   EXPECT_EQ(machine.run(), "aborted");
   EXPECT_EQ(plant.actions.size(), 3u);
+  EXPECT_EQ(machine.abortReason(), "3 rover/arm actions failed in a row");
 }
 
 TEST(HarvestMachine, NanSightingsAreIgnored) {

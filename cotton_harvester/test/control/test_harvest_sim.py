@@ -59,7 +59,10 @@ class HarvestSimTest(unittest.TestCase):
             time.sleep(0.05)
         with lock:
             status, metrics, remaining, states = seen["status"], seen["metrics"], seen["remaining"], seen["states"]
-        self.assertEqual(status.last_outcome, "finished")
+        # The metrics' message says why the machine aborted ("ended: aborted: ..."); the last transitions where.
+        why = metrics.message if metrics is not None else "no harvest/metrics after the end"
+        path = ", ".join("%s [%s] %s" % (t.state, t.outcome, t.next) for t in status.history[-6:])
+        self.assertEqual(status.last_outcome, "finished", "%s; last transitions: %s" % (why, path))
         self.assertIn("OBSERVE", states)
         self.assertIn("PICK", states)
         self.assertIsNotNone(metrics, "no harvest/metrics after the end")

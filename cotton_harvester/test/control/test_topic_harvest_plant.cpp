@@ -67,8 +67,9 @@ HarvestActionParams actionParams() {
 }
 
 struct Rig {
-  explicit Rig(const TopicPlantParams& params, const HarvestActionParams& actions = actionParams())
-      : ns(uniqueNamespace()), fake(ns), nh(ns), plant(nh, params, actions.arm) {
+  explicit Rig(const TopicPlantParams& params, const HarvestActionParams& actions = actionParams(),
+               bool rover_position = true)
+      : ns(uniqueNamespace()), fake(ns, rover_position), nh(ns), plant(nh, params, actions.arm) {
     EXPECT_TRUE(waitUntil([this] { return fake.connected(); }, 30.0)) << "topics did not connect";
     // The plant has the arm's joint states before the test starts.
     EXPECT_TRUE(waitUntil([this] { return plant.hasArmState(); }, 30.0)) << "no joint states";
@@ -234,6 +235,27 @@ TEST(TopicHarvestPlant, TheArmGoesWhereTheRoverMoveAsksWhileTheRoverMoves) {
   ASSERT_TRUE(pose);
   EXPECT_NEAR(pose->extension_m, 0.50, 1e-9);
   EXPECT_NEAR(pose->depth_m, 1.2, 1e-9);
+}
+
+TEST(TopicHarvestPlant, RoverMoveWaitsForTheRoversFirstPosition) {
+  // The rover node reports its position once the navigation controller's telemetry comes, which can be after the
+  // machine's first move: the move starts when it comes, within the move's time.
+  TopicPlantParams params = testParams();
+  params.rover_settle_s = 0.05;
+  Rig rig(params, actionParams(), false);
+  std::thread rover([&rig] {
+    ros::WallDuration(0.5).sleep();
+    rig.fake.reportRoverPosition(true);
+  });
+  EXPECT_EQ(rig.plant.moveRover(0.0, ArmPose{}, kNever), MoveResult::kDone) << rig.plant.lastFailure();
+  rover.join();
+
+  // A position that does not come within the move's time fails the move, and says so.
+  params.rover_timeout_s = 0.3;
+  params.rover_timeout_per_m_s = 0.0;
+  Rig silent(params, actionParams(), false);
+  EXPECT_EQ(silent.plant.moveRover(0.1, ArmPose{}, kNever), MoveResult::kFailed);
+  EXPECT_EQ(silent.plant.lastFailure(), "no rover position (rover/position) within 0.3 s");
 }
 
 TEST(TopicHarvestPlant, ParametersAreChecked) {

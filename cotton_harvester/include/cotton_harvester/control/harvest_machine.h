@@ -76,6 +76,9 @@ class HarvestMachine {
   std::optional<std::pair<Point3, Point3>> lastDecisionPoints() const;
   /// Sightings that could not be used: bolls without an end effector in the frame, NaN points.
   int rejectedFrames() const;
+  /// Why the last run aborted (frames missing or without an end effector, or actions failing, with the plant's
+  /// last failure); empty unless it did.
+  std::string abortReason() const;
 
  private:
   std::string observe(thorvald_state_machine::UserData& ud, thorvald_state_machine::ExecutionContext& ctx);
@@ -86,6 +89,8 @@ class HarvestMachine {
   /// search_under_leaves: this place of the row has not been searched yet.
   bool searchDue() const;
   std::string resultOutcome(MoveResult result);
+  /// A frame that could not be used (mutex held): "retry", or "lost" after max_missed_observations in a row.
+  std::string missedObservation(const std::string& why);
   /// The target boll from the tracker's memory (camera frame at the frame's rover position), when it may be used.
   std::optional<Point3> rememberedTarget(const HarvestObservation& observation) const;
   /// revisit_pending: the rearmost pending boll hidden in this frame (its id in *id), in the camera frame.
@@ -111,6 +116,7 @@ class HarvestMachine {
   int target_id_ = 0;
   std::optional<std::pair<Point3, Point3>> decision_points_;
   std::vector<double> searched_m_;  ///< rover positions where the leaves were searched
+  std::string abort_reason_;
 };
 
 }  // namespace control

@@ -4,6 +4,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <string>
 
 #include "cotton_harvester/control/harvest_decision.h"
 #include "cotton_harvester/control/leaf_clearance.h"
@@ -55,6 +56,9 @@ class HarvestPlant {
   /// Time [s] and the rover's position along the row [m].
   virtual double now() const = 0;
   virtual double roverPositionM() const = 0;
+  /// Why the last primitive that failed did (a frame or a rover position that did not come, a move that did not
+  /// arrive), for the machine's abort reason; empty when the plant does not tell.
+  virtual std::string lastFailure() const { return {}; }
 };
 
 }  // namespace control
