@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """uv_mission, the node, against a scripted greenhouse that this process plays over ROS: a kinematic robot that
-follows nav_vel with a short lag (odometry/base_raw, tf map -> odom -> base_link), a move_base action server that
+follows nav_vel with a short lag (odometry/filtered, tf map -> odom -> base_link), a move_base action server that
 puts the robot at the goal with a small error, the rail detector, the surface monitor, the lidar's far wall and the
 bumper's lock. Two missions run in turn, each in its own namespace with its own rail sets file (test/data):
 
@@ -103,7 +103,7 @@ class World:
         self.goal_wheels = []  # the wheel sensors' surface when each goal came
         self.initial_poses = []
         self.running = False
-        self.odom_pub = rospy.Publisher(ns + "/odometry/base_raw", Odometry, queue_size=5)
+        self.odom_pub = rospy.Publisher(ns + "/odometry/filtered", Odometry, queue_size=5)
         self.rail_pub = rospy.Publisher(ns + "/rail_detection", RailDetectionStatus, queue_size=5)
         self.surface_pub = rospy.Publisher(ns + "/surface_monitor/state", SurfaceState, queue_size=5)
         self.scan_pub = rospy.Publisher(ns + "/scan", LaserScan, queue_size=2)

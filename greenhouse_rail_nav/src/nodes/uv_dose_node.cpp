@@ -56,7 +56,9 @@ class UvDoseNode {
       on_rails_ = m->wheels == SurfaceState::RAIL;
     }));
     subs_.push_back(
-        nh.subscribe<nav_msgs::Odometry>("odometry/base_raw", 50, [this](const nav_msgs::Odometry::ConstPtr& m) {
+        // The fused odometry, as uv_mission's: positions along the rails are its displacement along the entry's
+        // heading, which a wheel stalling against a pipe would turn in the wheels' odometry alone.
+        nh.subscribe<nav_msgs::Odometry>("odometry/filtered", 50, [this](const nav_msgs::Odometry::ConstPtr& m) {
           const int before = recorder_.currentSet();
           const auto& pose = m->pose.pose;
           recorder_.update(m->header.stamp.toSec(), pose.position.x, pose.position.y, yawOf(pose.orientation),

@@ -60,7 +60,10 @@ class RosMissionIO : public MissionIO {
 
   RosMissionIO(ros::NodeHandle& nh, const Config& c)
       : cfg_(c), rate_(c.rate_hz), tf_listener_(tf_), move_base_(nh, "move_base", true), zones_(nh, c.zones, tf_) {
-    odom_sub_ = nh.subscribe("odometry/base_raw", 5, &RosMissionIO::onOdom, this);
+    // The fused odometry (odom_fusion: wheel speeds and the gyro's yaw rate), not the wheels' alone: a drive wheel
+    // that stalls or slips against a pipe turns the wheel odometry's heading by radians in seconds while the robot
+    // turns by degrees, and the heading held off the rails is odometry's.
+    odom_sub_ = nh.subscribe("odometry/filtered", 5, &RosMissionIO::onOdom, this);
     rail_sub_ = nh.subscribe("rail_detection", 5, &RosMissionIO::onRail, this);
     surface_sub_ = nh.subscribe("surface_monitor/state", 5, &RosMissionIO::onSurface, this);
     scan_sub_ = nh.subscribe("scan", 2, &RosMissionIO::onScan, this);
