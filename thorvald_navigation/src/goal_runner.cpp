@@ -1,24 +1,15 @@
 #include "thorvald_navigation/goal_runner.h"
 
 #include <cmath>
-#include <cstdarg>
-#include <cstdio>
 #include <utility>
+
+#include "thorvald_common/format.h"
 
 namespace thorvald_navigation {
 
 namespace {
 
-/// printf-style text for the notes.
-std::string format(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
-std::string format(const char* fmt, ...) {
-  char buf[512];
-  va_list args;
-  va_start(args, fmt);
-  std::vsnprintf(buf, sizeof(buf), fmt, args);
-  va_end(args);
-  return buf;
-}
+using thorvald_common::format;
 
 void note(GoalTick* out, const std::string& text, bool warning = false) { out->notes.push_back({warning, text}); }
 

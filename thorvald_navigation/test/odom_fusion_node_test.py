@@ -64,6 +64,14 @@ class OdomFusionTest(unittest.TestCase):
                            capture_output=True, text=True, timeout=30)
         self.assertEqual(p.returncode, 1)
         self.assertIn("odom1", p.stdout + p.stderr)
+        # The wheels' yaw rate left out and no IMU: nothing would turn the heading.
+        cfg = [False] * 15
+        cfg[6] = cfg[7] = True
+        rospy.set_param("/odom_fusion_bad3/odom0_config", cfg)
+        p = subprocess.run([exe, "__name:=odom_fusion_bad3", "_odom0:=odom"],
+                           capture_output=True, text=True, timeout=30)
+        self.assertEqual(p.returncode, 1)
+        self.assertIn("nothing gives the heading", p.stdout + p.stderr)
 
 
 if __name__ == "__main__":

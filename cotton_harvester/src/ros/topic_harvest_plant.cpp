@@ -4,25 +4,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdarg>
-#include <cstdio>
 #include <limits>
+
+#include "thorvald_common/format.h"
 
 namespace cotton_harvester {
 namespace control {
-namespace {
 
-/// printf into a string (the failures' texts).
-__attribute__((format(printf, 1, 2))) std::string format(const char* fmt, ...) {
-  char text[512];
-  va_list args;
-  va_start(args, fmt);
-  std::vsnprintf(text, sizeof(text), fmt, args);
-  va_end(args);
-  return text;
-}
-
-}  // namespace
+using thorvald_common::format;
 
 TopicHarvestPlant::TopicHarvestPlant(ros::NodeHandle& nh, const TopicPlantParams& params, const ArmWorkspace& arm)
     : params_(params), arm_(arm) {

@@ -124,6 +124,8 @@ bool loadSettings(const ros::NodeHandle& pnh, Settings* s, std::string* error) {
     if (s->odom0.topic.empty()) check("~odom0 (wheel odometry topic) must be set");
     check(parseConfig(odom_cfg, "odom0_config", {6, 7, 11}, s->two_d_mode, &s->odom0.mask));
     check(parseConfig(imu_cfg, "imu0_config", {5, 11}, s->two_d_mode, &s->imu0.mask));
+    if (!s->odom0.mask[kVyaw] && (s->imu0.topic.empty() || !(s->imu0.mask[kYaw] || s->imu0.mask[kVyaw])))
+      check("nothing gives the heading: odom0_config leaves the wheels' vyaw out and no imu0 with yaw or vyaw is set");
     auto diagonal = [&](const std::vector<double>& m, const char* name, State6* out) {
       if (m.empty()) return;
       if (m.size() != 225 && m.size() != 15)
@@ -290,6 +292,10 @@ class OdomFusionNode {
         !s_.imu0.topic.empty() && (last_imu_.isZero() || (now - last_imu_).toSec() > 10.0 * s_.sensor_timeout);
     if (odom_stale) {
       st.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "no wheel odometry on " + s_.odom0.topic);
+    } else if (imu_stale && !s_.odom0.mask[kVyaw]) {
+      // The IMU is the only source of the heading (odom0_config leaves the wheels' yaw rate out).
+      st.summary(diagnostic_msgs::DiagnosticStatus::ERROR,
+                 "no IMU on " + s_.imu0.topic + ": no yaw rate fused, the heading does not follow the robot's turns");
     } else if (imu_stale) {
       st.summary(diagnostic_msgs::DiagnosticStatus::WARN, "no IMU on " + s_.imu0.topic + ": wheel odometry only");
     } else {
