@@ -8,6 +8,8 @@ mission's own outputs (uv_lights, nav_vel, mission/status, mission/report, safet
 - wheel past an edge: base_link more than `drop` below its height on the floor at the start (taken 1 s after the
   first truth message, once it has settled from its spawn), or rolled or pitched by more than `tilt` (a rear rail
   wheel leaving its pipe pitches base_link, which is on the drive axle).
+- rail yaw: `rail_yaw_max_abs_rad`, the largest truth heading off a set's line with base_link 1.5 m or more along its
+  rails (the rear wheels past the bent start pieces) and short of its end: how far the pipes let the robot turn.
 - a set counts as treated (truth) when the lights were on while on its rails from within `start_margin` of its
   start to within `end_margin` of its end.
 - safety events: engagements of safety/lock and bumper/lock after the mission started; surface_monitor's reason
@@ -233,6 +235,8 @@ class UvMissionScorer:
         self.edge_where = None
         self.max_tilt = 0.0
         self.max_drop = 0.0
+        self.rail_yaw_max = 0.0  # largest |truth yaw - the set's yaw| with the whole robot on a set's straight rails
+        self.rail_yaw_where = None
         self.on_set_span = {}  # set index -> [min x, max x] of base_link with the lights on, on its rails
         self.speeds = []
         self.safety_events = 0
@@ -401,6 +405,7 @@ class UvMissionScorer:
             self.wheel_past_edge += 1
         self._past = past
         self.pose = (t, p.x, p.y, yaw)
+        self.track_rail_yaw(p.x, p.y, yaw)
         self.update_zone(t)
         if self.last is not None:
             dt = t - self.last[0]
@@ -423,6 +428,22 @@ class UvMissionScorer:
                 if (self.cruise_since is not None and t - self.cruise_since >= self.settle):
                     self.speeds.append(math.hypot(p.x - self.last[1], p.y - self.last[2]) / dt)
         self.last = (t, p.x, p.y)
+
+    RAIL_YAW_FROM_M = 1.5  # [m] of base_link along a set: the rear wheels past the pipes' bent start pieces
+
+    def track_rail_yaw(self, x, y, yaw):
+        """How far the pipes let the robot turn: with base_link far enough along a set's rails that its rear wheels
+        are on the straight pipes too, and short of the end."""
+        idx, along = self.on_rails(x, y)
+        if idx is None:
+            return
+        st = [q for q in self.sets if q["index"] == idx][0]
+        if not self.RAIL_YAW_FROM_M <= along <= self.set_length(st) - 0.2:
+            return
+        d = abs(math.atan2(math.sin(yaw - float(st["yaw"])), math.cos(yaw - float(st["yaw"]))))
+        if d > self.rail_yaw_max:
+            self.rail_yaw_max = d
+            self.rail_yaw_where = (idx, round(along, 2))
 
     def add_dose(self, a, b):
         """The lamps' dose between two truth samples (t, x, y) of base_link, on the rails of the set it is on."""
@@ -562,6 +583,8 @@ class UvMissionScorer:
             "wheel_past_edge_first": self.edge_where,
             "max_tilt_rad": round(self.max_tilt, 4),
             "max_drop_m": round(self.max_drop, 4),
+            "rail_yaw_max_abs_rad": round(self.rail_yaw_max, 4),
+            "rail_yaw_max_where": self.rail_yaw_where,
             "lights_on_s": round(self.lights_on_s, 2),
             "lights_off_rails_s": round(self.lights_off_rails_s, 3),
             "lights_off_rails_first": self.lights_off_rails_where,

@@ -22,6 +22,7 @@ std::string ZoneParams::validate() const {
   if (!(headland_radius_m >= 0.0)) e << "headland_radius must be >= 0 [m]; ";
   if (!(map_clearance_m >= 0.0)) e << "map_clearance must be >= 0 [m]; ";
   if (!(row_half_width_m > 0.0)) e << "row_half_width must be > 0 [m]; ";
+  if (!(row_edge_band_m >= 0.0)) e << "row_edge_band must be >= 0 [m]; ";
   if (!(row_lamps_radius_m >= 0.0)) e << "row_lamps_radius must be >= 0 [m]; ";
   if (!(row_ends_margin_m >= 0.0)) e << "row_ends_margin must be >= 0 [m]; ";
   if (!(end_tolerance_m >= 0.0)) e << "end_tolerance must be >= 0 [m]; ";
@@ -57,11 +58,13 @@ PointCluster summarise(const std::vector<ScanPoint>& pts, const ZoneParams& p, d
   PointCluster c;
   c.points = static_cast<int>(pts.size());
   c.near_x = pts.front().x;
+  c.inner_y = std::fabs(pts.front().y);
   double range = 0.0;
   for (const ScanPoint& q : pts) {
     c.x += q.x / pts.size();
     c.y += q.y / pts.size();
     c.near_x = std::min(c.near_x, q.x);
+    c.inner_y = std::min(c.inner_y, std::fabs(q.y));
     range += std::hypot(q.x - origin_x, q.y) / pts.size();
   }
   // The width across the beams (angle spanned times the mean range): a body's face, not a streak of mixed pixels
@@ -176,12 +179,14 @@ void rowZone(const std::vector<ScanPoint>& all_points, double lidar_x, const Zon
   std::vector<ScanPoint> corridor, beside;
   const double reach = p.row_lamps_radius_m + 1.0;  // a person's centroid can be this far and their centre within
   for (const ScanPoint& q : points) {
-    if (q.x > 0.0 && std::fabs(q.y) < p.row_half_width_m)
-      corridor.push_back(q);
-    else if (ctx.lamps && p.row_lamps_radius_m > 0.0 && std::hypot(q.x, q.y) < reach)
+    if (q.x > 0.0 && std::fabs(q.y) < p.row_half_width_m + p.row_edge_band_m) corridor.push_back(q);
+    if (!(q.x > 0.0 && std::fabs(q.y) < p.row_half_width_m) && ctx.lamps && p.row_lamps_radius_m > 0.0 &&
+        std::hypot(q.x, q.y) < reach)
       beside.push_back(q);
   }
-  v->clusters = clusterScan(corridor, p, lidar_x);
+  // A cluster in the corridor reaches into it with one point at least; the band beside it only completes bodies.
+  for (const PointCluster& c : clusterScan(corridor, p, lidar_x))
+    if (c.inner_y < p.row_half_width_m) v->clusters.push_back(c);
   for (const PointCluster& c : v->clusters) {
     // Short of the end anything is an obstacle; in the end's tolerance, short of the rails' end, a person still is
     // one (the end is flat), when seen with enough points to tell (a far wall's few noisy returns can fit a circle).

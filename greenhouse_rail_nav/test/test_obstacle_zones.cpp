@@ -160,6 +160,32 @@ TEST(ObstacleZones, APersonInTheRowIsAPersonInTheZone) {
   EXPECT_NE(v.why.find("person"), std::string::npos) << v.why;
 }
 
+// A person stepping into the corridor 9.6 m ahead, where the beams are 4 cm apart: the cluster the band beside the
+// corridor completes holds the robot as the body's edge crosses the side; with only the points inside counting
+// (row_edge_band 0), it takes min_cluster_points returns inside, the body some 10 cm in. A body whose edge stays
+// outside the side does not hold.
+TEST(ObstacleZones, APersonSteppingIntoTheCorridorHoldsAsTheirEdgeCrossesTheSide) {
+  const double radius = 0.2, side = 0.3;
+  const auto depth_at_hold = [&](const grn::ZoneParams& p) {
+    for (double depth = -0.05; depth <= 0.3; depth += 0.0025) {  // how far the body's edge is inside the side
+      SyntheticScan scan;
+      scan.bodies.push_back({9.6, side + radius - depth, radius, true});
+      if (grn::evaluateZone(scan.points(), kLidarX, row(19.0), p).blocked) return depth;
+    }
+    return 1.0;
+  };
+  grn::ZoneParams banded;
+  ASSERT_GT(banded.row_edge_band_m, 0.0);
+  ASSERT_DOUBLE_EQ(banded.row_half_width_m, side);
+  grn::ZoneParams inside_only;
+  inside_only.row_edge_band_m = 0.0;
+  const double with_band = depth_at_hold(banded), without = depth_at_hold(inside_only);
+  EXPECT_GT(with_band, 0.0) << "a body outside the corridor held the robot";
+  EXPECT_LE(with_band, 0.045) << "one beam spacing at 9.6 m is 4.2 cm";
+  EXPECT_GT(without, with_band + 0.03) << "with " << with_band << " m, without " << without << " m";
+  EXPECT_LT(without, 0.3);
+}
+
 // Treating, the lamps light the plants beside the rails: a person standing in the plant row 0.8 m beside the robot is
 // in the zone once seen in person_confirm_scans scans, while anything in the corridor ahead still blocks at once. Not
 // while entering (lamps off), and not a person in the next row, whose centre is 1.9 m away.

@@ -249,6 +249,31 @@ class ScorerZoneTest(unittest.TestCase):
         self.assertEqual(len(sc.latencies), 1)
         self.assertAlmostEqual(sc.latencies[0], 0.12, places=6)
 
+class ScorerRailYawTest(unittest.TestCase):
+    """How far the pipes let the robot turn: the truth heading off a set's line, with base_link 1.5 m or more along
+    its rails (the rear wheels on the straight pipes) and short of its end; never on the headland or the start."""
+
+    def test_the_heading_off_the_line_counts_only_on_the_straight_rails(self):
+        with tempfile.TemporaryDirectory() as d:
+            truth = os.path.join(d, "truth.yaml")
+            with open(truth, "w") as f:
+                f.write("rail_length: 5.0\nrail_sets:\n  - {index: 0, x: 0.0, y: 0.0, yaw: 0.0}\n"
+                        "  - {index: 1, x: 0.0, y: 1.6, yaw: 3.1}\n")
+            sc = scorer.UvMissionScorer(truth)
+        sc.track_rail_yaw(-1.0, 0.0, 0.5)  # on the headland
+        sc.track_rail_yaw(1.0, 0.0, 0.2)  # on the bent start pieces
+        sc.track_rail_yaw(4.9, 0.0, 0.2)  # past the end's margin
+        self.assertEqual(sc.result()["rail_yaw_max_abs_rad"], 0.0)
+        sc.track_rail_yaw(3.0, 0.01, -0.03)
+        sc.track_rail_yaw(3.5, 0.01, 0.02)
+        self.assertEqual(sc.result()["rail_yaw_max_abs_rad"], 0.03)
+        self.assertEqual(sc.result()["rail_yaw_max_where"], (0, 3.0))
+        # set 1 runs the other way (yaw 3.1): a heading of -3.13 is 0.053 rad off its line, across the wrap
+        sc.track_rail_yaw(-2.0 * 0.99917, 1.6 + 2.0 * 0.04158, -3.13)
+        self.assertAlmostEqual(sc.result()["rail_yaw_max_abs_rad"], 2 * 3.141592653589793 - 6.23, places=3)
+        self.assertEqual(sc.result()["rail_yaw_max_where"][0], 1)
+
+
 if __name__ == "__main__":
     import rosunit
 

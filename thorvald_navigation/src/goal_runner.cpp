@@ -29,6 +29,7 @@ std::string GoalRunnerParams::validate() const {
   if (!(obstacle_wait_s > 0.0)) return "obstacle_wait must be > 0 s";
   if (!(settle_time_s >= 0.0)) return "settle_time must be >= 0 s";
   if (goal_corrections < 0) return "goal_corrections must be >= 0";
+  if (!(replan_distance_m > 0.0)) return "replan_distance must be > 0 m";
   return "";
 }
 
@@ -253,6 +254,16 @@ GoalTick GoalRunner::judgeArrival(const thorvald_base::Pose2D& pose, double now_
                       arrival_.corrections(), params_.goal_corrections));
     follower_.turnTo(goal_);
     to_pre_goal_ = false;
+    return out;
+  }
+  if (j.verdict == ArrivalVerdict::kApproachAgain && j.xy_err_m > params_.replan_distance_m) {
+    // Far from the goal: the pose the plan was made on was wrong. A straight renewed approach from here was never
+    // checked against the map (it backed a robot sideways into a side wall); plan the whole way again.
+    note(&out, format("settled %.3f m, %.3f rad off the goal: planning again from here (%d of %d)", j.xy_err_m,
+                      j.yaw_err_rad, arrival_.corrections(), params_.goal_corrections));
+    to_pre_goal_ = false;
+    next_leg_.clear();
+    need_plan_ = true;
     return out;
   }
   if (j.verdict == ArrivalVerdict::kApproachAgain) {

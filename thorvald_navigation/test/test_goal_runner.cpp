@@ -167,6 +167,24 @@ TEST(GoalRunner, ApproachesAgainWhenTheSettledPoseIsOff) {
   EXPECT_LT(distance(b.pose, goal), b.params.follower.xy_tolerance_m);
 }
 
+// The pose moves 1.6 m as the robot stands at the goal (the localiser corrects a stale pose): the settled pose is
+// planned from again, not approached straight (that way was never checked against the map), and the goal reached.
+TEST(GoalRunner, AFarOffSettledPoseIsPlannedFromAgain) {
+  Bench b;
+  const Pose2D goal{2.0, 0.0, 0.0};
+  b.runner->accept(goal, b.now_s);
+  ASSERT_TRUE(b.runToArrival(30.0));
+  EXPECT_EQ(b.plans_asked, 1);
+  b.pose.y += 1.6;
+  ASSERT_TRUE(b.runUntil([&] { return hasNote(b.last, "planning again from here (1 of 3)"); }, 2.0));
+  ASSERT_TRUE(b.runUntil([&] { return b.finished(); }, 60.0));
+  EXPECT_EQ(b.last.state, GoalState::kSucceeded) << b.last.reason;
+  EXPECT_EQ(b.approaches_asked, 0);
+  EXPECT_EQ(b.plans_asked, 2);
+  EXPECT_NEAR(b.last_plan_start.y, 1.6, 1e-6);
+  EXPECT_LT(distance(b.pose, goal), b.params.follower.xy_tolerance_m);
+}
+
 // Only the heading is off: the robot turns again where it stands, with no new approach.
 TEST(GoalRunner, TurnsAgainWhenOnlyTheHeadingIsOff) {
   Bench b;

@@ -34,6 +34,11 @@ struct ZoneParams {
   double map_clearance_m = 0.2;  ///< headland: a point this close to an occupied map cell is the map [m]
   /// Row: the corridor between the rails, |y| below this, ahead of the robot [m].
   double row_half_width_m = 0.3;
+  /// Row: points up to this beyond the corridor's sides join its clusters, and a cluster of min_cluster_points
+  /// points with one of them inside the corridor is in it: a body stepping in is seen as its edge crosses the side,
+  /// not once min_cluster_points of its returns are inside (at 10 m the beams are 4 cm apart: ~10 cm in) [m]; 0:
+  /// only the points inside count.
+  double row_edge_band_m = 0.2;
   /// Row: a person outside the corridor (in a plant row beside the robot, behind it at the rails' start) whose
   /// estimated centre (cluster centroid plus half its width) is within this of base_link is in the lamps' reach and
   /// in the zone, once confirmed over person_confirm_scans scans as near the robot on the headland [m]; 0: off.
@@ -73,6 +78,7 @@ struct ScanPoint {
 struct PointCluster {
   double x = 0.0, y = 0.0;  ///< centroid in base_link [m]
   double near_x = 0.0;      ///< smallest x of its points [m]
+  double inner_y = 0.0;     ///< smallest |y| of its points [m]
   double width = 0.0;       ///< across the lidar's beams [m]
   /// Round-body fit (person_* parameters): the circle through its points without the outliers; depth is the fitted
   /// arc's bulge from its chord, towards the lidar (0 when the circle's centre is on the lidar's side: a concave shape)

@@ -28,6 +28,7 @@ void ZoneWatch::readParams(thorvald_common::ParamReader& params, Config* c) {
   z.headland_radius_m = params.number("zone/headland_radius", z.headland_radius_m, R::closed(0.0, 10.0), "m");
   z.map_clearance_m = params.number("zone/map_clearance", z.map_clearance_m, R::closed(0.0, 1.0), "m");
   z.row_half_width_m = params.number("zone/row_half_width", z.row_half_width_m, R::aboveUpTo(0.0, 2.0), "m");
+  z.row_edge_band_m = params.number("zone/row_edge_band", z.row_edge_band_m, R::closed(0.0, 1.0), "m");
   z.row_lamps_radius_m = params.number("zone/row_lamps_radius", z.row_lamps_radius_m, R::closed(0.0, 10.0), "m");
   z.row_ends_margin_m = params.number("zone/row_ends_margin", z.row_ends_margin_m, R::closed(0.0, 10.0), "m");
   z.end_tolerance_m = params.number("zone/end_tolerance", z.end_tolerance_m, R::closed(0.0, 10.0), "m");

@@ -26,6 +26,9 @@ struct GoalRunnerParams {
   double obstacle_wait_s = 10.0;    ///< give up when blocked by lidar obstacles for this long [s]
   double settle_time_s = 0.5;       ///< after arriving, stand still this long before judging the pose [s]
   int goal_corrections = 3;         ///< renewed approaches when the settled pose is outside the tolerances
+  /// A settled pose farther than this from the goal is planned from again (the whole way, the footprint swept), not
+  /// approached straight: the pose the plan was made on was wrong (a relocalisation moved it) [m].
+  double replan_distance_m = 0.5;
   std::string validate() const;
 };
 

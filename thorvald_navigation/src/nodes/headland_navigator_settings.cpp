@@ -49,6 +49,7 @@ void readNavigatorParams(thorvald_common::ParamReader& r, Settings* s) {
   s->goal.planner_patience_s = r.number("planner_patience", s->goal.planner_patience_s, R::above(0.0), "s");
   s->goal.settle_time_s = r.number("settle_time", s->goal.settle_time_s, R::closed(0.0, 5.0), "s");
   s->goal.goal_corrections = r.integer("goal_corrections", s->goal.goal_corrections, 0, 20);
+  s->goal.replan_distance_m = r.number("replan_distance", s->goal.replan_distance_m, R::aboveUpTo(0.0, 100.0), "m");
   s->final_approach = r.number("final_approach", s->final_approach, R::closed(0.0, 2.0), "m");
   s->obstacle_update_rate = r.number("obstacle_update_rate", s->obstacle_update_rate, R::aboveUpTo(0.0, 100.0), "Hz");
   s->scan_max_age = r.number("scan_max_age", s->scan_max_age, R::above(0.0), "s");
