@@ -24,7 +24,7 @@ mission's own outputs (uv_lights, nav_vel, mission/status, mission/report, safet
   the commanded motion by what the robot covers in `swept_horizon` (1 s) at the commanded speed plus
   `swept_clearance` (0.3 m), or, the robot on a set's rails with the lights on, driving in or holding there
   (mission/safety "holding: ..."), their body reaching between that set's rails ahead of it (within
-  `row_half_width`, 0.3 m, of the set's centre line: the mission's row corridor). (Until 2026-12-07 the swept path was a
+  `row_half_width`, 0.3 m, of the set's centre line: the rails' corridor, which the mission guards 5 cm wider). (Until 2026-12-07 the swept path was a
   half-disc of `zone_radius` ahead of base_link, which also took a person in the plant row beside a robot driving in
   with its lamps off; until later that day the row took a person's centre, not their body, so a person stepping in from
   the plant row entered it a body's radius late, after the mission had seen their side in its corridor.)

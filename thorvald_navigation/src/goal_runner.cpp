@@ -83,6 +83,7 @@ GoalTick GoalRunner::accept(const thorvald_base::Pose2D& goal, double now_s) {
   last_phase_ = FollowPhase::kIdle;
   to_pre_goal_ = false;
   holding_ = false;
+  last_pose_.reset();
   started_s_ = now_s;
   GoalTick out;
   out.state = GoalState::kActive;
@@ -118,6 +119,21 @@ GoalTick GoalRunner::tick(const GoalRunnerInput& in) {
   if (!active_) return GoalTick{};
   if (!in.pose) return noPose(in);
   const thorvald_base::Pose2D& pose = *in.pose;
+  const double jump_m = last_pose_ ? std::hypot(pose.x - last_pose_->x, pose.y - last_pose_->y) : 0.0;
+  last_pose_ = pose;
+  if (jump_m > params_.replan_distance_m) {
+    // The localiser moved the robot (a correction of a stale or aliased pose): the path and any arrival were
+    // judged on the old pose. Stop for this cycle and plan again from the new one.
+    GoalTick out = stopped();
+    note(&out, format("the pose jumped %.2f m (relocalised): planning again from (%.3f, %.3f, %.3f)", jump_m, pose.x,
+                      pose.y, pose.yaw),
+         true);
+    to_pre_goal_ = false;
+    next_leg_.clear();
+    arrived_at_s_.reset();
+    need_plan_ = true;
+    return out;
+  }
   GoalTick out;
   out.state = GoalState::kActive;
   const bool arriving = follower_.state() == FollowState::kArrived && !to_pre_goal_ && arrived_at_s_;

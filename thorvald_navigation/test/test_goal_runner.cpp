@@ -167,21 +167,45 @@ TEST(GoalRunner, ApproachesAgainWhenTheSettledPoseIsOff) {
   EXPECT_LT(distance(b.pose, goal), b.params.follower.xy_tolerance_m);
 }
 
-// The pose moves 1.6 m as the robot stands at the goal (the localiser corrects a stale pose): the settled pose is
-// planned from again, not approached straight (that way was never checked against the map), and the goal reached.
+// The pose moves 1.6 m in steps below replan_distance as the robot stands at the goal (the localiser corrects a
+// stale pose over a few cycles): the settled pose is planned from again, not approached straight (that way was never
+// checked against the map), and the goal reached.
 TEST(GoalRunner, AFarOffSettledPoseIsPlannedFromAgain) {
   Bench b;
   const Pose2D goal{2.0, 0.0, 0.0};
   b.runner->accept(goal, b.now_s);
   ASSERT_TRUE(b.runToArrival(30.0));
   EXPECT_EQ(b.plans_asked, 1);
-  b.pose.y += 1.6;
+  for (int i = 0; i < 4; ++i) {
+    b.pose.y += 0.4;
+    b.step();
+    EXPECT_FALSE(hasNote(b.last, "the pose jumped"));
+  }
   ASSERT_TRUE(b.runUntil([&] { return hasNote(b.last, "planning again from here (1 of 3)"); }, 2.0));
   ASSERT_TRUE(b.runUntil([&] { return b.finished(); }, 60.0));
   EXPECT_EQ(b.last.state, GoalState::kSucceeded) << b.last.reason;
   EXPECT_EQ(b.approaches_asked, 0);
   EXPECT_EQ(b.plans_asked, 2);
   EXPECT_NEAR(b.last_plan_start.y, 1.6, 1e-6);
+  EXPECT_LT(distance(b.pose, goal), b.params.follower.xy_tolerance_m);
+}
+
+// The pose jumps 1 m sideways while the robot drives (the localiser corrects it): the robot stops and plans again
+// from the new pose, and reaches the goal.
+TEST(GoalRunner, APoseJumpWhileDrivingIsPlannedFromAgain) {
+  Bench b;
+  const Pose2D goal{3.0, 0.0, 0.0};
+  b.runner->accept(goal, b.now_s);
+  ASSERT_TRUE(b.runUntil([&] { return b.pose.x > 1.0; }, 30.0));
+  EXPECT_EQ(b.plans_asked, 1);
+  b.pose.y += 1.0;
+  b.step();
+  EXPECT_TRUE(hasNote(b.last, "the pose jumped 1.00 m")) << (b.last.notes.empty() ? "" : b.last.notes[0].text);
+  EXPECT_EQ(b.last.command, DriveCommand::kStop);
+  ASSERT_TRUE(b.runUntil([&] { return b.finished(); }, 60.0));
+  EXPECT_EQ(b.last.state, GoalState::kSucceeded) << b.last.reason;
+  EXPECT_EQ(b.plans_asked, 2);
+  EXPECT_NEAR(b.last_plan_start.y, 1.0, 1e-6);
   EXPECT_LT(distance(b.pose, goal), b.params.follower.xy_tolerance_m);
 }
 

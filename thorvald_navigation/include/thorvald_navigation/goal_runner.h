@@ -26,8 +26,9 @@ struct GoalRunnerParams {
   double obstacle_wait_s = 10.0;    ///< give up when blocked by lidar obstacles for this long [s]
   double settle_time_s = 0.5;       ///< after arriving, stand still this long before judging the pose [s]
   int goal_corrections = 3;         ///< renewed approaches when the settled pose is outside the tolerances
-  /// A settled pose farther than this from the goal is planned from again (the whole way, the footprint swept), not
-  /// approached straight: the pose the plan was made on was wrong (a relocalisation moved it) [m].
+  /// A pose that moves farther than this from one cycle to the next (a relocalisation), and a settled pose farther
+  /// than this from the goal, are planned from again (the whole way, the footprint swept), not followed on or
+  /// approached straight: the pose the plan was made on was wrong [m].
   double replan_distance_m = 0.5;
   std::string validate() const;
 };
@@ -165,6 +166,7 @@ class GoalRunner {
   bool active_ = false, need_plan_ = false;
   double started_s_ = 0.0;
   std::optional<double> blocked_since_s_, arrived_at_s_;
+  std::optional<thorvald_base::Pose2D> last_pose_;  ///< the last cycle's, within this goal
   bool to_pre_goal_ = false;  ///< a correction is on its way to the start of the final approach
   Eigen::Vector2d pre_goal_{0.0, 0.0};
   std::vector<Eigen::Vector2d> next_leg_;  ///< after pre_goal_: the way on to the goal (empty: straight)
