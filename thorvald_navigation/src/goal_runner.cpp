@@ -125,8 +125,9 @@ GoalTick GoalRunner::tick(const GoalRunnerInput& in) {
     // The localiser moved the robot (a correction of a stale or aliased pose): the path and any arrival were
     // judged on the old pose. Stop for this cycle and plan again from the new one.
     GoalTick out = stopped();
-    note(&out, format("the pose jumped %.2f m (relocalised): planning again from (%.3f, %.3f, %.3f)", jump_m, pose.x,
-                      pose.y, pose.yaw),
+    note(&out,
+         format("the pose jumped %.2f m (relocalised): planning again from (%.3f, %.3f, %.3f)", jump_m, pose.x, pose.y,
+                pose.yaw),
          true);
     to_pre_goal_ = false;
     next_leg_.clear();

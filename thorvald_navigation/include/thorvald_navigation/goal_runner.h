@@ -167,7 +167,7 @@ class GoalRunner {
   double started_s_ = 0.0;
   std::optional<double> blocked_since_s_, arrived_at_s_;
   std::optional<thorvald_base::Pose2D> last_pose_;  ///< the last cycle's, within this goal
-  bool to_pre_goal_ = false;  ///< a correction is on its way to the start of the final approach
+  bool to_pre_goal_ = false;                        ///< a correction is on its way to the start of the final approach
   Eigen::Vector2d pre_goal_{0.0, 0.0};
   std::vector<Eigen::Vector2d> next_leg_;  ///< after pre_goal_: the way on to the goal (empty: straight)
   FollowPhase last_phase_ = FollowPhase::kIdle;
