@@ -30,6 +30,7 @@ std::string ZoneParams::validate() const {
   if (!(end_half_angle_rad > 0.0 && end_half_angle_rad < 0.5)) e << "end_half_angle must be in (0, 0.5) [rad]; ";
   if (!(rear_stop_range_m >= 0.0)) e << "rear_stop_range must be >= 0 [m]; ";
   if (!(rear_clearance_m >= 0.0)) e << "rear_clearance must be >= 0 [m]; ";
+  if (!(behind_wait_s >= 0.0)) e << "behind_wait must be >= 0 [s]; ";
   if (!(clear_time_s >= 0.0)) e << "clear_time must be >= 0 [s]; ";
   if (!(structure_min_length_m >= 0.0)) e << "structure_min_length must be >= 0 [m] (0: off); ";
   if (!(structure_tolerance_m > 0.0)) e << "structure_tolerance must be > 0 [m]; ";

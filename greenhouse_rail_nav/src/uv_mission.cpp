@@ -37,7 +37,7 @@ std::string UvMissionParams::validate() const {
 }
 
 UvMission::Impl::Loop UvMission::Impl::runStep(const MotionStep& step, tsm::ExecutionContext& ctx,
-                                               const MotionLimits& limits) {
+                                               const MotionLimits& limits, bool may_cut_short) {
   OdometryMotion motion(limits);
   thorvald_base::Pose2D pose;
   if (!io_.odomPose(&pose)) {
@@ -58,7 +58,17 @@ UvMission::Impl::Loop UvMission::Impl::runStep(const MotionStep& step, tsm::Exec
       return Loop::kPreempted;
     }
     const int pauses = report_.pauses;
-    if (!holdWhileStopped(ctx)) return Loop::kPreempted;
+    const bool cut_short = may_cut_short && translate && step.amount < 0.0;
+    bool gave_up = false;
+    if (!holdWhileStopped(ctx, cut_short ? p_.zone.behind_wait_s : 0.0, &gave_up)) return Loop::kPreempted;
+    if (gave_up) {
+      stop();
+      std::ostringstream o;
+      o << "'" << step.label << "' ends here, " << (pose.position() - start.position()).norm() << " m of its "
+        << -step.amount << " m driven";
+      log(o.str());
+      return Loop::kDone;
+    }
     if (report_.pauses != pauses && io_.odomPose(&pose)) {
       // Held: the rest of the step from here (the motion's stall check counts from now).
       const double done = translate ? (pose.position() - start.position()).dot(start.heading())
@@ -235,7 +245,7 @@ std::string UvMission::Impl::align(tsm::ExecutionContext& ctx) {
   }
   for (const MotionStep& step : planAlignment(r, p_.alignment)) {
     log("align: " + step.label);
-    const Loop l = runStep(step, ctx, p_.motion);
+    const Loop l = runStep(step, ctx, p_.motion, /*may_cut_short=*/true);
     if (l == Loop::kPreempted) return tsm::kPreempted;
     if (l != Loop::kDone) {
       skip_reason_ = "alignment motion failed";

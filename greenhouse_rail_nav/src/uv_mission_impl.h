@@ -46,8 +46,9 @@ class UvMission::Impl {
   void addReason(const std::string& r) { skip_reason_ = skip_reason_.empty() ? r : skip_reason_ + "; " + r; }
   /// Holds the robot (stopped, lights off) while a person must clear a safety stop, a relay board is in doubt or the
   /// protected zone is not clear (uv_mission_safety.cpp); false when preempted meanwhile. The caller sets the zone's
-  /// context first.
-  bool holdWhileStopped(tsm::ExecutionContext& ctx);
+  /// context first. With `behind_wait_s` > 0, a hold for something behind the robot (the rear range finders) ends after
+  /// that long with *gave_up set, the zone not clear.
+  bool holdWhileStopped(tsm::ExecutionContext& ctx, double behind_wait_s = 0.0, bool* gave_up = nullptr);
   /// Whether the mission must hold now, and why.
   bool mustHold(std::string* why);
   void setHoldReason(const std::string& why);
@@ -98,7 +99,10 @@ class UvMission::Impl {
     const SurfaceReading s = io_.surface();
     return s.stamp_s < 0.0 || io_.now() - s.stamp_s > p_.surface_timeout_s;
   }
-  Loop runStep(const MotionStep& step, tsm::ExecutionContext& ctx, const MotionLimits& limits);
+  /// One motion step under the holds. `may_cut_short`: a reverse step held for something behind it for
+  /// zone.behind_wait_s ends there, done, short of its length.
+  Loop runStep(const MotionStep& step, tsm::ExecutionContext& ctx, const MotionLimits& limits,
+               bool may_cut_short = false);
   bool freshObservation(double since_s, tsm::ExecutionContext& ctx, RailObservation* obs);
   double headingHold(double yaw_ref, double yaw) const {
     return std::clamp(p_.motion.heading_gain * thorvald_base::normalizeAngle(yaw_ref - yaw),

@@ -43,7 +43,8 @@ bool UvMission::Impl::mustHold(std::string* why) {
   return true;
 }
 
-bool UvMission::Impl::holdWhileStopped(tsm::ExecutionContext& ctx) {
+bool UvMission::Impl::holdWhileStopped(tsm::ExecutionContext& ctx, double behind_wait_s, bool* gave_up) {
+  if (gave_up) *gave_up = false;
   std::string why;
   if (!mustHold(&why)) return true;
   stop();
@@ -56,6 +57,14 @@ bool UvMission::Impl::holdWhileStopped(tsm::ExecutionContext& ctx) {
   const double since = io_.now();
   double next_note = since + kHoldNoteS;
   while (io_.ok() && mustHold(&why)) {
+    if (behind_wait_s > 0.0 && gave_up && io_.zone().behind && io_.now() - since >= behind_wait_s) {
+      std::ostringstream o;
+      o << "held " << std::lround(io_.now() - since) << " s for something behind: " << why;
+      log(o.str());
+      setHoldReason("");
+      *gave_up = true;
+      return true;
+    }
     if (ctx.preemptRequested()) {
       setHoldReason("");
       return false;

@@ -55,6 +55,11 @@ class SimulatedGreenhouse : public grn::MissionIO {
   double pinned_odom_yaw_error = std::numeric_limits<double>::quiet_NaN();
   double pinned_driving_s = 0.0;  ///< time the wheels turned (a speed commanded) while pinned [s]
   double response_s = 0.12;       ///< the drives' time constant: how fast the robot follows a twist (and brakes) [s]
+  /// Something standing on the headland at this x behind set 0's target pose (a parked trolley), seen by the rear
+  /// range finders 0.87 m behind base_link while the robot faces along +x within 0.5 m of set 0's line; NaN: nothing.
+  double obstacle_behind_x = std::numeric_limits<double>::quiet_NaN();
+  /// [m] closest the rear range finders came to it with base_link in front of it
+  double min_gap_behind = std::numeric_limits<double>::infinity();
   int lit_ticks_with_person = 0;  ///< control ticks with the lights on and the person ahead in the row
   double closest_to_person = std::numeric_limits<double>::infinity();  ///< [m] base_link to the person
 
@@ -147,6 +152,8 @@ class SimulatedGreenhouse : public grn::MissionIO {
   grn::ZoneVerdict zone() override {
     // The lidar sees the person between the rails of the set the robot is on, ahead of it.
     grn::ZoneVerdict v;
+    if (zone_ctx_.phase == grn::ZonePhase::kReverse && std::isfinite(obstacle_behind_x))
+      return grn::evaluateZone({}, 0.45, zone_ctx_, grn::ZoneParams(), {}, {gapBehind()});
     v.end_range_m = forwardRange();
     if (personAhead() && zone_ctx_.phase == grn::ZonePhase::kRow) {
       v.blocked = v.person = true;
@@ -154,6 +161,10 @@ class SimulatedGreenhouse : public grn::MissionIO {
       v.end_range_m = std::numeric_limits<double>::quiet_NaN();
     }
     return v;
+  }
+  double gapBehind() const {
+    if (std::fabs(pose_.y - sets_[0].y) > 0.5) return std::numeric_limits<double>::infinity();
+    return pose_.x - 0.87 - obstacle_behind_x;
   }
   bool personAhead() const {
     return t_ >= person_from && t_ < person_to && std::fabs(pose_.y - sets_[0].y) < 0.3 && person_x > pose_.x;
@@ -176,6 +187,8 @@ class SimulatedGreenhouse : public grn::MissionIO {
     return !(interlock_min_speed_mps > 0.0 && std::fabs(v_) < interlock_min_speed_mps);
   }
   void step(double dt) {
+    if (std::isfinite(obstacle_behind_x) && pose_.x > obstacle_behind_x)  // the robot in front of it
+      min_gap_behind = std::min(min_gap_behind, gapBehind());
     if (!set0_dose) set0_dose = std::make_unique<grn::RowDose>(grn::UvDoseParams(), rail_length);
     const double x_before = pose_.x;
     const bool lit = lampsLit();

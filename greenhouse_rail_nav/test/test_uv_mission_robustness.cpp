@@ -139,3 +139,25 @@ TEST(UvMissionRobustness, SilentRangeFindersOnTheRailsStopTheMission) {
   if (HasFailure())
     for (const auto& l : world.lines) std::cout << l << "\n";
 }
+
+// A trolley parked 0.45 m behind the rear range finders at the target pose: each alignment's run-up reverse is held by
+// it, and after zone/behind_wait the step ends where the robot stands; the alignment goes on from there and the
+// mission ends, never held for good, the rear never nearer the trolley than it stood.
+TEST(UvMissionRobustness, SomethingParkedBehindTheTargetPoseCutsTheAlignmentsReverseShort) {
+  const std::vector<RailSetTruth> sets = {{0.0}, {1.6}};
+  SimulatedGreenhouse world(sets, 3);
+  world.obstacle_behind_x = -0.8 - 0.87 - 0.45;
+  world.nav_xy_error = 0.06;
+  grn::UvMissionParams p;
+  ASSERT_DOUBLE_EQ(p.zone.behind_wait_s, 20.0);
+  grn::UvMission mission(world, p, targetsFor(sets, -0.8));
+  EXPECT_EQ(mission.run(), "done");
+  ASSERT_TRUE(logSays(world, "align: reverse")) << "no alignment reversed: the case is not exercised";
+  EXPECT_TRUE(logSays(world, "held 20 s for something behind"));
+  EXPECT_TRUE(logSays(world, "' ends here"));
+  EXPECT_GT(world.min_gap_behind, 0.3);
+  ASSERT_EQ(mission.reports().size(), 2u);
+  EXPECT_TRUE(mission.reports()[1].treated) << mission.reports()[1].result;
+  if (HasFailure())
+    for (const auto& l : world.lines) std::cout << l << "\n";
+}

@@ -67,6 +67,11 @@ struct ZoneParams {
   /// when nearer than that rest plus this clearance (and nearer than rear_stop_range_m), so a trolley parked just
   /// behind where the robot stops does not hold it for good [m].
   double rear_clearance_m = 0.3;
+  /// Reversing for an alignment's run-up on the headland: something behind that holds the robot this long ends the
+  /// step where the robot stands, short of its length, instead of holding it for good (a trolley parked behind the
+  /// target pose); the alignment goes on from there, and gives the set up after its attempts. Backing off or out of
+  /// the rails always waits [s]; 0: always wait.
+  double behind_wait_s = 20.0;
   double clear_time_s = 2.0;  ///< the zone must be clear this long before the mission resumes [s]
 
   std::string validate() const;

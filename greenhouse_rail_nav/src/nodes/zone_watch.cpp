@@ -42,6 +42,7 @@ void ZoneWatch::readParams(thorvald_common::ParamReader& params, Config* c) {
       params.number("zone/structure_max_angle", z.structure_max_angle_rad, R::aboveUpTo(0.0, 1.4), "rad");
   z.rear_stop_range_m = params.number("zone/rear_stop_range", z.rear_stop_range_m, R::closed(0.0, 5.0), "m");
   z.rear_clearance_m = params.number("zone/rear_clearance", z.rear_clearance_m, R::closed(0.0, 5.0), "m");
+  z.behind_wait_s = params.number("zone/behind_wait", z.behind_wait_s, R::closed(0.0, 3600.0), "s");
   z.clear_time_s = params.number("zone/clear_time", z.clear_time_s, R::closed(0.0, 600.0), "s");
   c->scan_timeout_s = params.number("zone/scan_timeout", c->scan_timeout_s, R::aboveUpTo(0.0, 10.0), "s");
   c->rear_sensors = params.texts("rear_sensors", c->rear_sensors, 0, 8, true);
