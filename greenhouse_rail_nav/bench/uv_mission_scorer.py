@@ -343,13 +343,15 @@ class UvMissionScorer:
         self.in_zone, self.lights_before = zone, self.lights
 
     def on_safety(self, m):
-        """A hold for a person begins: was anybody there (truth)?"""
+        """A hold for a person begins: was anybody there (truth)? One hold until the mission says it is clear, however
+        often its text changes meanwhile (a body at the corridor's side seen as a person in one scan, an obstacle in
+        the next)."""
         self.holding = m.data.startswith("holding")
-        found = re.search(r"a person [^(]*\(([-0-9.]+), ([-0-9.]+)\) m", m.data)
-        if not self.holding or not found:
+        if not self.holding:
             self.holding_person = False
             return
-        if self.holding_person or self.pose is None:
+        found = re.search(r"a person [^(]*\(([-0-9.]+), ([-0-9.]+)\) m", m.data)
+        if not found or self.holding_person or self.pose is None:
             return
         self.holding_person = True
         self.person_holds += 1

@@ -249,6 +249,33 @@ class ScorerZoneTest(unittest.TestCase):
         self.assertEqual(len(sc.latencies), 1)
         self.assertAlmostEqual(sc.latencies[0], 0.12, places=6)
 
+class ScorerHoldCountTest(unittest.TestCase):
+    def test_a_hold_whose_text_changes_is_one_hold_until_clear(self):
+        with tempfile.TemporaryDirectory() as d:
+            truth = os.path.join(d, "truth.yaml")
+            with open(truth, "w") as f:
+                f.write("rail_length: 5.0\nrail_sets:\n  - {index: 0, x: 0.0, y: 0.0, yaw: 0.0}\n")
+            sc = scorer.UvMissionScorer(truth)
+        sc.pose = (0.0, 1.0, 0.0, 0.0)
+        sc.people = [(4.0, 0.3, 0.25)]
+
+        class Msg:
+            def __init__(self, data):
+                self.data = data
+
+        for text in ("holding: a person in the row ahead at (3.00, 0.30) m",
+                     "holding: an obstacle in the row ahead at (3.00, 0.35) m",
+                     "holding: a person in the row ahead at (3.00, 0.31) m", "clear",
+                     "holding: a person in the row ahead at (3.00, 0.30) m"):
+            sc.on_safety(Msg(text))
+        self.assertEqual(sc.person_holds, 2)
+        self.assertEqual(sc.phantom_holds, [])
+        sc.on_safety(Msg("clear"))
+        sc.on_safety(Msg("holding: a person near the robot at (0.00, 2.00) m"))  # nobody there
+        self.assertEqual(sc.person_holds, 3)
+        self.assertEqual(len(sc.phantom_holds), 1)
+
+
 class ScorerRailYawTest(unittest.TestCase):
     """How far the pipes let the robot turn: the truth heading off a set's line, with base_link 1.5 m or more along
     its rails (the rear wheels on the straight pipes) and short of its end; never on the headland or the start."""
